@@ -1,0 +1,66 @@
+"""verify: exact verification of the multiple-impact rule of Pasquero (2021).
+
+The public API: build a :class:`System` (mass matrix, constraint normals, time terms,
+CORs) on a backend, and :func:`solve` it from a left velocity.
+
+>>> from verify import System, solve
+>>> s = System([[1, 0, 0], [0, 1, 0], [0, 0, 1]], [[-1, 1, 0], [0, -1, 1]], ["0.5", "0.5"])
+>>> r = solve(s, ["100", "0", "0"])
+>>> r.iterations, r.stop, [s.backend.to_exact(x) for x in r.exit_velocity]
+(3, 'exit', ['325/16', '375/16', '225/4'])
+"""
+
+from verify.backends import BACKENDS, Backend, get_backend
+from verify.cradle import cradle_system, cradle_system_full, run_cradle
+from verify.errors import (
+    BadNumber,
+    InvalidInput,
+    InvalidSystem,
+    NoConvergence,
+    Undecided,
+    VerifyError,
+)
+from verify.numbers import format_decimal, format_exact, parse_number
+from verify.rule import (
+    RULES,
+    Result,
+    Step,
+    beta,
+    global_orthogonal_component,
+    impact_set,
+    impulse,
+    orthogonal_component,
+    solve,
+)
+from verify.system import System
+
+__version__ = "0.1.0"
+
+__all__ = [
+    "BACKENDS",
+    "RULES",
+    "Backend",
+    "BadNumber",
+    "InvalidInput",
+    "InvalidSystem",
+    "NoConvergence",
+    "Result",
+    "Step",
+    "System",
+    "Undecided",
+    "VerifyError",
+    "__version__",
+    "beta",
+    "cradle_system",
+    "cradle_system_full",
+    "format_decimal",
+    "format_exact",
+    "get_backend",
+    "global_orthogonal_component",
+    "impact_set",
+    "impulse",
+    "orthogonal_component",
+    "parse_number",
+    "run_cradle",
+    "solve",
+]

@@ -1,0 +1,293 @@
+"""Arithmetic backends: the one contract that the rule is written against.
+
+A backend ``K`` owns the numbers the rule computes with. The rule uses only
+
+- ``K.convert(number)``: a parsed :data:`~verify.numbers.Number` (Fraction or closed form)
+  into an element of ``K``, once, at the boundary;
+- ``+ - * /`` between elements, and ``K.zero`` / ``K.one``;
+- ``K.sign(x) -> -1 | 0 | 1``, which every branch of the rule goes through. It may raise
+  :class:`~verify.errors.Undecided` when the backend cannot decide (an interval that
+  contains 0); rigorous backends never guess.
+
+and reports through ``K.to_decimal(x, digits)``, ``K.to_number(x)`` (exact backends: the
+exact value back) and ``K.enclosure(x)`` (interval backends). Flags ``is_exact`` and
+``is_rigorous`` say what a result can claim; ``refined()`` returns the same backend at
+higher precision (or None), which :func:`verify.rule.solve` uses to retry after an
+undecided sign.
+
+Backends here: ``exact`` (rationals; gmpy2 or python-flint when installed, pure-Python
+:class:`~fractions.Fraction` otherwise, same results), ``mp`` (mpmath at ``dps`` digits,
+heuristic signs), ``interval`` (mpmath intervals, certified signs, precision raised
+automatically) and ``float`` (fast, not rigorous). An algebraic-number backend and a
+symbolic-parameter backend fit the same contract: their elements support ``+ - * /`` and
+their ``sign`` decides exactly or raises.
+
+>>> K = get_backend("exact")
+>>> x = K.convert(Fraction(1, 3)) - K.convert(Fraction(1, 2))
+>>> K.sign(x), K.to_decimal(x, 5), K.to_number(x)
+(-1, '-0.16667', Fraction(-1, 6))
+"""
+
+from __future__ import annotations
+
+import os
+from fractions import Fraction
+from typing import Any
+
+from verify.errors import BadNumber, InvalidInput, Undecided
+from verify.numbers import Number, format_decimal, format_exact
+
+BACKENDS = ("exact", "mp", "interval", "float")
+DEFAULT_DPS = 50
+MAX_INTERVAL_DPS = 3200
+
+
+class Backend:
+    """The contract (see the module docstring). Subclasses set the flags and methods."""
+
+    name: str = "?"
+    is_exact: bool = False
+    is_rigorous: bool = False
+    dps: int | None = None
+    zero: Any
+    one: Any
+
+    def convert(self, value: Number) -> Any:  # pragma: no cover - abstract
+        raise NotImplementedError
+
+    def sign(self, x: Any) -> int:  # pragma: no cover - abstract
+        raise NotImplementedError
+
+    def to_decimal(self, x: Any, digits: int = 30) -> str:  # pragma: no cover - abstract
+        raise NotImplementedError
+
+    def to_number(self, x: Any) -> Number:
+        """The exact value of ``x``; only exact backends have one."""
+        raise TypeError(f"the {self.name} backend holds approximations, not exact values")
+
+    def to_exact(self, x: Any) -> str:
+        """The exact string of ``x`` (exact backends only)."""
+        return format_exact(self.to_number(x))
+
+    def enclosure(self, x: Any, digits: int = 30) -> tuple[str, str] | None:
+        """Lower and upper bounds of ``x`` as decimal strings, for interval backends."""
+        return None
+
+    def refined(self) -> Backend | None:
+        """The same backend at higher precision, or None when it cannot be refined."""
+        return None
+
+    def describe(self) -> str:
+        """A short label: name, precision and whether results are rigorous."""
+        parts = [self.name]
+        if self.dps is not None:
+            parts.append(f"{self.dps} digits")
+        parts.append("rigorous" if self.is_rigorous else "not rigorous")
+        return ", ".join(parts)
+
+    def __repr__(self) -> str:
+        return f"<backend {self.describe()}>"
+
+
+# -- exact rationals ------------------------------------------------------------------
+
+
+def _rational_impls() -> dict[str, Any]:
+    impls: dict[str, Any] = {}
+    try:
+        import gmpy2
+
+        impls["gmpy2"] = gmpy2.mpq
+    except ImportError:
+        pass
+    try:
+        import flint
+
+        impls["flint"] = flint.fmpq
+    except ImportError:
+        pass
+    impls["python"] = Fraction
+    return impls
+
+
+class RationalBackend(Backend):
+    """Exact rationals. ``impl`` is ``"gmpy2"``, ``"flint"``, ``"python"`` or ``"auto"``.
+
+    ``"auto"`` takes the fastest installed one (the environment variable
+    ``VERIFY_RATIONALS`` can force a choice); every implementation gives the same results.
+    Irrational inputs are refused with a clear error: run them on ``interval`` or ``mp``.
+    """
+
+    name = "exact"
+    is_exact = True
+    is_rigorous = True
+
+    def __init__(self, impl: str = "auto"):
+        impls = _rational_impls()
+        if impl == "auto":
+            impl = os.environ.get("VERIFY_RATIONALS", "") or next(iter(impls))
+        if impl not in impls:
+            raise InvalidInput(f"rational implementation {impl!r} is not installed (have: {', '.join(impls)})")
+        self.impl = impl
+        self._q = impls[impl]
+        self.zero = self._q(0)
+        self.one = self._q(1)
+
+    def convert(self, value: Number) -> Any:
+        if isinstance(value, Fraction):
+            return self._q(value.numerator, value.denominator)
+        raise BadNumber(
+            f"{value} is irrational: the exact backend computes over the rationals; "
+            "use --backend interval (certified) or mp"
+        )
+
+    def sign(self, x: Any) -> int:
+        return (x > 0) - (x < 0)
+
+    def to_number(self, x: Any) -> Fraction:
+        return Fraction(int(x.numerator), int(x.denominator))
+
+    def to_decimal(self, x: Any, digits: int = 30) -> str:
+        return format_decimal(self.to_number(x), digits)
+
+    def describe(self) -> str:
+        return f"exact (rationals, {self.impl}), rigorous"
+
+
+# -- mpmath -------------------------------------------------------------------------------
+
+
+class MPBackend(Backend):
+    """mpmath floating point at ``dps`` decimal digits; signs are heuristic (not rigorous)."""
+
+    name = "mp"
+
+    def __init__(self, dps: int = DEFAULT_DPS):
+        from mpmath import MPContext
+
+        if not isinstance(dps, int) or dps < 5:
+            raise InvalidInput(f"dps must be an integer >= 5, got {dps!r}")
+        self.dps = dps
+        self.ctx = MPContext()
+        self.ctx.dps = dps
+        self.zero = self.ctx.mpf(0)
+        self.one = self.ctx.mpf(1)
+
+    def convert(self, value: Number) -> Any:
+        from verify.numeric import evaluate
+
+        return evaluate(value, self.ctx)
+
+    def sign(self, x: Any) -> int:
+        return (x > 0) - (x < 0)
+
+    def to_decimal(self, x: Any, digits: int = 30) -> str:
+        return self.ctx.nstr(x, min(digits, self.dps))
+
+
+class IntervalBackend(Backend):
+    """mpmath intervals at ``dps`` digits: every sign is certified or raises Undecided.
+
+    :meth:`refined` doubles the precision up to ``max_dps``; :func:`verify.rule.solve`
+    retries with it when a sign is undecided and says so in the result's notes.
+    """
+
+    name = "interval"
+    is_rigorous = True
+
+    def __init__(self, dps: int = DEFAULT_DPS, max_dps: int = MAX_INTERVAL_DPS):
+        from mpmath.ctx_iv import MPIntervalContext
+
+        if not isinstance(dps, int) or dps < 5:
+            raise InvalidInput(f"dps must be an integer >= 5, got {dps!r}")
+        self.dps = dps
+        self.max_dps = max(max_dps, dps)
+        self.ctx = MPIntervalContext()
+        self.ctx.dps = dps
+        self.zero = self.ctx.mpf(0)
+        self.one = self.ctx.mpf(1)
+
+    def convert(self, value: Number) -> Any:
+        from verify.numeric import evaluate
+
+        return evaluate(value, self.ctx)
+
+    def sign(self, x: Any) -> int:
+        if x.a > 0:
+            return 1
+        if x.b < 0:
+            return -1
+        if x.a == 0 and x.b == 0:
+            return 0
+        raise Undecided(f"interval {x} contains 0 at {self.dps} digits")
+
+    def _bounds(self, x: Any) -> tuple[Fraction, Fraction]:
+        from verify.numeric import _mpf_to_fraction
+
+        return _mpf_to_fraction(x.a), _mpf_to_fraction(x.b)
+
+    def to_decimal(self, x: Any, digits: int = 30) -> str:
+        lo, hi = self._bounds(x)
+        return format_decimal((lo + hi) / 2, digits)
+
+    def enclosure(self, x: Any, digits: int = 30) -> tuple[str, str]:
+        lo, hi = self._bounds(x)
+        return format_decimal(lo, digits), format_decimal(hi, digits)
+
+    def contains(self, x: Any, value: Fraction) -> bool:
+        """Whether the exact rational ``value`` lies in the interval ``x``."""
+        lo, hi = self._bounds(x)
+        return lo <= value <= hi
+
+    def refined(self) -> IntervalBackend | None:
+        if self.dps >= self.max_dps:
+            return None
+        return IntervalBackend(min(2 * self.dps, self.max_dps), self.max_dps)
+
+
+class FloatBackend(Backend):
+    """Python floats: fast, not rigorous (branches may differ from the exact ones)."""
+
+    name = "float"
+
+    def __init__(self) -> None:
+        self.zero = 0.0
+        self.one = 1.0
+        self.dps = 15
+
+    def convert(self, value: Number) -> float:
+        if isinstance(value, Fraction):
+            return value.numerator / value.denominator  # correctly rounded
+        from mpmath import fp
+
+        from verify.numeric import evaluate
+
+        return float(evaluate(value, fp))
+
+    def sign(self, x: float) -> int:
+        return (x > 0) - (x < 0)
+
+    def to_decimal(self, x: float, digits: int = 17) -> str:
+        return repr(x)
+
+    def describe(self) -> str:
+        return "float (binary64), not rigorous"
+
+
+def get_backend(name: str | Backend = "exact", *, dps: int | None = None) -> Backend:
+    """A backend by name: ``exact``, ``mp``, ``interval`` or ``float``.
+
+    >>> get_backend("interval", dps=30).describe()
+    'interval, 30 digits, rigorous'
+    """
+    if isinstance(name, Backend):
+        return name
+    if name == "exact":
+        return RationalBackend()
+    if name == "mp":
+        return MPBackend(dps or DEFAULT_DPS)
+    if name == "interval":
+        return IntervalBackend(dps or DEFAULT_DPS)
+    if name == "float":
+        return FloatBackend()
+    raise InvalidInput(f"unknown backend {name!r} (choose from {', '.join(BACKENDS)})")

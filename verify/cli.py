@@ -1,0 +1,202 @@
+"""The ``verify`` command line: a thin layer over the library.
+
+Each subcommand parses its arguments, makes one library call, prints text (or JSON with
+``--json``) and returns an exit code: 0 success, 1 a check found a mismatch, 2 bad
+input or usage. Bad input prints one line on stderr, never a traceback. Python callers
+should use the library (:mod:`verify`) directly.
+"""
+
+from __future__ import annotations
+
+import argparse
+import sys
+from collections.abc import Sequence
+from typing import Any
+
+from verify.errors import InvalidInput, Undecided, VerifyError
+
+PROG = "verify"
+
+
+class UsageError(VerifyError):
+    """Command-line usage that argparse rejects (reported in one line, exit code 2)."""
+
+
+class _Parser(argparse.ArgumentParser):
+    def error(self, message: str) -> None:  # one line, no usage block
+        raise UsageError(f"{self.prog}: {message}")
+
+
+def _formatter(prog: str) -> argparse.HelpFormatter:
+    return argparse.RawDescriptionHelpFormatter(prog, max_help_position=32)
+
+
+def _list(text: str) -> list[str]:
+    from verify.numbers import split_list
+
+    parts = split_list(text)
+    if any(p == "" for p in parts):
+        raise UsageError(f"empty entry in the list {text!r}")
+    return parts
+
+
+# -- cradle -----------------------------------------------------------------------------------
+
+
+def _cmd_cradle(args: argparse.Namespace) -> int:
+    from verify.cradle import run_cradle
+    from verify.records import dumps, result_record
+    from verify.render import cradle_text
+
+    eps = _list(args.eps)
+    masses = _list(args.masses) if args.masses else None
+    velocity = _list(args.velocity) if args.velocity else None
+    balls = args.balls
+    inferred = {len(x) for x in (masses, velocity) if x is not None}
+    if balls is None:
+        balls = inferred.pop() if len(inferred) == 1 else 3
+    for name, values in (("--masses", masses), ("--velocity", velocity)):
+        if values is not None and len(values) != balls:
+            raise UsageError(f"{PROG} cradle: {name} has {len(values)} entries but there are {balls} balls")
+    result = run_cradle(
+        eps if len(eps) > 1 else eps[0],
+        v0=args.v0,
+        balls=balls,
+        masses=masses,
+        velocity=velocity,
+        mode=args.mode,
+        backend=args.backend,
+        dps=args.dps,
+        max_iterations=args.max_iterations,
+    )
+    if args.json:
+        sys.stdout.write(dumps(result_record(result, "cradle")))
+    else:
+        sys.stdout.write(cradle_text(result, eps=eps, mode=args.mode, full_trace=args.trace))
+    return 0
+
+
+def _cmd_table1(args: argparse.Namespace) -> int:
+    from verify.records import dumps
+    from verify.render import table1_json, table1_text
+    from verify.table1 import table1
+
+    table = table1(exact_cap=args.exact_cap)
+    sys.stdout.write(dumps(table1_json(table)) if args.json else table1_text(table))
+    return 0
+
+
+def _cmd_all(args: argparse.Namespace) -> int:
+    from verify.render import table1_summary
+    from verify.table1 import table1
+
+    print("verify all: reproducing Pasquero (2021)", flush=True)
+    print("[1/1] Table 1 (Newton's cradle, Sect. 4.1) ...", flush=True)
+    sys.stdout.write(table1_summary(table1()))
+    return 0
+
+
+# -- the parser ----------------------------------------------------------------------------------
+
+
+def _backend_options(p: argparse.ArgumentParser) -> None:
+    from verify.backends import BACKENDS
+
+    p.add_argument(
+        "--backend",
+        default="exact",
+        choices=BACKENDS,
+        help="arithmetic: exact (default), mp, interval (certified), float (not rigorous)",
+    )
+    p.add_argument("--dps", type=int, default=None, help="decimal digits for mp and interval (default 50)")
+
+
+def build_parser() -> argparse.ArgumentParser:
+    """The argument parser of ``verify`` (subcommands as in the contracts)."""
+    parser = _Parser(
+        prog=PROG,
+        formatter_class=_formatter,
+        description="Exact verification of the multiple-impact rule of Pasquero (2021).",
+        epilog="examples:\n  verify all\n  verify table1\n  verify cradle --eps 0.5\n",
+    )
+    from verify import __version__
+
+    parser.add_argument("--version", action="version", version=f"verify {__version__}")
+    sub = parser.add_subparsers(dest="command", metavar="COMMAND", parser_class=_Parser)
+
+    p = sub.add_parser(
+        "cradle",
+        help="Newton's cradle (Sect. 4.1)",
+        formatter_class=_formatter,
+        description="Run Newton's cradle: N balls on a line, one COR for all contacts or one per contact.",
+        epilog=(
+            "examples:\n  verify cradle --eps 0.5\n  verify cradle --eps 0.0743 --mode paper\n"
+            "  verify cradle --eps 1/2,1 --masses 1,2,1 --velocity 1,0,-1 --json\n"
+        ),
+    )
+    p.add_argument("--eps", required=True, help="COR for all contacts, or one per contact: 0.5 or 0.5,0.9")
+    p.add_argument("--v0", default="100", help="velocity of ball 1, the others at rest (default 100)")
+    p.add_argument("--balls", type=int, default=None, help="number of balls N >= 2 (default 3)")
+    p.add_argument("--masses", help="masses m1,m2,...,mN (default all 1)")
+    p.add_argument("--velocity", help="the whole left velocity v1,...,vN (instead of --v0)")
+    p.add_argument(
+        "--mode",
+        default="exact",
+        choices=("exact", "paper"),
+        help="exact: stop at exit; paper: the paper's 10^4 cap and AEEV stop",
+    )
+    p.add_argument("--max-iterations", type=int, default=None, help="cap on impulses (default 10000)")
+    p.add_argument("--trace", action="store_true", help="print every impulse, however many")
+    p.add_argument("--json", action="store_true", help="print the result record (JSON)")
+    _backend_options(p)
+    p.set_defaults(func=_cmd_cradle)
+
+    p = sub.add_parser(
+        "table1",
+        help="the paper's Table 1, recomputed and checked",
+        formatter_class=_formatter,
+        description="Table 1 of the paper: exact and paper-mode results, every printed entry checked.",
+        epilog="examples:\n  verify table1\n  verify table1 --json\n",
+    )
+    p.add_argument(
+        "--exact-cap",
+        type=int,
+        default=1000,
+        help="impulses after which an exact run that has not exited is reported as such (default 1000)",
+    )
+    p.add_argument("--json", action="store_true", help="print JSON")
+    p.set_defaults(func=_cmd_table1)
+
+    p = sub.add_parser(
+        "all",
+        help="the main job: reproduce the paper",
+        formatter_class=_formatter,
+        description="Reproduce the paper: everything that exists so far, with a summary.",
+        epilog="example:\n  verify all\n",
+    )
+    p.set_defaults(func=_cmd_all)
+    return parser
+
+
+def main(argv: Sequence[str] | None = None) -> int:
+    """Run the command line; returns the exit code (0 ok, 1 mismatch, 2 bad input)."""
+    parser = build_parser()
+    try:
+        args = parser.parse_args(argv)
+        if args.command is None:
+            parser.print_help()
+            return 2
+        for name in ("max_iterations", "exact_cap", "dps"):
+            value = getattr(args, name, None)
+            if value is not None and value < 0:
+                raise UsageError(f"{PROG} {args.command}: --{name.replace('_', '-')} must be >= 0, got {value}")
+        return int(args.func(args))
+    except (UsageError, InvalidInput, Undecided) as exc:
+        print(f"{PROG}: error: {_one_line(exc)}", file=sys.stderr)
+        return 2
+    except BrokenPipeError:  # pragma: no cover - e.g. piped into head
+        return 0
+
+
+def _one_line(exc: Any) -> str:
+    return " ".join(str(exc).split())

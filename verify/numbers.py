@@ -1,0 +1,514 @@
+"""Number strings in and out: a restricted, non-executing parser and exact formatting.
+
+Every number that enters :mod:`verify` as text goes through :func:`parse_number`. It
+reads integers (``"7"``), rationals (``"-3/8"``), decimals (``"0.0743"``, read exactly as
+743/10000, never through a binary float), scientific decimals (``"1e-9"``) and closed
+forms built from the names ``sqrt pi sin cos tan CRootOf x`` and the operators
+``+ - * / ** ( ) ,`` (SymPy syntax, see ``shared/docs/contracts.md``).
+
+The parser is a small recursive-descent parser written here: it never calls ``eval``,
+``exec`` or ``sympify``, so a string such as ``"__import__('os').system('id')"`` is
+rejected as a bad number without running anything. Lengths, nesting depth and
+exponents are bounded so that no input can make it hang or exhaust memory.
+
+Rational results are :class:`fractions.Fraction`; SymPy is imported only when a value is
+irrational (``"sqrt(2)"``), so the rational path stays light and exact.
+
+>>> parse_number("0.1716")
+Fraction(429, 2500)
+>>> parse_number("3 - 2*sqrt(2)")
+3 - 2*sqrt(2)
+>>> format_decimal(Fraction(1, 3), 10)
+'0.3333333333'
+"""
+
+from __future__ import annotations
+
+import json
+import math
+import re
+from fractions import Fraction
+from typing import Any
+
+from verify.errors import BadNumber
+
+#: What a parsed number is: an exact rational, or a SymPy expression for a closed form.
+Number = Fraction | Any
+
+MAX_LENGTH = 2000  #: characters in one number string
+MAX_DEPTH = 64  #: nesting of parentheses and operators
+MAX_LITERAL_DIGITS = 1000  #: digits in one numeric literal
+MAX_SCI_EXPONENT = 1000  #: |e| in a literal such as ``1e-9``
+MAX_POWER_EXPONENT = 1000  #: |k| in ``a**k``
+MAX_RESULT_BITS = 200_000  #: size of a rational produced by ``**``
+MAX_DEGREE = 64  #: degree of a CRootOf polynomial
+
+FUNCTIONS = ("sqrt", "sin", "cos", "tan", "CRootOf")
+CONSTANTS = ("pi",)
+
+_TOKEN = re.compile(
+    r"\s*(?:(?P<num>(?:\d+\.?\d*|\.\d+)(?:[eE][+-]?\d+)?)|(?P<name>[A-Za-z_][A-Za-z_0-9]*)"
+    r"|(?P<op>\*\*|[-+*/(),]))"
+)
+_PLAIN_RATIONAL = re.compile(r"\s*[-+]?(?:\d+\.?\d*|\.\d+)(?:[eE][-+]?\d{1,4})?(?:\s*/\s*\d+)?\s*")
+
+
+class _Fail(Exception):
+    """Internal: carries the reason of a rejection up to :func:`parse_number`."""
+
+
+def _sympy():
+    import sympy  # imported lazily: the rational path never needs it
+
+    return sympy
+
+
+def _tokenize(text: str) -> list[tuple[str, str]]:
+    tokens = []
+    pos = 0
+    stripped_end = len(text.rstrip())
+    while pos < stripped_end:
+        m = _TOKEN.match(text, pos)
+        if m is None or m.end() == pos:
+            ch = text[pos:].lstrip()[:1]
+            raise _Fail(f"unexpected character {ch!r}")
+        kind = m.lastgroup
+        tokens.append((kind, m.group(kind)))
+        pos = m.end()
+    return tokens
+
+
+class _Parser:
+    """Recursive descent over the token list; values are Fraction or SymPy objects."""
+
+    def __init__(self, tokens: list[tuple[str, str]], symbols: dict[str, Any]):
+        self.tokens = tokens
+        self.pos = 0
+        self.depth = 0
+        self.symbols = symbols
+        self.polynomial_var = None  # the SymPy symbol x, only inside CRootOf
+
+    # -- helpers ---------------------------------------------------------------
+    def peek(self) -> tuple[str, str] | None:
+        return self.tokens[self.pos] if self.pos < len(self.tokens) else None
+
+    def take(self, value: str | None = None) -> tuple[str, str]:
+        tok = self.peek()
+        if tok is None:
+            raise _Fail("unexpected end of expression")
+        if value is not None and tok[1] != value:
+            raise _Fail(f"expected {value!r}, found {tok[1]!r}")
+        self.pos += 1
+        return tok
+
+    def enter(self) -> None:
+        self.depth += 1
+        if self.depth > MAX_DEPTH:
+            raise _Fail(f"nested deeper than {MAX_DEPTH} levels")
+
+    # -- grammar ---------------------------------------------------------------
+    def parse(self) -> Number:
+        value = self.expr()
+        if self.peek() is not None:
+            raise _Fail(f"unexpected {self.peek()[1]!r}")
+        return value
+
+    def expr(self) -> Number:
+        self.enter()
+        value = self.term()
+        while (tok := self.peek()) is not None and tok[1] in "+-" and tok[0] == "op":
+            self.take()
+            rhs = self.term()
+            value = _add(value, rhs) if tok[1] == "+" else _add(value, _neg(rhs))
+        self.depth -= 1
+        return value
+
+    def term(self) -> Number:
+        value = self.unary()
+        while (tok := self.peek()) is not None and tok[1] in ("*", "/"):
+            self.take()
+            rhs = self.unary()
+            value = _mul(value, rhs) if tok[1] == "*" else _div(value, rhs)
+        return value
+
+    def unary(self) -> Number:
+        tok = self.peek()
+        if tok is not None and tok[1] in ("+", "-") and tok[0] == "op":
+            self.take()
+            self.enter()
+            value = self.unary()
+            self.depth -= 1
+            return _neg(value) if tok[1] == "-" else value
+        return self.power()
+
+    def power(self) -> Number:
+        base = self.atom()
+        tok = self.peek()
+        if tok is not None and tok[1] == "**":
+            self.take()
+            self.enter()
+            exponent = self.unary()
+            self.depth -= 1
+            return _pow(base, exponent)
+        return base
+
+    def atom(self) -> Number:
+        kind, text = self.take()
+        if kind == "num":
+            return _literal(text)
+        if text == "(":
+            value = self.expr()
+            self.take(")")
+            return value
+        if kind == "name":
+            return self.name(text)
+        raise _Fail(f"unexpected {text!r}")
+
+    def name(self, text: str) -> Number:
+        if text in self.symbols:
+            return self.symbols[text]
+        if text == "pi":
+            return _sympy().pi
+        if text == "x":
+            if self.polynomial_var is None:
+                raise _Fail("'x' is only allowed inside CRootOf(polynomial in x, index)")
+            return self.polynomial_var
+        if text not in FUNCTIONS:
+            raise _Fail(f"unknown name {text!r} (allowed: sqrt pi sin cos tan CRootOf x)")
+        self.take("(")
+        self.enter()
+        if text == "CRootOf":
+            value = self.crootof()
+        else:
+            arg = self.expr()
+            self.take(")")
+            value = _function(text, arg)
+        self.depth -= 1
+        return value
+
+    def crootof(self) -> Number:
+        sp = _sympy()
+        if self.polynomial_var is not None:
+            raise _Fail("CRootOf cannot be nested inside CRootOf")
+        self.polynomial_var = sp.Symbol("x")
+        try:
+            poly_expr = self.expr()
+        finally:
+            x = self.polynomial_var
+            self.polynomial_var = None
+        self.take(",")
+        index_value = self.expr()
+        self.take(")")
+        if not isinstance(index_value, Fraction) or index_value.denominator != 1:
+            raise _Fail("the CRootOf index must be an integer")
+        index = int(index_value)
+        if isinstance(poly_expr, Fraction):
+            raise _Fail("CRootOf needs a polynomial in x of degree at least 1")
+        try:
+            poly = sp.Poly(poly_expr, x, domain="QQ")
+        except Exception as exc:  # PolynomialError, CoercionFailed: not a rational polynomial
+            raise _Fail(f"CRootOf needs a polynomial in x with rational coefficients ({exc})") from None
+        if poly.degree() < 1 or poly.degree() > MAX_DEGREE:
+            raise _Fail(f"CRootOf polynomial degree must be between 1 and {MAX_DEGREE}")
+        n_real = len(sp.real_roots(poly.sqf_part()))
+        if not 0 <= index < n_real:
+            raise _Fail(f"CRootOf index {index} is not a real root (the polynomial has {n_real})")
+        return sp.CRootOf(poly, index)
+
+
+def _literal(text: str) -> Fraction:
+    mantissa, _, exponent = text.lower().partition("e")
+    if len(mantissa) > MAX_LITERAL_DIGITS + 1:
+        raise _Fail(f"literal longer than {MAX_LITERAL_DIGITS} digits")
+    if exponent and abs(int(exponent)) > MAX_SCI_EXPONENT:
+        raise _Fail(f"exponent larger than {MAX_SCI_EXPONENT} in literal")
+    return Fraction(text)  # Fraction reads decimal and scientific strings exactly
+
+
+def _is_fraction(x: Any) -> bool:
+    return isinstance(x, Fraction)
+
+
+def _to_sympy(x: Number) -> Any:
+    if _is_fraction(x):
+        return _sympy().Rational(x.numerator, x.denominator)
+    return x
+
+
+def _normalize(x: Any) -> Number:
+    if _is_fraction(x):
+        return x
+    if x.is_Rational:
+        return Fraction(int(x.p), int(x.q))
+    if x.has(_sympy().zoo, _sympy().oo, -_sympy().oo, _sympy().nan):
+        raise _Fail("not a finite real number")
+    return x
+
+
+def _add(a: Number, b: Number) -> Number:
+    if _is_fraction(a) and _is_fraction(b):
+        return a + b
+    return _normalize(_to_sympy(a) + _to_sympy(b))
+
+
+def _neg(a: Number) -> Number:
+    return -a
+
+
+def _mul(a: Number, b: Number) -> Number:
+    if _is_fraction(a) and _is_fraction(b):
+        return a * b
+    return _normalize(_to_sympy(a) * _to_sympy(b))
+
+
+def _div(a: Number, b: Number) -> Number:
+    if _is_fraction(b):
+        if b == 0:
+            raise _Fail("division by zero")
+        if _is_fraction(a):
+            return a / b
+    elif b.is_zero:
+        raise _Fail("division by zero")
+    return _normalize(_to_sympy(a) / _to_sympy(b))
+
+
+def _pow(base: Number, exponent: Number) -> Number:
+    if not _is_fraction(exponent):
+        raise _Fail("exponents must be rational numbers")
+    if abs(exponent.numerator) > MAX_POWER_EXPONENT or exponent.denominator > MAX_POWER_EXPONENT:
+        raise _Fail(f"exponent {exponent} is too large (limit {MAX_POWER_EXPONENT})")
+    if _is_fraction(base) and exponent.denominator == 1:
+        k = exponent.numerator
+        if base == 0 and k < 0:
+            raise _Fail("division by zero")
+        size = max(base.numerator.bit_length(), base.denominator.bit_length()) * abs(k)
+        if size > MAX_RESULT_BITS:
+            raise _Fail("the power is too large")
+        return base**k
+    if _is_fraction(base):
+        if base < 0:
+            raise _Fail("a negative number to a fractional power is not real")
+    elif base.is_negative:
+        raise _Fail("a negative number to a fractional power is not real")
+    elif exponent.denominator != 1 and base.is_negative is None:
+        raise _Fail("cannot decide the sign of a number raised to a fractional power")
+    sp = _sympy()
+    return _normalize(sp.Pow(_to_sympy(base), sp.Rational(exponent.numerator, exponent.denominator)))
+
+
+def _function(name: str, arg: Number) -> Number:
+    sp = _sympy()
+    if name == "sqrt":
+        if _is_fraction(arg):
+            if arg < 0:
+                raise _Fail("sqrt of a negative number")
+            rn, rd = math.isqrt(arg.numerator), math.isqrt(arg.denominator)
+            if rn * rn == arg.numerator and rd * rd == arg.denominator:
+                return Fraction(rn, rd)
+        elif arg.is_negative:
+            raise _Fail("sqrt of a negative number")
+        elif arg.is_negative is None and arg.free_symbols == set():
+            raise _Fail("cannot decide the sign of the argument of sqrt")
+        return _normalize(sp.sqrt(_to_sympy(arg)))
+    func = {"sin": sp.sin, "cos": sp.cos, "tan": sp.tan}[name]
+    return _normalize(func(_to_sympy(arg)))
+
+
+def _quote(text: str) -> str:
+    shown = text if len(text) <= 80 else text[:77] + "..."
+    return json.dumps(shown)
+
+
+def parse_number(text: str, *, where: str | None = None, symbols: dict[str, Any] | None = None) -> Number:
+    """Parse a number string exactly, without executing anything.
+
+    Returns a :class:`~fractions.Fraction` when the value is rational and a SymPy
+    expression otherwise. ``where`` names the field for the error message, as in
+    ``cases[3].normals[1][0]: not a number: "1/0" (division by zero)``. ``symbols`` maps
+    extra names (such as ``eps``) to SymPy symbols for symbolic runs.
+
+    >>> parse_number("-3/8")
+    Fraction(-3, 8)
+    >>> parse_number("1e-9")
+    Fraction(1, 1000000000)
+    >>> parse_number("sqrt(12)/2")
+    sqrt(3)
+    >>> parse_number("__import__('os')")
+    Traceback (most recent call last):
+    ...
+    verify.errors.BadNumber: not a number: "__import__('os')" (unknown name '__import__' ...)
+    """
+    prefix = f"{where}: " if where else ""
+    if not isinstance(text, str):
+        raise BadNumber(f"{prefix}not a number: expected a string, got {type(text).__name__}")
+    if len(text) > MAX_LENGTH:
+        raise BadNumber(f"{prefix}not a number: {_quote(text)} (longer than {MAX_LENGTH} characters)")
+    if _PLAIN_RATIONAL.fullmatch(text) and len(text) <= MAX_LITERAL_DIGITS:
+        # fast path: "7", "-3/8", "0.0743", "1e-9" need no tokenizer and no SymPy
+        num, _, den = text.partition("/")
+        try:
+            value = Fraction(num.strip())
+            if den:
+                d = int(den)
+                if d == 0:
+                    raise BadNumber(f"{prefix}not a number: {_quote(text)} (division by zero)")
+                value /= d
+            return value
+        except (ValueError, OverflowError):
+            pass  # fall through to the full parser for a precise message
+    try:
+        tokens = _tokenize(text)
+        if not tokens:
+            raise _Fail("empty")
+        return _Parser(tokens, symbols or {}).parse()
+    except _Fail as exc:
+        raise BadNumber(f"{prefix}not a number: {_quote(text)} ({exc})") from None
+    except RecursionError:
+        raise BadNumber(f"{prefix}not a number: {_quote(text)} (nested too deeply)") from None
+
+
+def to_number(value: Any, *, where: str | None = None) -> Number:
+    """Turn a user value into a :data:`Number`: strings are parsed, ints and Fractions kept.
+
+    Binary floats are refused rather than converted, because ``0.1`` is not 1/10:
+    pass ``"0.1"`` (read exactly) or ``Fraction(1, 10)``. SymPy numbers are accepted.
+
+    >>> to_number(3), to_number("0.5"), to_number(Fraction(2, 4))
+    (Fraction(3, 1), Fraction(1, 2), Fraction(1, 2))
+    >>> to_number(0.1)
+    Traceback (most recent call last):
+    ...
+    verify.errors.BadNumber: not a number: 0.1 is a binary float; pass "0.1" (read exactly) or a Fraction
+    """
+    prefix = f"{where}: " if where else ""
+    if isinstance(value, str):
+        return parse_number(value, where=where)
+    if isinstance(value, bool):
+        raise BadNumber(f"{prefix}not a number: {value!r}")
+    if isinstance(value, int):
+        return Fraction(value)
+    if isinstance(value, Fraction):
+        return Fraction(value.numerator, value.denominator)
+    if isinstance(value, float):
+        raise BadNumber(
+            f'{prefix}not a number: {value!r} is a binary float; pass "{value!r}" (read exactly) or a Fraction'
+        )
+    if hasattr(value, "is_number") and hasattr(value, "free_symbols"):  # a SymPy expression
+        if value.free_symbols:
+            return value
+        try:
+            return _normalize(value)
+        except _Fail as exc:
+            raise BadNumber(f"{prefix}not a number: {value} ({exc})") from None
+    if hasattr(value, "numerator") and hasattr(value, "denominator"):  # gmpy2.mpq, flint.fmpq
+        return Fraction(int(value.numerator), int(value.denominator))
+    raise BadNumber(f"{prefix}not a number: {value!r} of type {type(value).__name__}")
+
+
+def split_list(text: str) -> list[str]:
+    """Split ``"1, 2, CRootOf(x**2 - 2, 1)"`` at the commas outside parentheses.
+
+    >>> split_list("1/2, sqrt(2), CRootOf(x**2 - 2, 1)")
+    ['1/2', 'sqrt(2)', 'CRootOf(x**2 - 2, 1)']
+    """
+    parts, depth, start = [], 0, 0
+    for i, ch in enumerate(text):
+        if ch == "(":
+            depth += 1
+        elif ch == ")":
+            depth -= 1
+        elif ch == "," and depth == 0:
+            parts.append(text[start:i].strip())
+            start = i + 1
+    parts.append(text[start:].strip())
+    return parts
+
+
+# -- output -----------------------------------------------------------------------
+
+
+def int_to_str(n: int) -> str:
+    """Decimal digits of an integer of any size (CPython limits ``str(int)`` to 4300 digits)."""
+    if n < 0:
+        return "-" + int_to_str(-n)
+    if n.bit_length() < 12_000:
+        return str(n)
+    k = (n.bit_length() * 3) // 20  # about half the number of decimal digits
+    high, low = divmod(n, 10**k)
+    return int_to_str(high) + int_to_str(low).rjust(k, "0")
+
+
+def format_exact(value: Number) -> str:
+    """The simplest exact string: ``"381/8"``, ``"-2"``, ``"-sqrt(2)/4 + sqrt(6)/4"``.
+
+    >>> format_exact(Fraction(381, 8)), format_exact(Fraction(-2))
+    ('381/8', '-2')
+    """
+    if isinstance(value, Fraction):
+        if value.denominator == 1:
+            return int_to_str(value.numerator)
+        return f"{int_to_str(value.numerator)}/{int_to_str(value.denominator)}"
+    return str(value)
+
+
+def _ilog10(num: int, den: int) -> int:
+    """floor(log10(num/den)) for positive integers, exactly (integer arithmetic only)."""
+    e = ((num.bit_length() - den.bit_length()) * 30103) // 100000
+    while True:  # correct the estimate exactly
+        if e >= 0:
+            lo_ok = num >= den * 10**e
+            hi_ok = num < den * 10 ** (e + 1)
+        else:
+            lo_ok = num * 10 ** (-e) >= den
+            hi_ok = num * 10 ** (-e - 1) < den
+        if lo_ok and hi_ok:
+            return e
+        e = e - 1 if not lo_ok else e + 1
+
+
+def format_decimal(value: Number, digits: int = 30) -> str:
+    """A decimal string with ``digits`` significant digits, rounded half to even exactly.
+
+    Trailing zeros are dropped, so exact decimals read naturally (``"34.316164"``);
+    magnitudes outside [1e-7, 1e30) use an exponent (``"1.5e-9"``).
+
+    >>> format_decimal(Fraction(2, 3), 5), format_decimal(Fraction(857766, 25000))
+    ('0.66667', '34.31064')
+    """
+    if not isinstance(value, Fraction):
+        return _format_closed_form_decimal(value, digits)
+    if value == 0:
+        return "0"
+    sign = "-" if value < 0 else ""
+    num, den = abs(value.numerator), value.denominator
+    e = _ilog10(num, den)
+    shift = digits - 1 - e
+    scaled_num = num * 10**shift if shift >= 0 else num
+    scaled_den = den if shift >= 0 else den * 10 ** (-shift)
+    q, r = divmod(scaled_num, scaled_den)
+    if 2 * r > scaled_den or (2 * r == scaled_den and q % 2 == 1):
+        q += 1
+    if q == 10**digits:  # rounding carried into a new digit
+        q //= 10
+        e += 1
+    mantissa = int_to_str(q).rstrip("0") or "0"
+    return sign + _place_point(mantissa, e)
+
+
+def _place_point(mantissa: str, e: int) -> str:
+    """Put the decimal point in a digit string d1 d2 ... whose value is d1.d2... * 10**e."""
+    if -7 <= e < 30:
+        if e >= 0:
+            whole = mantissa[: e + 1].ljust(e + 1, "0")
+            frac = mantissa[e + 1 :]
+            return whole + ("." + frac if frac else "")
+        return "0." + "0" * (-e - 1) + mantissa
+    frac = mantissa[1:]
+    return mantissa[0] + ("." + frac if frac else "") + f"e{e:+d}"
+
+
+def _format_closed_form_decimal(value: Any, digits: int) -> str:
+    """Decimal digits of a closed form, from a certified enclosure (see :mod:`verify.numeric`)."""
+    from verify.numeric import certified_digits
+
+    return certified_digits(value, digits)

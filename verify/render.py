@@ -1,0 +1,229 @@
+"""Text and JSON views of results for the command line (no arithmetic happens here).
+
+>>> from verify.cradle import run_cradle
+>>> print(cradle_text(run_cradle("1"), eps=["1"], mode="exact").splitlines()[0])
+Newton's cradle: 3 balls (masses 1, 1, 1), eps = 1 for every contact
+"""
+
+from __future__ import annotations
+
+from typing import Any
+
+from verify.numbers import format_decimal
+from verify.paper import PAPER_SIGMA_RELATIVE, PAPER_SIGMA_STATED
+from verify.records import result_record, value_string
+from verify.rule import Result
+from verify.table1 import Table1, sqrt_decimal, threshold_brackets
+
+TRACE_LIMIT = 40
+
+
+def _join(values: list[str]) -> str:
+    return ", ".join(values)
+
+
+def cradle_text(result: Result, *, eps: list[str], mode: str, full_trace: bool = False) -> str:
+    """The human-readable report of one cradle run."""
+    K = result.backend
+    s = result.system
+    masses = [K.to_decimal(s.g[i][i], 12) for i in range(s.n)]
+    eps_text = (
+        f"eps = {eps[0]} for every contact"
+        if len(eps) == 1
+        else "eps = " + _join([f"{e} for {name}" for e, name in zip(eps, s.names)])
+    )
+    lines = [
+        f"Newton's cradle: {s.n} balls (masses {_join(masses)}), {eps_text}",
+        f"left velocity: {_join([value_string(K, x) for x in result.velocity_in])}",
+        f"backend: {K.describe()}; mode: {mode}",
+    ]
+    lines += [f"note: {n}" for n in result.notes]
+    steps = result.steps
+    if steps:
+        lines.append("")
+        head = f"{'impulse':>7}  {'impact set':<16} {'beta':<14} {'velocity after (12 digits)':<48}"
+        lines.append(head + " kinetic energy")
+        shown = list(enumerate(steps, 1))
+        if not full_trace and len(shown) > TRACE_LIMIT:
+            shown = [*shown[: TRACE_LIMIT - 5], None, *shown[-5:]]
+        for item in shown:
+            if item is None:
+                lines.append(f"{'...':>7}  ({len(steps) - TRACE_LIMIT + 1} impulses not shown; --trace shows all)")
+                continue
+            w, st = item
+            names = "{" + ", ".join(s.names[j] for j in st.impact_set) + "}"
+            beta = "-" if st.beta is None else K.to_decimal(st.beta, 8)
+            vel = _join([K.to_decimal(x, 12) for x in st.velocity])
+            lines.append(f"{w:>7}  {names:<16} {beta:<14} {vel:<48} {K.to_decimal(st.kinetic_energy, 12)}")
+        lines.append("")
+    label = "exit velocity" if result.stop == "exit" else "velocity at the stop"
+    if K.is_exact:
+        lines.append(f"{label} (exact): {_join([_short_exact(K, x) for x in result.exit_velocity])}")
+    lines.append(f"{label} (decimal): {_join([K.to_decimal(x, 30) for x in result.exit_velocity])}")
+    stop = {
+        "exit": "exit (no constraint is hit any more)",
+        "aeev": "aeev (the paper's almost-equal-exit-velocities stop)",
+        "max_iterations": f"max_iterations (no exit within {result.max_iterations} impulses)",
+    }.get(result.stop, result.stop)
+    lines.append(f"iterations: {result.iterations}; stop: {stop}")
+    lines.append(
+        f"kinetic energy: {K.to_decimal(result.kinetic_energy_in, 12)} -> "
+        f"{K.to_decimal(result.kinetic_energy_out, 12)} (12 significant digits)"
+    )
+    return "\n".join(lines) + "\n"
+
+
+def _short_exact(K: Any, x: Any, limit: int = 60) -> str:
+    text = K.to_exact(x)
+    if len(text) <= limit:
+        return text
+    return f"<a fraction of {len(text)} characters: see --json>"
+
+
+def _iters(result: Result) -> str:
+    if result.stop == "aeev":
+        return f"AEEV / {result.iterations}"
+    if result.stop == "exit":
+        return str(result.iterations)
+    return f"no exit in {result.iterations}"
+
+
+def table1_text(table: Table1) -> str:
+    """Table 1: printed against recomputed, every entry marked, with reasons."""
+    lines = [
+        "Table 1 of Pasquero (2021): Newton's cradle with three unit balls, v0 = 100",
+        f"source: {table.source}",
+        "",
+        "paper mode = the paper's termination (10^4 cap, AEEV stop); exact = stop only at exit"
+        f" (or after {table.exact_cap} impulses)",
+        "",
+        f"{'eps':<8}{'printed v_D1':>14}{'v_D2':>13}{'v_D3':>13}{'iterations':>12}   "
+        f"{'paper mode':>11}{'exact':>17}   entries",
+    ]
+    for row in table.rows:
+        n_ok = sum(c.agrees for c in row.checks)
+        mark = "all agree" if row.agrees else f"{n_ok}/{len(row.checks)} agree"
+        lines.append(
+            f"{row.eps:<8}{row.printed[0]:>14}{row.printed[1]:>13}{row.printed[2]:>13}{row.printed[3]:>12}   "
+            f"{_iters(row.paper):>11}{_iters(row.exact):>17}   {mark}"
+        )
+    lines += ["", "Computed exit velocities (paper mode; 12 significant digits, exact values with --json):"]
+    for row in table.rows:
+        K = row.paper.backend
+        lines.append(f"  {row.eps:<8}" + "".join(f"{K.to_decimal(x, 12):>18}" for x in row.paper.exit_velocity))
+    bad = [row for row in table.rows if not row.agrees]
+    n_bad = sum(not c.agrees for r in bad for c in r.checks)
+    lines += ["", f"Entries that disagree with the computation ({n_bad}):"]
+    if not bad:
+        lines.append("  none")
+    for row in bad:
+        for c in row.checks:
+            if not c.agrees:
+                lines.append(
+                    f"  eps = {row.eps}, {c.column}: printed {c.printed}, computed {c.computed[:14]}: {c.reason}"
+                )
+        for note in row.row_notes:
+            lines.append(f"    row {row.eps}: {note}")
+    lines += ["", *aeev_text(table.identification)]
+    rows_exit_differs = [
+        r for r in table.rows if (r.exact.stop, r.exact.iterations) != (r.paper.stop, r.paper.iterations)
+    ]
+    if rows_exit_differs:
+        lines += ["", "Where the exact run differs from paper mode:"]
+        for r in rows_exit_differs:
+            lines.append(f"  eps = {r.eps}: paper mode {_iters(r.paper)}, exact {_iters(r.exact)}")
+    return "\n".join(lines) + "\n"
+
+
+def aeev_text(ident: dict[str, Any]) -> list[str]:
+    """The identification of the paper's AEEV stop test, in words and figures."""
+    lines = ["Identification of the AEEV stop (sigma relative to ||v0||):"]
+    for name, w in ident["measures"].items():
+        what = "max |v_i - v_j| over all pairs" if name == "all" else "max |v_i - v_(i+1)| over neighbours"
+        if w["consistent"]:
+            lines.append(
+                f"  {what} < sigma: reproduces every printed count iff sigma/||v0|| is in "
+                f"({sqrt_decimal(w['lower_sq'], 4)}, {sqrt_decimal(w['upper_sq'], 4, up=True)}]"
+                f" (bounds rounded outward)"
+            )
+        else:
+            lines.append(f"  {what} < sigma: no sigma reproduces every printed count")
+        where = "inside" if w["stated_inside"] else "outside"
+        lines.append(f"    the stated sigma/||v0|| = {format_decimal(PAPER_SIGMA_STATED)} is {where} this window")
+    counts = ", ".join(f"{e}: {c}" for e, c in ident["stated_counts"].items() if "AEEV" in c)
+    lines.append(f"  AEEV stops with the stated sigma = {format_decimal(PAPER_SIGMA_STATED)} ||v0||: {counts}")
+    lines.append(f"  paper mode uses sigma/||v0|| = {format_decimal(PAPER_SIGMA_RELATIVE)} (see verify/paper.py)")
+    return lines
+
+
+def table1_json(table: Table1) -> dict[str, Any]:
+    """Table 1 as JSON: printed entries, result records of both runs, checks and notes."""
+    ident = table.identification
+    return {
+        "source": table.source,
+        "v0": str(table.v0),
+        "exact_cap": table.exact_cap,
+        "rows": [
+            {
+                "eps": row.eps,
+                "printed": dict(zip(["v_D1", "v_D2", "v_D3", "iterations"], row.printed)),
+                "paper": result_record(row.paper, f"table1-paper-{row.eps}"),
+                "exact": result_record(row.exact, f"table1-exact-{row.eps}"),
+                "checks": [
+                    {
+                        "column": c.column,
+                        "printed": c.printed,
+                        "computed": c.computed,
+                        "agrees": c.agrees,
+                        "reason": c.reason or None,
+                    }
+                    for c in row.checks
+                ],
+                "notes": row.row_notes,
+            }
+            for row in table.rows
+        ],
+        "aeev_identification": {
+            "measures": {
+                name: {
+                    "sigma_relative_squared_lower": str(w["lower_sq"]),
+                    "sigma_relative_squared_upper": str(w["upper_sq"]),
+                    "sigma_relative_lower_decimal": sqrt_decimal(w["lower_sq"], 10),
+                    "sigma_relative_upper_decimal": sqrt_decimal(w["upper_sq"], 10, up=True),
+                    "consistent": w["consistent"],
+                    "stated_sigma_inside": w["stated_inside"],
+                }
+                for name, w in ident["measures"].items()
+            },
+            "counts_with_stated_sigma": ident["stated_counts"],
+        },
+    }
+
+
+def table1_summary(table: Table1) -> str:
+    """A few lines for ``verify all``."""
+    agree = [r for r in table.rows if r.agrees]
+    bad = [r for r in table.rows if not r.agrees]
+    counts_ok = all(r.checks[-1].agrees for r in table.rows)
+    lines = [
+        f"  Table 1: {len(agree)} of {len(table.rows)} rows agree in every printed entry; "
+        f"printed iteration counts {'all reproduced' if counts_ok else 'NOT all reproduced'} in paper mode",
+    ]
+    for r in bad:
+        wrong = ", ".join(c.column for c in r.checks if not c.agrees)
+        why = r.row_notes[0] if r.row_notes else ""
+        lines.append(f"    disagrees with the paper: eps = {r.eps} ({wrong}): {why}")
+    for hi, lo, inside in threshold_brackets(table):
+        where = "lies" if inside else "does NOT lie"
+        lines.append(
+            f"    3 -> 4 iterations between eps = {hi} and {lo}; the paper's threshold 3 - 2*sqrt(2) {where} "
+            "between them (decided exactly)"
+        )
+    ident = table.identification["measures"]["all"]
+    verdict = "reproduces" if ident["stated_inside"] else "does not reproduce"
+    window = f"({sqrt_decimal(ident['lower_sq'], 4)}, {sqrt_decimal(ident['upper_sq'], 4, up=True)}]"
+    lines.append(
+        f"    AEEV stop: the stated sigma = {format_decimal(PAPER_SIGMA_STATED)} ||v0|| {verdict} "
+        f"the printed counts; sigma/||v0|| in {window} does"
+    )
+    return "\n".join(lines) + "\n"

@@ -1,0 +1,298 @@
+"""The iterative impact rule of Pasquero (2021), eqs. (4)-(8), written once.
+
+Given a :class:`~verify.system.System` and a left velocity ``p_L^0`` (its components v),
+the procedure of Sect. 3.5 is:
+
+b) the impact set J = {i : p(F_i) < 0} (eq. 2; every sign through ``K.sign``);
+c) for |J| >= 2 the global orthogonal velocity ``V_J`` and
+   ``beta = Phi(V_J, sum V_j) / ||sum V_j||^2``;
+d) the impulse (eq. 8): ``-beta sum (1 + eps_j) V_j`` for |J| >= 2,
+   ``-(1 + eps_j) V_j`` for J = {j}, 0 for J empty;
+e)-f) ``p^{w+1} = p^w + I(p^w)`` until J is empty: that velocity is ``p_R``.
+
+The paper's step e) stops when ``p^{w+1} = p^w``; this happens exactly when J is empty,
+because for non-empty J the impulse is never 0 (each ``V_j`` is a non-zero multiple of the
+independent ``U_j``, and beta > 0: its numerator is ``sum_j p(F_j)^2 / G_jj``).
+
+Orthogonal components, in terms of the system's ``U_i = g^{-1} dF_i^T`` and Gram matrix G:
+
+- ``V_i(p) = (p(F_i) / G_ii) U_i``: the Phi-orthogonal component of p w.r.t. S_i;
+- ``V_J(p) = sum_k mu_k U_k`` with ``G_JJ mu = (p(F_j))_{j in J}``: the component
+  orthogonal to the intersection of the S_j (the Gram solve).
+
+The ideal rule (5), the symmetric rule (6) and the asymmetric rule (7) are this rule with
+all CORs 1, with equal CORs, and with two constraints: pick one by name in :func:`solve`.
+
+>>> from verify.system import System
+>>> s = System([[1, 0, 0], [0, 1, 0], [0, 0, 1]], [[-1, 1, 0], [0, -1, 1]], [1, 1])
+>>> r = solve(s, ["1", "0", "-1"])
+>>> [s.backend.to_exact(x) for x in r.exit_velocity], r.impact_sets, r.stop
+(['-1', '0', '1'], [(0, 1)], 'exit')
+"""
+
+from __future__ import annotations
+
+from collections.abc import Callable, Sequence
+from dataclasses import dataclass, field
+from typing import Any
+
+from verify.errors import InvalidSystem, NoConvergence, Undecided
+from verify.linalg import dot, ldl, solve_spd
+from verify.system import System
+
+RULES = ("general", "ideal", "symmetric", "asymmetric")
+DEFAULT_MAX_ITERATIONS = 10_000
+
+#: A stop test: called with (system, velocity) before each impulse, once an impact is
+#: known to remain; returns a stop reason (such as ``"aeev"``) or None to go on.
+Halt = Callable[[System, tuple], "str | None"]
+
+
+@dataclass(frozen=True)
+class Step:
+    """One impulse of the iteration: the trace entry of Sect. 3.5 d)-e)."""
+
+    impact_set: tuple[int, ...]
+    rates: tuple  # p(F_i) of the velocity before the impulse, for every constraint
+    beta: Any  # None for a single impact
+    impulse: tuple
+    velocity: tuple  # after the impulse
+    kinetic_energy: Any  # after the impulse
+
+
+@dataclass(frozen=True)
+class Result:
+    """The outcome of :func:`solve`: exit velocity, stop reason and the full trace."""
+
+    system: System
+    rule: str
+    velocity_in: tuple
+    exit_velocity: tuple
+    stop: str
+    steps: tuple[Step, ...]
+    impact_sets: list[tuple[int, ...]]
+    betas: list[Any]
+    kinetic_energy_in: Any
+    kinetic_energy_out: Any
+    max_iterations: int
+    notes: tuple[str, ...] = ()
+    certificate: dict | None = field(default=None)
+
+    @property
+    def iterations(self) -> int:
+        """The number of impulses applied (Table 1's "# Iterations")."""
+        return len(self.impact_sets)
+
+    @property
+    def backend(self) -> Any:
+        return self.system.backend
+
+
+# -- the geometric quantities ------------------------------------------------------------
+
+
+def _scaled(K: Any, coef: Sequence[Any], J: Sequence[int], U: Sequence[Sequence[Any]], n: int) -> tuple:
+    """``sum_k coef[k] U[J[k]]``."""
+    out = [K.zero] * n
+    for ck, j in zip(coef, J):
+        for m, u in enumerate(U[j]):
+            out[m] = out[m] + ck * u
+    return tuple(out)
+
+
+def impact_set(system: System, v: Sequence[Any]) -> tuple[int, ...]:
+    """Step b): the constraints for which the velocity is incoming, ``p(F_i) < 0``."""
+    K = system.backend
+    return tuple(i for i, b in enumerate(system.rates(v)) if K.sign(b) < 0)
+
+
+def orthogonal_component(system: System, v: Sequence[Any], i: int) -> tuple:
+    """``V_i(p) = (p(F_i) / G_ii) U_i``, the Phi-orthogonal component w.r.t. S_i.
+
+    >>> from verify.system import System
+    >>> s = System([[1, 0], [0, 1]], [[-1, 1]], [1])
+    >>> [str(x) for x in orthogonal_component(s, s.velocity(["100", "0"]), 0)]
+    ['50', '-50']
+    """
+    b = system.rates(v)[i]
+    return _scaled(system.backend, [b / system.gram_diag[i]], [i], system.U, system.n)
+
+
+def global_orthogonal_component(system: System, v: Sequence[Any], J: Sequence[int]) -> tuple:
+    """``V_J(p)``: the component of p orthogonal to the intersection of the S_j, j in J.
+
+    It is ``sum mu_k U_k`` where ``G_JJ mu = (p(F_j))_j`` (the Gram solve), so that
+    ``p - V_J`` is tangent to every S_j.
+    """
+    K = system.backend
+    b = system.rates(v)
+    mu = _gram_solve(system, [b[j] for j in J], J)
+    return _scaled(K, mu, J, system.U, system.n)
+
+
+def _gram_solve(system: System, rhs: Sequence[Any], J: Sequence[int]) -> tuple:
+    K = system.backend
+    G_J = [[system.gram[j][k] for k in J] for j in J]
+    return solve_spd(K, ldl(K, G_J), rhs)
+
+
+def _beta_from_rates(system: System, b: Sequence[Any], J: Sequence[int]) -> Any:
+    """beta of step c), computed in the basis (U_j): with ``lambda_j = p(F_j)/G_jj``,
+    ``sum V_j = sum lambda_j U_j`` and ``V_J = sum mu_k U_k`` (Gram solve), so
+    ``Phi(V_J, sum V_j) = mu^T G_JJ lambda`` and ``||sum V_j||^2 = lambda^T G_JJ lambda``.
+    """
+    K = system.backend
+    bJ = [b[j] for j in J]
+    lam = [bj / system.gram_diag[j] for bj, j in zip(bJ, J)]
+    mu = _gram_solve(system, bJ, J)
+    G_lam = [dot(K, [system.gram[j][k] for k in J], lam) for j in J]
+    return dot(K, mu, G_lam) / dot(K, lam, G_lam)
+
+
+def beta(system: System, v: Sequence[Any], J: Sequence[int]) -> Any:
+    """The coefficient beta of Sect. 3.5 c) for the impact set J (|J| >= 2).
+
+    >>> from verify.system import System
+    >>> s = System([[1, 0, 0], [0, 1, 0], [0, 0, 1]], [[-1, 1, 0], [0, -1, 1]], [1, 1])
+    >>> str(beta(s, s.velocity(["1", "0", "-1"]), (0, 1)))
+    '2'
+    """
+    if len(J) < 2:
+        raise ValueError("beta is defined for impact sets of two or more constraints")
+    return _beta_from_rates(system, system.rates(v), J)
+
+
+def _impulse_from_rates(system: System, b: Sequence[Any], J: Sequence[int]) -> tuple[tuple, Any]:
+    """Eq. (8) given the rates p(F_i): returns (impulse, beta or None)."""
+    K = system.backend
+    e = system.restitution
+    if len(J) == 1:
+        (j,) = J
+        coef = [K.zero - (K.one + e[j]) * b[j] / system.gram_diag[j]]
+        return _scaled(K, coef, J, system.U, system.n), None
+    bt = _beta_from_rates(system, b, J)
+    coef = [K.zero - bt * (K.one + e[j]) * b[j] / system.gram_diag[j] for j in J]
+    return _scaled(K, coef, J, system.U, system.n), bt
+
+
+def impulse(system: System, v: Sequence[Any], J: Sequence[int] | None = None) -> tuple:
+    """The reactive impulse I(p) of eq. (8) for the impact set J (default: step b's).
+
+    >>> from verify.system import System
+    >>> s = System([[1, 0], [0, 1]], [[-1, 1]], ["1/2"])
+    >>> [str(x) for x in impulse(s, s.velocity(["100", "0"]))]
+    ['-75', '75']
+    """
+    J = impact_set(system, v) if J is None else tuple(J)
+    if not J:
+        return (system.backend.zero,) * system.n
+    return _impulse_from_rates(system, system.rates(v), J)[0]
+
+
+# -- the iteration ------------------------------------------------------------------------------
+
+
+def _system_for_rule(system: System, rule: str) -> System:
+    if rule == "general":
+        return system
+    if rule == "ideal":
+        return system.with_restitution([1] * system.r)
+    if rule == "symmetric":
+        e = system.source["restitution"]
+        if any(x != e[0] for x in e):
+            raise InvalidSystem(f"the symmetric rule (6) needs one COR for all constraints, got {[str(x) for x in e]}")
+        return system
+    if rule == "asymmetric":
+        if system.r != 2:
+            raise InvalidSystem(f"the asymmetric rule (7) is for two constraints, the system has {system.r}")
+        return system
+    raise InvalidSystem(f"unknown rule {rule!r} (choose from {', '.join(RULES)})")
+
+
+def _iterate(system: System, v: tuple, max_iterations: int, halt: Halt | None, trace: bool) -> dict:
+    K = system.backend
+    steps: list[Step] = []
+    impact_sets: list[tuple[int, ...]] = []
+    betas: list[Any] = []
+    while True:
+        b = system.rates(v)
+        J = tuple(i for i, bi in enumerate(b) if K.sign(bi) < 0)
+        if not J:
+            stop = "exit"
+            break
+        if halt is not None:
+            reason = halt(system, v)
+            if reason:
+                stop = reason
+                break
+        if len(impact_sets) >= max_iterations:
+            stop = "max_iterations"
+            break
+        I, bt = _impulse_from_rates(system, b, J)
+        v = tuple(x + y for x, y in zip(v, I))
+        impact_sets.append(J)
+        betas.append(bt)
+        if trace:
+            steps.append(Step(J, b, bt, I, v, system.kinetic_energy(v)))
+    return {"v": v, "stop": stop, "steps": steps, "impact_sets": impact_sets, "betas": betas}
+
+
+def solve(
+    system: System,
+    velocity: Sequence[Any],
+    *,
+    rule: str = "general",
+    max_iterations: int = DEFAULT_MAX_ITERATIONS,
+    halt: Halt | None = None,
+    trace: bool = True,
+) -> Result:
+    """Run the rule from the left velocity ``velocity`` until it exits (or a stop test fires).
+
+    ``rule`` is ``"general"`` (eq. 8, the system's own CORs), ``"ideal"`` (eq. 5, all CORs
+    1), ``"symmetric"`` (eq. 6, requires equal CORs) or ``"asymmetric"`` (eq. 7, requires
+    two constraints). ``max_iterations`` caps the number of impulses (stop
+    ``"max_iterations"``); ``halt`` is an extra stop test such as the paper's AEEV stop.
+    On a backend whose signs can be undecided (intervals) the run is repeated at higher
+    precision, and the result's ``notes`` say so; :class:`~verify.errors.NoConvergence` is
+    raised when the precision limit is reached. ``trace=False`` keeps only impact sets
+    and betas (for long runs).
+
+    >>> from verify.system import System
+    >>> s = System([[1, 0, 0], [0, 1, 0], [0, 0, 1]], [[-1, 1, 0], [0, -1, 1]], ["1/2", "1/2"])
+    >>> r = solve(s, ["100", "0", "0"], rule="symmetric")
+    >>> r.iterations, [s.backend.to_exact(x) for x in r.exit_velocity]
+    (3, ['1625/8', '1875/8', '225/4'])
+    """
+    if not isinstance(max_iterations, int) or max_iterations < 0:
+        raise InvalidSystem(f"max_iterations must be a non-negative integer, got {max_iterations!r}")
+    system = _system_for_rule(system, rule)
+    notes: list[str] = []
+    while True:
+        K = system.backend
+        try:
+            v0 = system.velocity(velocity)
+            out = _iterate(system, v0, max_iterations, halt, trace)
+            break
+        except Undecided as exc:
+            finer = K.refined()
+            if finer is None:
+                raise NoConvergence(
+                    f"{K.describe()}: a sign stayed undecided at the precision limit ({exc}); "
+                    "the value may be exactly 0: use the exact backend"
+                ) from None
+            notes.append(f"precision raised from {K.dps} to {finer.dps} digits after an undecided sign")
+            system = system.convert_to(finer)
+    return Result(
+        system=system,
+        rule=rule,
+        velocity_in=v0,
+        exit_velocity=out["v"],
+        stop=out["stop"],
+        steps=tuple(out["steps"]),
+        impact_sets=out["impact_sets"],
+        betas=out["betas"],
+        kinetic_energy_in=system.kinetic_energy(v0),
+        kinetic_energy_out=system.kinetic_energy(out["v"]),
+        max_iterations=max_iterations,
+        notes=tuple(notes),
+    )

@@ -1,0 +1,287 @@
+"""The mechanical system at a multiple contact (Sect. 2.3 and 3.5 of the paper).
+
+A :class:`System` holds, at the contact configuration, the mass matrix ``g`` (the metric
+Phi on vertical vectors), the r constraint covectors ``dF_i`` (the "normals"), their time
+derivatives ``dF_i/dt`` (0 for fixed constraints) and one coefficient of restitution per
+constraint. The admissible side of S_i is ``F_i >= 0``, so an absolute velocity with
+components ``v`` is incoming for S_i (an impact) iff ``p(F_i) = dF_i/dt + dF_i . v < 0``
+(eq. 2).
+
+Every number is parsed exactly once (:func:`verify.numbers.to_number`), validated, and
+converted into the backend ``K`` that the rule computes with. Derived quantities that do
+not depend on the velocity are computed once here:
+
+- ``U_i = g^{-1} dF_i^T``, the Phi-normal vector of S_i (``U_S^perp`` of Sect. 2.2);
+- the Gram matrix ``G_ij = Phi(U_i, U_j) = dF_i g^{-1} dF_j^T``, positive definite
+  exactly when the normals are independent (condition (iii) of Sect. 2.3);
+- a rest frame ``H`` of all the constraints (``dF_i/dt + dF_i . H = 0``, Sect. 2.2), the
+  one of least kinetic energy, in which kinetic energies are measured.
+
+>>> s = System([[1, 0], [0, 1]], [[-1, 1]], ["1/2"])
+>>> [str(x) for x in s.rates(s.velocity(["3", "0"]))]
+['-3']
+"""
+
+from __future__ import annotations
+
+from collections.abc import Sequence
+from fractions import Fraction
+from typing import Any
+
+from verify.backends import Backend, get_backend
+from verify.errors import InvalidSystem
+from verify.linalg import NotPositiveDefinite, dot, ldl, matvec, solve_spd
+from verify.numbers import Number, format_exact, to_number
+
+
+def _sign_of_number(x: Number) -> int:
+    from verify.numeric import certified_sign
+
+    return certified_sign(x)
+
+
+def _equal(a: Number, b: Number) -> bool:
+    if a == b:
+        return True
+    if isinstance(a, Fraction) and isinstance(b, Fraction):
+        return False
+    from verify.numbers import _to_sympy
+
+    return _sign_of_number(_to_sympy(a) - _to_sympy(b)) == 0
+
+
+def _check_vector(values: Any, length: int | None, field: str) -> list:
+    if isinstance(values, (str, bytes)) or not isinstance(values, Sequence):
+        raise InvalidSystem(f"{field}: expected a list of numbers, got {type(values).__name__}")
+    if length is not None and len(values) != length:
+        raise InvalidSystem(f"{field}: expected {length} numbers, got {len(values)}")
+    return [to_number(x, where=f"{field}[{i}]") for i, x in enumerate(values)]
+
+
+class System:
+    """A system in multiple contact with r frictionless codimension-1 constraints.
+
+    ``mass_matrix`` is n x n, symmetric positive definite; ``normals`` is r x n (row i is
+    ``dF_i``); ``restitution`` has r CORs in [0, 1]; ``time_terms`` has r entries
+    (default 0). Numbers may be strings (``"0.1"`` is read as 1/10), ints, Fractions or
+    SymPy numbers; floats are refused. Raises :class:`~verify.errors.InvalidSystem` with
+    the offending field and value.
+
+    >>> s = System([["2", "0"], ["0", "1"]], [["-1", "1"]], ["0.5"])
+    >>> s.n, s.r, s.backend.name, [str(u) for u in s.U[0]]
+    (2, 1, 'exact', ['-1/2', '1'])
+    """
+
+    __slots__ = (
+        "U",
+        "backend",
+        "coordinates",
+        "g",
+        "gram",
+        "gram_diag",
+        "n",
+        "names",
+        "normals",
+        "r",
+        "rest_frame",
+        "restitution",
+        "source",
+        "time_terms",
+    )
+
+    def __init__(
+        self,
+        mass_matrix: Sequence[Sequence[Any]],
+        normals: Sequence[Sequence[Any]],
+        restitution: Sequence[Any],
+        time_terms: Sequence[Any] | None = None,
+        *,
+        backend: str | Backend = "exact",
+        dps: int | None = None,
+        names: Sequence[str] | None = None,
+        coordinates: Sequence[str] | None = None,
+    ):
+        K = get_backend(backend, dps=dps)
+        if isinstance(mass_matrix, (str, bytes)) or not isinstance(mass_matrix, Sequence) or not mass_matrix:
+            raise InvalidSystem("mass_matrix: expected a non-empty square matrix (a list of rows)")
+        n = len(mass_matrix)
+        g = [_check_vector(row, n, f"mass_matrix[{i}]") for i, row in enumerate(mass_matrix)]
+        if isinstance(normals, (str, bytes)) or not isinstance(normals, Sequence) or not normals:
+            raise InvalidSystem("normals: expected at least one constraint normal (a list of rows)")
+        r = len(normals)
+        a = [_check_vector(row, n, f"normals[{i}]") for i, row in enumerate(normals)]
+        e = _check_vector(restitution, r, "restitution")
+        c = _check_vector(time_terms, r, "time_terms") if time_terms is not None else [Fraction(0)] * r
+        for i in range(n):
+            for j in range(i + 1, n):
+                if not _equal(g[i][j], g[j][i]):
+                    raise InvalidSystem(
+                        f"mass_matrix is not symmetric: entry [{i}][{j}] = {format_exact(g[i][j])} "
+                        f"but [{j}][{i}] = {format_exact(g[j][i])}"
+                    )
+        for i, ei in enumerate(e):
+            if _sign_of_number(ei) < 0 or _sign_of_number(1 - ei) < 0:
+                raise InvalidSystem(f"restitution[{i}] = {format_exact(ei)} is outside [0, 1]")
+        self.names = tuple(names) if names is not None else tuple(f"S{i + 1}" for i in range(r))
+        if len(self.names) != r:
+            raise InvalidSystem(f"names: expected {r} names, got {len(self.names)}")
+        self.coordinates = tuple(coordinates) if coordinates is not None else tuple(f"x{i + 1}" for i in range(n))
+        if len(self.coordinates) != n:
+            raise InvalidSystem(f"coordinates: expected {n} names, got {len(self.coordinates)}")
+        self.source = {
+            "mass_matrix": tuple(tuple(row) for row in g),
+            "normals": tuple(tuple(row) for row in a),
+            "time_terms": tuple(c),
+            "restitution": tuple(e),
+        }
+        self.backend, self.n, self.r = K, n, r
+        self._derive()
+
+    def _derive(self) -> None:
+        """Convert the source numbers into the backend and compute U, G and H."""
+        K, src = self.backend, self.source
+        self.g = tuple(tuple(K.convert(x) for x in row) for row in src["mass_matrix"])
+        self.normals = tuple(tuple(K.convert(x) for x in row) for row in src["normals"])
+        self.time_terms = tuple(K.convert(x) for x in src["time_terms"])
+        self.restitution = tuple(K.convert(x) for x in src["restitution"])
+        try:
+            g_factors = ldl(K, self.g)
+        except NotPositiveDefinite as exc:
+            raise InvalidSystem(
+                f"mass_matrix is not positive definite (pivot {exc.index} of its LDL^T factorisation "
+                f"is {K.to_decimal(exc.pivot, 12)})"
+            ) from None
+        for i, row in enumerate(self.normals):
+            if all(K.sign(x) == 0 for x in row):
+                raise InvalidSystem(f"normals[{i}] is zero: a constraint needs a non-zero gradient")
+        self.U = tuple(solve_spd(K, g_factors, row) for row in self.normals)
+        self.gram = tuple(tuple(dot(K, ai, uj) for uj in self.U) for ai in self.normals)
+        try:
+            gram_factors = ldl(K, self.gram)
+        except NotPositiveDefinite as exc:
+            raise InvalidSystem(
+                f"normals are dependent: normals[{exc.index}] is a combination of the normals before it "
+                "(the paper requires independent constraints, Sect. 2.3 (iii))"
+            ) from None
+        self.gram_diag = tuple(self.gram[i][i] for i in range(self.r))
+        if all(K.sign(ci) == 0 for ci in self.time_terms):
+            self.rest_frame = (K.zero,) * self.n
+        else:
+            mu = solve_spd(K, gram_factors, self.time_terms)
+            self.rest_frame = tuple(K.zero - dot(K, mu, [u[k] for u in self.U]) for k in range(self.n))
+
+    # -- derived systems --------------------------------------------------------------
+    def convert_to(self, backend: str | Backend, *, dps: int | None = None) -> System:
+        """The same system on another backend (numbers re-converted from their exact source).
+
+        >>> System([[1]], [[1]], [1]).convert_to("interval").backend.name
+        'interval'
+        """
+        new = object.__new__(System)
+        for slot in ("n", "r", "names", "coordinates", "source"):
+            setattr(new, slot, getattr(self, slot))
+        new.backend = get_backend(backend, dps=dps)
+        new._derive()
+        return new
+
+    def with_restitution(self, restitution: Sequence[Any]) -> System:
+        """The same system with other CORs (validated like the constructor's).
+
+        >>> [str(e) for e in System([[1]], [[1]], ["1/2"]).with_restitution([1]).restitution]
+        ['1']
+        """
+        src = self.source
+        return System(
+            src["mass_matrix"],
+            src["normals"],
+            restitution,
+            src["time_terms"],
+            backend=self.backend,
+            names=self.names,
+            coordinates=self.coordinates,
+        )
+
+    # -- the quantities the rule needs --------------------------------------------------
+    def velocity(self, values: Sequence[Any], field: str = "velocity") -> tuple:
+        """Parse and convert a velocity vector (n components) into the backend."""
+        return tuple(self.backend.convert(x) for x in _check_vector(values, self.n, field))
+
+    def rates(self, v: Sequence[Any]) -> tuple:
+        """``p(F_i) = dF_i/dt + dF_i . v`` for every constraint (negative: an impact, eq. 2)."""
+        return tuple(ci + dot(self.backend, ai, v) for ci, ai in zip(self.time_terms, self.normals))
+
+    def phi(self, u: Sequence[Any], w: Sequence[Any]) -> Any:
+        """The metric ``Phi(u, w) = u^T g w``."""
+        return dot(self.backend, u, matvec(self.backend, self.g, w))
+
+    def kinetic_energy(self, v: Sequence[Any]) -> Any:
+        """``1/2 Phi(v - H, v - H)`` in the rest frame H of the constraints (Sect. 2.1)."""
+        rel = tuple(x - h for x, h in zip(v, self.rest_frame))
+        half = self.backend.convert(Fraction(1, 2))
+        return half * self.phi(rel, rel)
+
+    # -- construction from constraint functions ---------------------------------------------
+    @classmethod
+    def from_functions(
+        cls,
+        functions: Sequence[Any],
+        coordinates: Sequence[Any],
+        configuration: dict[Any, Any],
+        mass_matrix: Sequence[Sequence[Any]],
+        restitution: Sequence[Any],
+        *,
+        time: Any = None,
+        names: Sequence[str] | None = None,
+        backend: str | Backend = "exact",
+        dps: int | None = None,
+    ) -> System:
+        """A system from SymPy constraint functions ``F_i(t, x)`` and a configuration.
+
+        Step a) of Sect. 3.5: only the constraints with ``F_i = 0`` at the configuration
+        (exactly) are in contact; the others are left out. Gradients ``dF_i`` and time
+        derivatives ``dF_i/dt`` are computed exactly by SymPy and evaluated there.
+        ``restitution`` gives one COR per function. The kept constraints are named by
+        ``names`` (default ``F1, F2, ...``), so ``system.names`` tells which are in contact.
+
+        >>> import sympy as sp
+        >>> x1, x2 = sp.symbols("x1 x2")
+        >>> s = System.from_functions([(x2 - x1)**2 - 4, x2 - 10], [x1, x2], {x1: 0, x2: 2},
+        ...                           [[1, 0], [0, 1]], [1, 1])
+        >>> s.names, [format_exact(x) for x in s.source["normals"][0]]
+        (('F1',), ['-4', '4'])
+        """
+        import sympy as sp
+
+        coords = list(coordinates)
+        names = list(names) if names is not None else [f"F{i + 1}" for i in range(len(functions))]
+        if len(names) != len(functions) or len(restitution) != len(functions):
+            raise InvalidSystem("from_functions: names and restitution need one entry per function")
+        subs = dict(configuration)
+        missing = [str(q) for q in coords if q not in subs]
+        if missing:
+            raise InvalidSystem(f"configuration: no value for {', '.join(missing)}")
+        kept, normals, time_terms, cors = [], [], [], []
+        for i, F in enumerate(functions):
+            if not isinstance(F, sp.Basic):  # never sympify text: it would be evaluated
+                raise InvalidSystem(f"functions[{i}]: expected a SymPy expression, got {type(F).__name__}")
+            at_contact = sp.simplify(F.subs(subs))
+            if at_contact != 0:
+                continue
+            kept.append(names[i])
+            gradient = [sp.simplify(sp.diff(F, q).subs(subs)) for q in coords]
+            normals.append([to_number(d, where=f"d{names[i]}/d{q}") for d, q in zip(gradient, coords)])
+            dt = sp.diff(F, time).subs(subs) if time is not None else sp.Integer(0)
+            time_terms.append(to_number(sp.simplify(dt), where=f"d{names[i]}/dt"))
+            cors.append(restitution[i])
+        if not kept:
+            raise InvalidSystem("from_functions: no constraint is in contact at this configuration")
+        return cls(
+            mass_matrix,
+            normals,
+            cors,
+            time_terms,
+            backend=backend,
+            dps=dps,
+            names=kept,
+            coordinates=[str(q) for q in coords],
+        )
