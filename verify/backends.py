@@ -232,7 +232,7 @@ class IntervalBackend(Backend):
 
     def enclosure(self, x: Any, digits: int = 30) -> tuple[str, str]:
         lo, hi = self._bounds(x)
-        return format_decimal(lo, digits), format_decimal(hi, digits)
+        return format_decimal(lo, digits, "floor"), format_decimal(hi, digits, "ceiling")
 
     def contains(self, x: Any, value: Fraction) -> bool:
         """Whether the exact rational ``value`` lies in the interval ``x``."""

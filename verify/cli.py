@@ -76,6 +76,20 @@ def _cmd_cradle(args: argparse.Namespace) -> int:
     return 0
 
 
+def _cmd_solve(args: argparse.Namespace) -> int:
+    from verify.records import dumps, load_cases, result_record
+    from verify.render import solve_text
+    from verify.rule import solve
+
+    cases = load_cases(args.cases, backend=args.backend, dps=args.dps)  # every case validated first
+    results = [(c, solve(c.system, c.velocity_source, rule=args.rule, max_iterations=c.max_iterations)) for c in cases]
+    if args.json:
+        sys.stdout.write(dumps({"results": [result_record(r, c.id) for c, r in results]}))
+    else:
+        sys.stdout.write("".join(solve_text(c.id, r) for c, r in results))
+    return 0
+
+
 def _cmd_table1(args: argparse.Namespace) -> int:
     from verify.records import dumps
     from verify.render import table1_json, table1_text
@@ -150,6 +164,24 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--json", action="store_true", help="print the result record (JSON)")
     _backend_options(p)
     p.set_defaults(func=_cmd_cradle)
+
+    p = sub.add_parser(
+        "solve",
+        help="run the general rule on a case file",
+        formatter_class=_formatter,
+        description="Run the rule (eq. 8) on every case of a case file (format: shared/docs/contracts.md).",
+        epilog="examples:\n  verify solve cases.json\n  verify solve cases.json --backend interval --json\n",
+    )
+    p.add_argument("cases", metavar="CASES.json", help='a case file {"cases": [...]}')
+    p.add_argument(
+        "--rule",
+        default="general",
+        choices=("general", "ideal", "symmetric", "asymmetric"),
+        help="general (eq. 8, default), ideal (5), symmetric (6) or asymmetric (7)",
+    )
+    p.add_argument("--json", action="store_true", help='print {"results": [...]}')
+    _backend_options(p)
+    p.set_defaults(func=_cmd_solve)
 
     p = sub.add_parser(
         "table1",

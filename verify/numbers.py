@@ -48,9 +48,10 @@ CONSTANTS = ("pi",)
 
 _TOKEN = re.compile(
     r"\s*(?:(?P<num>(?:\d+\.?\d*|\.\d+)(?:[eE][+-]?\d+)?)|(?P<name>[A-Za-z_][A-Za-z_0-9]*)"
-    r"|(?P<op>\*\*|[-+*/(),]))"
+    r"|(?P<op>\*\*|[-+*/(),]))",
+    re.ASCII,
 )
-_PLAIN_RATIONAL = re.compile(r"\s*[-+]?(?:\d+\.?\d*|\.\d+)(?:[eE][-+]?\d{1,4})?(?:\s*/\s*\d+)?\s*")
+_PLAIN_RATIONAL = re.compile(r"\s*[-+]?(?:\d+\.?\d*|\.\d+)(?:[eE][-+]?\d{1,4})?(?:\s*/\s*\d+)?\s*", re.ASCII)
 
 
 class _Fail(Exception):
@@ -63,7 +64,8 @@ def _sympy():
     return sympy
 
 
-def _tokenize(text: str) -> list[tuple[str, str]]:
+def _tokenize(text: str, names: set[str]) -> list[tuple[str, str]]:
+    """Split into tokens; an unknown name is rejected as soon as it is read."""
     tokens = []
     pos = 0
     stripped_end = len(text.rstrip())
@@ -73,6 +75,8 @@ def _tokenize(text: str) -> list[tuple[str, str]]:
             ch = text[pos:].lstrip()[:1]
             raise _Fail(f"unexpected character {ch!r}")
         kind = m.lastgroup
+        if kind == "name" and m.group(kind) not in names:
+            raise _Fail(f"unknown name {m.group(kind)!r} (allowed: sqrt pi sin cos tan CRootOf x)")
         tokens.append((kind, m.group(kind)))
         pos = m.end()
     return tokens
@@ -357,7 +361,7 @@ def parse_number(text: str, *, where: str | None = None, symbols: dict[str, Any]
         except (ValueError, OverflowError):
             pass  # fall through to the full parser for a precise message
     try:
-        tokens = _tokenize(text)
+        tokens = _tokenize(text, {*FUNCTIONS, *CONSTANTS, "x", *(symbols or {})})
         if not tokens:
             raise _Fail("empty")
         return _Parser(tokens, symbols or {}).parse()
@@ -393,6 +397,9 @@ def to_number(value: Any, *, where: str | None = None) -> Number:
         raise BadNumber(
             f'{prefix}not a number: {value!r} is a binary float; pass "{value!r}" (read exactly) or a Fraction'
         )
+    if hasattr(value, "json_number_text"):  # see verify.records.BareJSONNumber
+        text = value.json_number_text
+        raise BadNumber(f'{prefix}not a number: bare JSON number {text}; write it as a string, "{text}"')
     if hasattr(value, "is_number") and hasattr(value, "free_symbols"):  # a SymPy expression
         if value.free_symbols:
             return value
@@ -466,14 +473,17 @@ def _ilog10(num: int, den: int) -> int:
         e = e - 1 if not lo_ok else e + 1
 
 
-def format_decimal(value: Number, digits: int = 30) -> str:
-    """A decimal string with ``digits`` significant digits, rounded half to even exactly.
+def format_decimal(value: Number, digits: int = 30, rounding: str = "half_even") -> str:
+    """A decimal string with ``digits`` significant digits, rounded exactly.
 
-    Trailing zeros are dropped, so exact decimals read naturally (``"34.316164"``);
-    magnitudes outside [1e-7, 1e30) use an exponent (``"1.5e-9"``).
+    ``rounding`` is ``"half_even"`` (default), ``"floor"`` or ``"ceiling"`` (for printing
+    the bounds of an enclosure outward). Trailing zeros are dropped, so exact decimals read
+    naturally (``"34.316164"``); magnitudes outside [1e-7, 1e30) use an exponent (``"1e-9"``).
 
     >>> format_decimal(Fraction(2, 3), 5), format_decimal(Fraction(857766, 25000))
     ('0.66667', '34.31064')
+    >>> format_decimal(Fraction(2, 3), 3, "floor"), format_decimal(Fraction(-2, 3), 3, "floor")
+    ('0.666', '-0.667')
     """
     if not isinstance(value, Fraction):
         return _format_closed_form_decimal(value, digits)
@@ -486,7 +496,10 @@ def format_decimal(value: Number, digits: int = 30) -> str:
     scaled_num = num * 10**shift if shift >= 0 else num
     scaled_den = den if shift >= 0 else den * 10 ** (-shift)
     q, r = divmod(scaled_num, scaled_den)
-    if 2 * r > scaled_den or (2 * r == scaled_den and q % 2 == 1):
+    away = {"floor": sign == "-", "ceiling": sign == "", "half_even": None}[rounding]
+    if away is None:
+        away = 2 * r > scaled_den or (2 * r == scaled_den and q % 2 == 1)
+    if r and away:
         q += 1
     if q == 10**digits:  # rounding carried into a new digit
         q //= 10

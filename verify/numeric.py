@@ -133,11 +133,13 @@ def certified_digits(expr: Any, digits: int = 30) -> str:
 
 
 def _mpf_to_fraction(x: Any) -> Fraction:
-    """The exact value of an mpmath number (or a degenerate interval endpoint)."""
-    import mpmath
+    """The exact value of an mpmath number or of a degenerate interval (an endpoint).
 
-    if hasattr(x, "_mpi_"):
-        x = mpmath.mpf(x._mpi_[0])
-    man, exp = mpmath.mpf(x).man_exp
-    man, exp = int(man), int(exp)
-    return Fraction(man * 2**exp) if exp >= 0 else Fraction(man, 2 ** (-exp))
+    Reads the raw (sign, mantissa, exponent, bits) tuple, so nothing is rounded.
+    """
+    raw = x._mpi_[0] if hasattr(x, "_mpi_") else x._mpf_
+    sign, man, exp, _ = raw
+    if not man and exp:
+        raise ValueError("an infinite or undefined bound has no exact value")
+    value = Fraction(int(man) * 2 ** int(exp)) if exp >= 0 else Fraction(int(man), 2 ** int(-exp))
+    return -value if sign else value

@@ -73,6 +73,29 @@ def cradle_text(result: Result, *, eps: list[str], mode: str, full_trace: bool =
     return "\n".join(lines) + "\n"
 
 
+def solve_text(case_id: str, result: Result) -> str:
+    """A few lines per solved case."""
+    K = result.backend
+    s = result.system
+    sets = " ".join("{" + ",".join(str(j) for j in J) + "}" for J in result.impact_sets[:20])
+    if result.iterations > 20:
+        sets += f" ... ({result.iterations - 20} more)"
+    lines = [
+        f"{case_id}: {result.stop} after {result.iterations} impulses ({K.describe()})",
+        f"  impact sets: {sets or '-'}",
+    ]
+    if K.is_exact:
+        lines.append(f"  exit velocity: {_join([_short_exact(K, x) for x in result.exit_velocity])}")
+    lines.append(f"  decimal: {_join([K.to_decimal(x, 20) for x in result.exit_velocity])}")
+    lines.append(
+        f"  kinetic energy: {K.to_decimal(result.kinetic_energy_in, 12)} -> "
+        f"{K.to_decimal(result.kinetic_energy_out, 12)}"
+        f" ({len(s.names)} constraints, {s.n} coordinates)"
+    )
+    lines += [f"  note: {n}" for n in result.notes]
+    return "\n".join(lines) + "\n"
+
+
 def _short_exact(K: Any, x: Any, limit: int = 60) -> str:
     text = K.to_exact(x)
     if len(text) <= limit:

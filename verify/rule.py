@@ -261,7 +261,7 @@ def solve(
     >>> s = System([[1, 0, 0], [0, 1, 0], [0, 0, 1]], [[-1, 1, 0], [0, -1, 1]], ["1/2", "1/2"])
     >>> r = solve(s, ["100", "0", "0"], rule="symmetric")
     >>> r.iterations, [s.backend.to_exact(x) for x in r.exit_velocity]
-    (3, ['1625/8', '1875/8', '225/4'])
+    (3, ['325/16', '375/16', '225/4'])
     """
     if not isinstance(max_iterations, int) or max_iterations < 0:
         raise InvalidSystem(f"max_iterations must be a non-negative integer, got {max_iterations!r}")

@@ -1,0 +1,35 @@
+"""Shared test helpers: exactness checks in the manner of CPython's test_fractions."""
+
+from __future__ import annotations
+
+from fractions import Fraction
+from typing import Any
+
+
+class Poison(Fraction):
+    """A rational whose conversion to float fails: any float path in the code raises."""
+
+    def __float__(self) -> float:
+        raise AssertionError(f"float() was called on the exact value {Fraction(self)}")
+
+    def __round__(self, *args: Any) -> Any:
+        raise AssertionError("round() was called on an exact value")
+
+
+def exact_value(K: Any, x: Any) -> Fraction:
+    """The exact value of a backend element, checking that it is an exact rational type."""
+    assert K.is_exact
+    assert not isinstance(x, float), f"a float {x!r} where an exact value was expected"
+    assert type(x).__name__ in ("mpq", "fmpq", "Fraction"), f"unexpected type {type(x).__name__}"
+    return K.to_number(x)
+
+
+def assert_exact(expected: Any, K: Any, got: Any) -> None:
+    """Value and type: ``got`` is an exact rational of the backend equal to ``expected``."""
+    assert exact_value(K, got) == Fraction(expected), f"{K.to_exact(got)} != {expected}"
+
+
+def assert_exact_vector(expected: list[Any], K: Any, got: Any) -> None:
+    assert len(expected) == len(got)
+    for e, g in zip(expected, got, strict=True):
+        assert_exact(e, K, g)

@@ -1,0 +1,110 @@
+"""One contract table run against every backend, plus what each backend promises."""
+
+from __future__ import annotations
+
+from fractions import Fraction
+
+import pytest
+import sympy as sp
+
+from verify.backends import BACKENDS, IntervalBackend, RationalBackend, _rational_impls, get_backend
+from verify.errors import BadNumber, InvalidInput, Undecided
+
+# (name, operation on (K, a, b), exact expected value) with a = 1/3 and b = -5/7
+CONTRACT = [
+    ("add", lambda K, a, b: a + b, Fraction(-8, 21)),
+    ("sub", lambda K, a, b: a - b, Fraction(22, 21)),
+    ("mul", lambda K, a, b: a * b, Fraction(-5, 21)),
+    ("div", lambda K, a, b: a / b, Fraction(-7, 15)),
+    ("zero", lambda K, a, b: K.zero + a - a, Fraction(0)),
+    ("one", lambda K, a, b: K.one * a, Fraction(1, 3)),
+]
+
+
+@pytest.fixture(params=BACKENDS)
+def backend(request):
+    return get_backend(request.param)
+
+
+@pytest.mark.parametrize(("name", "op", "expected"), CONTRACT, ids=[c[0] for c in CONTRACT])
+def test_contract_arithmetic(backend, name, op, expected):
+    K = backend
+    x = op(K, K.convert(Fraction(1, 3)), K.convert(Fraction(-5, 7)))
+    if K.is_exact:
+        assert K.to_number(x) == expected
+    elif isinstance(K, IntervalBackend):
+        assert K.contains(x, expected)
+        if expected == 0:  # a - a encloses 0 without being the point 0: undecidable, by design
+            with pytest.raises(Undecided):
+                K.sign(x)
+            return
+    else:
+        assert abs(Fraction(K.to_decimal(x, 12)) - expected) < Fraction(1, 10**10)
+    assert K.sign(x) == (expected > 0) - (expected < 0)
+
+
+def test_flags(backend):
+    assert backend.is_exact == (backend.name == "exact")
+    assert backend.is_rigorous == (backend.name in ("exact", "interval"))
+    assert backend.name in backend.describe()
+
+
+@pytest.mark.parametrize("impl", list(_rational_impls()))
+def test_every_rational_implementation_gives_the_same_results(impl):
+    from verify.cradle import run_cradle
+
+    K = RationalBackend(impl)
+    result = run_cradle("0.1715", backend=K)
+    assert [K.to_number(x) for x in result.exit_velocity] == [
+        RationalBackend("python").to_number(x)
+        for x in run_cradle("0.1715", backend=RationalBackend("python")).exit_velocity
+    ]
+
+
+def test_exact_backend_refuses_irrationals_with_a_clear_message():
+    with pytest.raises(BadNumber, match="irrational"):
+        get_backend("exact").convert(sp.sqrt(2))
+
+
+def test_interval_sign_raises_when_the_enclosure_contains_zero():
+    K = get_backend("interval", dps=20)
+    third = K.convert(Fraction(1, 3))
+    almost_zero = third * K.convert(Fraction(3)) - K.one  # encloses 0 but is not the point 0
+    with pytest.raises(Undecided):
+        K.sign(almost_zero)
+    assert K.sign(K.zero) == 0
+
+
+def test_interval_refines_up_to_a_limit():
+    K = IntervalBackend(50, max_dps=200)
+    dps = []
+    while K is not None:
+        dps.append(K.dps)
+        K = K.refined()
+    assert dps == [50, 100, 200]
+
+
+def test_interval_encloses_closed_forms():
+    K = get_backend("interval", dps=30)
+    x = K.convert(sp.sqrt(2))
+    lo, hi = K.enclosure(x)
+    assert Fraction(lo) < Fraction(hi)
+    assert Fraction(lo) ** 2 < 2 < Fraction(hi) ** 2  # printed bounds are rounded outward
+    assert K.sign(x - K.convert(Fraction(14142135623, 10**10))) == 1
+
+
+def test_mp_precision_is_private():
+    import mpmath
+
+    before = mpmath.mp.dps
+    K = get_backend("mp", dps=80)
+    x = K.convert(Fraction(1, 3))
+    assert K.to_decimal(x, 60).startswith("0." + "3" * 59)
+    assert mpmath.mp.dps == before
+
+
+def test_unknown_backend_and_bad_dps():
+    with pytest.raises(InvalidInput, match="unknown backend"):
+        get_backend("quantum")
+    with pytest.raises(InvalidInput, match="dps"):
+        get_backend("mp", dps=2)

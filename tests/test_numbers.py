@@ -1,0 +1,186 @@
+"""The restricted number parser and exact formatting."""
+
+from __future__ import annotations
+
+import time
+from fractions import Fraction
+
+import pytest
+import sympy as sp
+from hypothesis import example, given
+from hypothesis import strategies as st
+
+from verify.errors import BadNumber
+from verify.numbers import format_decimal, format_exact, int_to_str, parse_number, split_list, to_number
+
+GOOD = [
+    ("7", Fraction(7)),
+    ("-3/8", Fraction(-3, 8)),
+    ("0.0743", Fraction(743, 10000)),
+    ("0.1716", Fraction(429, 2500)),
+    ("0.1", Fraction(1, 10)),
+    (".5", Fraction(1, 2)),
+    ("1e-9", Fraction(1, 10**9)),
+    ("2.5E3", Fraction(2500)),
+    (" 1 / 3 ", Fraction(1, 3)),
+    ("(1 + 2) * 3 - 4/2", Fraction(7)),
+    ("-2**2", Fraction(-4)),
+    ("2**-2", Fraction(1, 4)),
+    ("2**3**2", Fraction(512)),
+    ("sqrt(9/4)", Fraction(3, 2)),
+    ("4**(1/2)", Fraction(2)),
+    ("sin(pi/6)", Fraction(1, 2)),
+    ("cos(0)", Fraction(1)),
+    ("tan(pi/4)", Fraction(1)),
+    ("sqrt(2)**2", Fraction(2)),
+]
+
+CLOSED = [
+    ("3 - 2*sqrt(2)", 3 - 2 * sp.sqrt(2)),
+    ("sqrt(3)/3", sp.sqrt(3) / 3),
+    ("tan(pi/6)", sp.sqrt(3) / 3),
+    ("cos(pi/12)", sp.sqrt(6) / 4 + sp.sqrt(2) / 4),
+    ("25*sqrt(6) + 25*sqrt(2)", 25 * sp.sqrt(6) + 25 * sp.sqrt(2)),
+    ("pi/6", sp.pi / 6),
+]
+
+BAD = [
+    ("", "empty"),
+    ("1/0", "division by zero"),
+    ("0**-1", "division by zero"),
+    ("abc", "unknown name 'abc'"),
+    ("__import__('os').system('id')", "unknown name '__import__'"),
+    ("eval('1')", "unknown name 'eval'"),
+    ("lambda: 1", "unknown name 'lambda'"),
+    ("1; 2", "unexpected character ';'"),
+    ("1 +", "unexpected end"),
+    ("(1", "unexpected end"),
+    ("(1 2)", "expected ')'"),
+    ("1)", "unexpected ')'"),
+    ("x", "'x' is only allowed inside CRootOf"),
+    ("inf", "unknown name 'inf'"),
+    ("nan", "unknown name 'nan'"),
+    ("sqrt(-1)", "sqrt of a negative number"),
+    ("(-8)**(1/3)", "negative number to a fractional power"),
+    ("2**sqrt(2)", "exponents must be rational"),
+    ("10**100000", "too large"),
+    ("(10**900)**900", "too large"),
+    ("tan(pi/2)", "not a finite real number"),
+    ("CRootOf(x**2 + 1, 0)", "not a real root"),
+    ("CRootOf(x**2 - 2, 2)", "not a real root"),
+    ("CRootOf(x**2 - 2, 1/2)", "index must be an integer"),
+    ("CRootOf(sqrt(2)*x - 1, 0)", "rational coefficients"),
+    ("1" * 3000, "longer than"),
+    ("(" * 200 + "1" + ")" * 200, "nested"),
+    ("1e99999", "exponent larger"),
+    ("0x10", "unknown name 'x10'"),
+    ("1_000", "unknown name"),
+    ("１", "unexpected character"),
+]
+
+
+@pytest.mark.parametrize(("text", "value"), GOOD, ids=[t for t, _ in GOOD])
+def test_parse_rational_exactly(text, value):
+    got = parse_number(text)
+    assert type(got) is Fraction
+    assert got == value
+
+
+@pytest.mark.parametrize(("text", "value"), CLOSED, ids=[t for t, _ in CLOSED])
+def test_parse_closed_forms(text, value):
+    got = parse_number(text)
+    assert not isinstance(got, Fraction)
+    assert sp.simplify(got - value) == 0
+
+
+def test_crootof_real_root():
+    root = parse_number("CRootOf(x**4 - 8*x**3 - 2*x**2 - 8*x + 1, 0)")
+    assert isinstance(root, sp.CRootOf)
+    import mpmath
+
+    real_roots = sorted(r.real for r in mpmath.polyroots([1, -8, -2, -8, 1]) if abs(r.imag) < 1e-20)
+    assert abs(root.evalf(30) - real_roots[0]) < 1e-12  # index 0 is the smallest real root
+
+
+@pytest.mark.parametrize(("text", "message"), BAD, ids=[t[:30] for t, _ in BAD])
+def test_bad_numbers_are_rejected_with_a_reason(text, message):
+    with pytest.raises(BadNumber) as info:
+        parse_number(text, where="cases[3].normals[1][0]")
+    assert str(info.value).startswith("cases[3].normals[1][0]: not a number: ")
+    assert message in str(info.value)
+
+
+def test_error_names_the_field_and_value_like_the_contract():
+    with pytest.raises(BadNumber, match=r'^cases\[3\]\.normals\[1\]\[0\]: not a number: "1/0"'):
+        parse_number("1/0", where="cases[3].normals[1][0]")
+
+
+def test_hostile_string_runs_nothing(tmp_path, monkeypatch):
+    marker = tmp_path / "pwned"
+    monkeypatch.chdir(tmp_path)
+    for text in [
+        f"__import__('os').system('touch {marker}')",
+        f"open('{marker}', 'w')",
+        "().__class__.__bases__[0].__subclasses__()",
+    ]:
+        with pytest.raises(BadNumber):
+            parse_number(text)
+    assert not marker.exists()
+
+
+def test_floats_are_refused_not_converted():
+    with pytest.raises(BadNumber, match="binary float"):
+        to_number(0.1)
+    assert to_number(Fraction(1, 10)) == Fraction(1, 10)
+    assert to_number(sp.Rational(1, 10)) == Fraction(1, 10)
+
+
+@given(st.text(max_size=60))
+@example("2**2**2**2**2")
+@example("9" * 1000 + "/" + "7" * 1000)
+@example("sin(" * 70 + "1" + ")" * 70)
+def test_parser_fuzz_never_crashes_or_hangs(text):
+    start = time.perf_counter()
+    try:
+        value = parse_number(text)
+    except BadNumber:
+        pass
+    else:
+        assert isinstance(value, Fraction) or hasattr(value, "free_symbols")
+    assert time.perf_counter() - start < 2.0
+
+
+@given(st.fractions(max_denominator=10**6), st.integers(min_value=1, max_value=40))
+def test_format_decimal_is_correctly_rounded(q, digits):
+    text = format_decimal(q, digits)
+    back = parse_number(text)
+    assert type(back) is Fraction
+    if q == 0:
+        assert back == 0
+        return
+    # the printed value is within half a unit of the last significant digit
+    mag = abs(q)
+    e = 0
+    while Fraction(10) ** (e + 1) <= mag:
+        e += 1
+    while Fraction(10) ** e > mag:
+        e -= 1
+    half_unit = Fraction(10) ** (e - digits + 1) / 2
+    assert abs(back - q) <= half_unit
+
+
+@given(st.fractions(max_denominator=10**9))
+def test_format_exact_roundtrip(q):
+    assert parse_number(format_exact(q)) == q
+
+
+def test_huge_integers_format_past_the_str_limit():
+    n = 7**20000  # about 16900 digits, beyond CPython's default str() limit
+    text = int_to_str(n)
+    assert len(text) > 4300
+    assert text[:5] == "27972" or text.isdigit()
+    assert int(text[:100]) == int(str(n // 10 ** (len(text) - 100)))
+
+
+def test_split_list_respects_parentheses():
+    assert split_list("1/2, sqrt(2), CRootOf(x**2 - 2, 1)") == ["1/2", "sqrt(2)", "CRootOf(x**2 - 2, 1)"]
