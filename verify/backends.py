@@ -48,6 +48,7 @@ class Backend:
     name: str = "?"
     is_exact: bool = False
     is_rigorous: bool = False
+    refinable: bool = False  #: whether refined() can raise the precision after an undecided sign
     dps: int | None = None
     zero: Any
     one: Any
@@ -194,6 +195,7 @@ class IntervalBackend(Backend):
 
     name = "interval"
     is_rigorous = True
+    refinable = True
 
     def __init__(self, dps: int = DEFAULT_DPS, max_dps: int = MAX_INTERVAL_DPS):
         from mpmath.ctx_iv import MPIntervalContext

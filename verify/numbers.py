@@ -289,15 +289,22 @@ def _pow(base: Number, exponent: Number) -> Number:
         if size > MAX_RESULT_BITS:
             raise _Fail("the power is too large")
         return base**k
-    if _is_fraction(base):
-        if base < 0:
-            raise _Fail("a negative number to a fractional power is not real")
-    elif base.is_negative:
+    negative = base < 0 if _is_fraction(base) else (not base.free_symbols and _closed_form_sign(base) < 0)
+    if negative and exponent.denominator != 1:
         raise _Fail("a negative number to a fractional power is not real")
-    elif exponent.denominator != 1 and base.is_negative is None:
-        raise _Fail("cannot decide the sign of a number raised to a fractional power")
     sp = _sympy()
     return _normalize(sp.Pow(_to_sympy(base), sp.Rational(exponent.numerator, exponent.denominator)))
+
+
+def _closed_form_sign(x: Any) -> int:
+    """The certified sign of a closed form (see :func:`verify.numeric.certified_sign`)."""
+    from verify.errors import Undecided
+    from verify.numeric import certified_sign
+
+    try:
+        return certified_sign(x)
+    except Undecided as exc:
+        raise _Fail(f"cannot decide the sign of {x}: {exc}") from None
 
 
 def _function(name: str, arg: Number) -> Number:
@@ -309,10 +316,8 @@ def _function(name: str, arg: Number) -> Number:
             rn, rd = math.isqrt(arg.numerator), math.isqrt(arg.denominator)
             if rn * rn == arg.numerator and rd * rd == arg.denominator:
                 return Fraction(rn, rd)
-        elif arg.is_negative:
+        elif not arg.free_symbols and _closed_form_sign(arg) < 0:
             raise _Fail("sqrt of a negative number")
-        elif arg.is_negative is None and arg.free_symbols == set():
-            raise _Fail("cannot decide the sign of the argument of sqrt")
         return _normalize(sp.sqrt(_to_sympy(arg)))
     func = {"sin": sp.sin, "cos": sp.cos, "tan": sp.tan}[name]
     return _normalize(func(_to_sympy(arg)))

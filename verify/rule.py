@@ -34,6 +34,7 @@ from __future__ import annotations
 
 from collections.abc import Callable, Sequence
 from dataclasses import dataclass, field
+from functools import cached_property
 from typing import Any
 
 from verify.errors import InvalidSystem, NoConvergence, Undecided
@@ -50,14 +51,22 @@ Halt = Callable[[System, tuple], "str | None"]
 
 @dataclass(frozen=True)
 class Step:
-    """One impulse of the iteration: the trace entry of Sect. 3.5 d)-e)."""
+    """One impulse of the iteration: the trace entry of Sect. 3.5 d)-e).
+
+    ``kinetic_energy`` (after the impulse, in the rest frame of the constraints) is
+    computed when first asked for: on long exact runs it is the costliest quantity.
+    """
 
     impact_set: tuple[int, ...]
     rates: tuple  # p(F_i) of the velocity before the impulse, for every constraint
     beta: Any  # None for a single impact
     impulse: tuple
     velocity: tuple  # after the impulse
-    kinetic_energy: Any  # after the impulse
+    system: System = field(repr=False, compare=False)
+
+    @cached_property
+    def kinetic_energy(self) -> Any:
+        return self.system.kinetic_energy(self.velocity)
 
 
 @dataclass(frozen=True)
@@ -91,15 +100,6 @@ class Result:
 # -- the geometric quantities ------------------------------------------------------------
 
 
-def _scaled(K: Any, coef: Sequence[Any], J: Sequence[int], U: Sequence[Sequence[Any]], n: int) -> tuple:
-    """``sum_k coef[k] U[J[k]]``."""
-    out = [K.zero] * n
-    for ck, j in zip(coef, J):
-        for m, u in enumerate(U[j]):
-            out[m] = out[m] + ck * u
-    return tuple(out)
-
-
 def impact_set(system: System, v: Sequence[Any]) -> tuple[int, ...]:
     """Step b): the constraints for which the velocity is incoming, ``p(F_i) < 0``."""
     K = system.backend
@@ -115,7 +115,7 @@ def orthogonal_component(system: System, v: Sequence[Any], i: int) -> tuple:
     ['50', '-50']
     """
     b = system.rates(v)[i]
-    return _scaled(system.backend, [b / system.gram_diag[i]], [i], system.U, system.n)
+    return system.combine_normals([(i, b / system.gram_diag[i])])
 
 
 def global_orthogonal_component(system: System, v: Sequence[Any], J: Sequence[int]) -> tuple:
@@ -124,10 +124,9 @@ def global_orthogonal_component(system: System, v: Sequence[Any], J: Sequence[in
     It is ``sum mu_k U_k`` where ``G_JJ mu = (p(F_j))_j`` (the Gram solve), so that
     ``p - V_J`` is tangent to every S_j.
     """
-    K = system.backend
     b = system.rates(v)
     mu = _gram_solve(system, [b[j] for j in J], J)
-    return _scaled(K, mu, J, system.U, system.n)
+    return system.combine_normals(list(zip(J, mu)))
 
 
 def _gram_solve(system: System, rhs: Sequence[Any], J: Sequence[int]) -> tuple:
@@ -169,10 +168,10 @@ def _impulse_from_rates(system: System, b: Sequence[Any], J: Sequence[int]) -> t
     if len(J) == 1:
         (j,) = J
         coef = [K.zero - (K.one + e[j]) * b[j] / system.gram_diag[j]]
-        return _scaled(K, coef, J, system.U, system.n), None
+        return system.combine_normals(list(zip(J, coef))), None
     bt = _beta_from_rates(system, b, J)
     coef = [K.zero - bt * (K.one + e[j]) * b[j] / system.gram_diag[j] for j in J]
-    return _scaled(K, coef, J, system.U, system.n), bt
+    return system.combine_normals(list(zip(J, coef))), bt
 
 
 def impulse(system: System, v: Sequence[Any], J: Sequence[int] | None = None) -> tuple:
@@ -233,7 +232,7 @@ def _iterate(system: System, v: tuple, max_iterations: int, halt: Halt | None, t
         impact_sets.append(J)
         betas.append(bt)
         if trace:
-            steps.append(Step(J, b, bt, I, v, system.kinetic_energy(v)))
+            steps.append(Step(J, b, bt, I, v, system))
     return {"v": v, "stop": stop, "steps": steps, "impact_sets": impact_sets, "betas": betas}
 
 
@@ -274,6 +273,8 @@ def solve(
             out = _iterate(system, v0, max_iterations, halt, trace)
             break
         except Undecided as exc:
+            if not K.refinable:
+                raise
             finer = K.refined()
             if finer is None:
                 raise NoConvergence(

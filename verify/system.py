@@ -40,6 +40,20 @@ def _sign_of_number(x: Number) -> int:
     return certified_sign(x)
 
 
+def _is_exact_zero(K: Backend, x: Any) -> bool:
+    """Whether ``x`` is exactly 0 (an undecidable sign counts as non-zero)."""
+    from verify.errors import Undecided
+
+    try:
+        return K.sign(x) == 0
+    except Undecided:
+        return False
+
+
+def _nonzero(K: Backend, row: Sequence[Any]) -> tuple:
+    return tuple((k, x) for k, x in enumerate(row) if not _is_exact_zero(K, x))
+
+
 def _equal(a: Number, b: Number) -> bool:
     if a == b:
         return True
@@ -74,6 +88,9 @@ class System:
 
     __slots__ = (
         "U",
+        "_energy_terms",
+        "_sparse_U",
+        "_sparse_normals",
         "backend",
         "coordinates",
         "g",
@@ -164,6 +181,16 @@ class System:
                 "(the paper requires independent constraints, Sect. 2.3 (iii))"
             ) from None
         self.gram_diag = tuple(self.gram[i][i] for i in range(self.r))
+        # the rule's inner loop skips the entries that are exactly zero (sparse rows)
+        self._sparse_normals = tuple(_nonzero(K, row) for row in self.normals)
+        self._sparse_U = tuple(_nonzero(K, row) for row in self.U)
+        half = K.convert(Fraction(1, 2))
+        self._energy_terms = tuple(
+            (i, j, half * self.g[i][j] if i == j else self.g[i][j])
+            for i in range(self.n)
+            for j in range(i, self.n)
+            if not _is_exact_zero(K, self.g[i][j])
+        )
         if all(K.sign(ci) == 0 for ci in self.time_terms):
             self.rest_frame = (K.zero,) * self.n
         else:
@@ -208,7 +235,21 @@ class System:
 
     def rates(self, v: Sequence[Any]) -> tuple:
         """``p(F_i) = dF_i/dt + dF_i . v`` for every constraint (negative: an impact, eq. 2)."""
-        return tuple(ci + dot(self.backend, ai, v) for ci, ai in zip(self.time_terms, self.normals))
+        out = []
+        for ci, row in zip(self.time_terms, self._sparse_normals):
+            total = ci
+            for k, a in row:
+                total = total + a * v[k]
+            out.append(total)
+        return tuple(out)
+
+    def combine_normals(self, coefficients: Sequence[tuple[int, Any]]) -> tuple:
+        """``sum c_j U_j`` over the pairs ``(j, c_j)``: the shape of every impulse."""
+        out = [self.backend.zero] * self.n
+        for j, c in coefficients:
+            for k, u in self._sparse_U[j]:
+                out[k] = out[k] + c * u
+        return tuple(out)
 
     def phi(self, u: Sequence[Any], w: Sequence[Any]) -> Any:
         """The metric ``Phi(u, w) = u^T g w``."""
@@ -217,8 +258,10 @@ class System:
     def kinetic_energy(self, v: Sequence[Any]) -> Any:
         """``1/2 Phi(v - H, v - H)`` in the rest frame H of the constraints (Sect. 2.1)."""
         rel = tuple(x - h for x, h in zip(v, self.rest_frame))
-        half = self.backend.convert(Fraction(1, 2))
-        return half * self.phi(rel, rel)
+        total = self.backend.zero
+        for i, j, c in self._energy_terms:  # 1/2 g_ii r_i^2 and g_ij r_i r_j (i < j)
+            total = total + c * rel[i] * rel[j]
+        return total
 
     # -- construction from constraint functions ---------------------------------------------
     @classmethod
