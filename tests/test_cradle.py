@@ -22,7 +22,7 @@ def velocities(result):
 
 @given(eps_open, st.fractions(min_value=F(1, 7), max_value=1000, max_denominator=7))
 def test_first_three_steps_are_the_papers_formulas(e, v0):
-    r = run_cradle(e, v0=v0, max_iterations=3)
+    r = run_cradle(e, v0=v0, max_iterations=3, certify=False)
     p1, p2, p3 = velocities(r)[:3]
     assert p1 == [(1 - e) / 2 * v0, (1 + e) / 2 * v0, 0]
     assert p2 == [(1 - e) / 2 * v0, (1 - e * e) / 4 * v0, (1 + e) ** 2 / 4 * v0]

@@ -100,9 +100,11 @@ def test_every_trace_entry_is_consistent():
 
 def test_stops():
     s = cradle(0)
-    r = solve(s, ["100", "0", "0"], max_iterations=7)
+    r = solve(s, ["100", "0", "0"], max_iterations=7, certify=False)
     assert (r.stop, r.iterations) == ("max_iterations", 7)
-    r = solve(s, ["100", "0", "0"], halt=aeev_halt([F(100), 0, 0], F(1, 100)))
+    r = solve(s, ["100", "0", "0"], max_iterations=7)
+    assert (r.stop, r.iterations) == ("non_terminating", 0)  # eps = 0 is proved never to exit
+    r = solve(s, ["100", "0", "0"], halt=aeev_halt([F(100), 0, 0], F(1, 100)), certify=False)
     assert r.stop == "aeev"
     assert solve(s, ["0", "0", "0"]).stop == "exit"
     assert solve(s, ["0", "0", "0"]).iterations == 0

@@ -83,8 +83,9 @@ def test_the_window_is_tight_at_both_ends():
 def test_exact_run_of_the_aeev_rows(table):
     by_eps = {row.eps: row for row in table.rows}
     assert (by_eps["0.0743"].exact.stop, by_eps["0.0743"].exact.iterations) == ("exit", 18)
-    assert by_eps["0.01"].exact.stop == "max_iterations"
-    assert by_eps["0"].exact.stop == "max_iterations"
+    assert by_eps["0.01"].exact.stop == "non_terminating"
+    assert by_eps["0"].exact.stop == "non_terminating"
+    assert by_eps["0.01"].exact.certificate["kind"] == "alternating invariant cone"
 
 
 def test_check_entry_reasons():

@@ -62,6 +62,10 @@ class Backend:
     def to_decimal(self, x: Any, digits: int = 30) -> str:  # pragma: no cover - abstract
         raise NotImplementedError
 
+    def nonnegative(self, x: Any) -> bool:
+        """Whether ``x >= 0`` (a parameter backend answers for the whole parameter range)."""
+        return self.sign(x) >= 0
+
     def to_number(self, x: Any) -> Number:
         """The exact value of ``x``; only exact backends have one."""
         raise TypeError(f"the {self.name} backend holds approximations, not exact values")
@@ -221,7 +225,11 @@ class IntervalBackend(Backend):
             return -1
         if x.a == 0 and x.b == 0:
             return 0
-        raise Undecided(f"interval {x} contains 0 at {self.dps} digits")
+        lo, hi = self._bounds(x)
+        raise Undecided(
+            f"the interval [{format_decimal(lo, 6, 'floor')}, {format_decimal(hi, 6, 'ceiling')}] "
+            f"contains 0 at {self.dps} digits"
+        )
 
     def _bounds(self, x: Any) -> tuple[Fraction, Fraction]:
         from verify.numeric import _mpf_to_fraction

@@ -193,8 +193,9 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument(
         "--exact-cap",
         type=int,
-        default=1000,
-        help="impulses after which an exact run that has not exited is reported as such (default 1000)",
+        default=10_000,
+        help="impulses after which an exact run that has neither exited nor been proved never to exit "
+        "is reported as such (default 10000)",
     )
     p.add_argument("--json", action="store_true", help="print JSON")
     p.set_defaults(func=_cmd_table1)

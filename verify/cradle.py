@@ -164,13 +164,17 @@ def run_cradle(
     max_iterations: int | None = None,
     trace: bool = True,
     sigma_relative: Fraction = PAPER_SIGMA_RELATIVE,
+    certify: bool = True,
 ) -> Result:
     """Run the cradle (reduced coordinates) in ``exact`` mode or in the paper's ``paper`` mode.
 
     ``mode="paper"`` applies the paper's own termination (Sect. 4.1): at most 10^4
     impulses and the almost-equal-exit-velocities stop of :func:`verify.paper.aeev_halt`
     with threshold ``sigma_relative * ||v0||`` (see :mod:`verify.paper` for its value).
-    ``mode="exact"`` stops only when the velocity exits (or at ``max_iterations``).
+    ``mode="exact"`` stops when the velocity exits, when the run is proved never to exit
+    (stop ``"non_terminating"`` with a certificate, :mod:`verify.termination`), or at
+    ``max_iterations``. ``certify=False`` turns the proofs off (to follow a run that
+    never exits for as long as ``max_iterations``).
 
     >>> run_cradle("0", mode="paper").stop, run_cradle("0", mode="paper").iterations
     ('aeev', 32)
@@ -185,4 +189,5 @@ def run_cradle(
         cap = PAPER_MAX_ITERATIONS if max_iterations is None else max_iterations
     else:
         cap = DEFAULT_MAX_ITERATIONS if max_iterations is None else max_iterations
-    return solve(system, v, max_iterations=cap, halt=halt, trace=trace)
+    # paper mode reproduces the paper's own termination, which had no proof of non-termination
+    return solve(system, v, max_iterations=cap, halt=halt, trace=trace, certify=certify and mode == "exact")

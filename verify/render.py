@@ -64,6 +64,7 @@ def cradle_text(result: Result, *, eps: list[str], mode: str, full_trace: bool =
         "exit": "exit (no constraint is hit any more)",
         "aeev": "aeev (the paper's almost-equal-exit-velocities stop)",
         "max_iterations": f"max_iterations (no exit within {result.max_iterations} impulses)",
+        "non_terminating": "non_terminating (proved never to exit: the certificate is in --json)",
     }.get(result.stop, result.stop)
     lines.append(f"iterations: {result.iterations}; stop: {stop}")
     lines.append(
@@ -108,6 +109,8 @@ def _iters(result: Result) -> str:
         return f"AEEV / {result.iterations}"
     if result.stop == "exit":
         return str(result.iterations)
+    if result.stop == "non_terminating":
+        return "never exits (proof)"
     return f"no exit in {result.iterations}"
 
 
@@ -121,14 +124,14 @@ def table1_text(table: Table1) -> str:
         f" (or after {table.exact_cap} impulses)",
         "",
         f"{'eps':<8}{'printed v_D1':>14}{'v_D2':>13}{'v_D3':>13}{'iterations':>12}   "
-        f"{'paper mode':>11}{'exact':>17}   entries",
+        f"{'paper mode':>11}{'exact':>21}   entries",
     ]
     for row in table.rows:
         n_ok = sum(c.agrees for c in row.checks)
         mark = "all agree" if row.agrees else f"{n_ok}/{len(row.checks)} agree"
         lines.append(
             f"{row.eps:<8}{row.printed[0]:>14}{row.printed[1]:>13}{row.printed[2]:>13}{row.printed[3]:>12}   "
-            f"{_iters(row.paper):>11}{_iters(row.exact):>17}   {mark}"
+            f"{_iters(row.paper):>11}{_iters(row.exact):>21}   {mark}"
         )
     lines += ["", "Computed exit velocities (paper mode; 12 significant digits, exact values with --json):"]
     for row in table.rows:

@@ -40,13 +40,15 @@ from typing import Any
 from verify.errors import InvalidSystem, NoConvergence, Undecided
 from verify.linalg import dot, ldl, solve_spd
 from verify.system import System
+from verify.termination import cone_halt
 
 RULES = ("general", "ideal", "symmetric", "asymmetric")
 DEFAULT_MAX_ITERATIONS = 10_000
 
 #: A stop test: called with (system, velocity) before each impulse, once an impact is
-#: known to remain; returns a stop reason (such as ``"aeev"``) or None to go on.
-Halt = Callable[[System, tuple], "str | None"]
+#: known to remain; returns a stop reason (such as ``"aeev"``), or a pair (reason,
+#: certificate) such as ``("non_terminating", {...})``, or None to go on.
+Halt = Callable[[System, tuple], Any]
 
 
 @dataclass(frozen=True)
@@ -208,22 +210,22 @@ def _system_for_rule(system: System, rule: str) -> System:
     raise InvalidSystem(f"unknown rule {rule!r} (choose from {', '.join(RULES)})")
 
 
-def _iterate(system: System, v: tuple, max_iterations: int, halt: Halt | None, trace: bool) -> dict:
+def _iterate(system: System, v: tuple, max_iterations: int, halts: list[Halt], trace: bool) -> dict:
     K = system.backend
     steps: list[Step] = []
     impact_sets: list[tuple[int, ...]] = []
     betas: list[Any] = []
+    certificate = None
     while True:
         b = system.rates(v)
         J = tuple(i for i, bi in enumerate(b) if K.sign(bi) < 0)
         if not J:
             stop = "exit"
             break
-        if halt is not None:
-            reason = halt(system, v)
-            if reason:
-                stop = reason
-                break
+        reason = next((r for r in (h(system, v) for h in halts) if r), None)
+        if reason:
+            stop, certificate = reason if isinstance(reason, tuple) else (reason, None)
+            break
         if len(impact_sets) >= max_iterations:
             stop = "max_iterations"
             break
@@ -233,7 +235,14 @@ def _iterate(system: System, v: tuple, max_iterations: int, halt: Halt | None, t
         betas.append(bt)
         if trace:
             steps.append(Step(J, b, bt, I, v, system))
-    return {"v": v, "stop": stop, "steps": steps, "impact_sets": impact_sets, "betas": betas}
+    return {
+        "v": v,
+        "stop": stop,
+        "steps": steps,
+        "impact_sets": impact_sets,
+        "betas": betas,
+        "certificate": certificate,
+    }
 
 
 def solve(
@@ -244,6 +253,7 @@ def solve(
     max_iterations: int = DEFAULT_MAX_ITERATIONS,
     halt: Halt | None = None,
     trace: bool = True,
+    certify: bool = True,
 ) -> Result:
     """Run the rule from the left velocity ``velocity`` until it exits (or a stop test fires).
 
@@ -251,6 +261,9 @@ def solve(
     1), ``"symmetric"`` (eq. 6, requires equal CORs) or ``"asymmetric"`` (eq. 7, requires
     two constraints). ``max_iterations`` caps the number of impulses (stop
     ``"max_iterations"``); ``halt`` is an extra stop test such as the paper's AEEV stop.
+    With ``certify`` (the default) a two-constraint run also stops, with stop
+    ``"non_terminating"`` and a certificate, as soon as it is proved never to exit
+    (:mod:`verify.termination`).
     On a backend whose signs can be undecided (intervals) the run is repeated at higher
     precision, and the result's ``notes`` say so; :class:`~verify.errors.NoConvergence` is
     raised when the precision limit is reached. ``trace=False`` keeps only impact sets
@@ -270,7 +283,8 @@ def solve(
         K = system.backend
         try:
             v0 = system.velocity(velocity)
-            out = _iterate(system, v0, max_iterations, halt, trace)
+            halts = [h for h in (halt, cone_halt(system) if certify else None) if h is not None]
+            out = _iterate(system, v0, max_iterations, halts, trace)
             break
         except Undecided as exc:
             if not K.refinable:
@@ -296,4 +310,5 @@ def solve(
         kinetic_energy_out=system.kinetic_energy(out["v"]),
         max_iterations=max_iterations,
         notes=tuple(notes),
+        certificate=out["certificate"],
     )

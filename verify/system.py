@@ -137,6 +137,8 @@ class System:
                         f"but [{j}][{i}] = {format_exact(g[j][i])}"
                     )
         for i, ei in enumerate(e):
+            if getattr(ei, "free_symbols", None):
+                continue  # a parameter such as eps: checked by the backend over its range, below
             if _sign_of_number(ei) < 0 or _sign_of_number(1 - ei) < 0:
                 raise InvalidSystem(f"restitution[{i}] = {format_exact(ei)} is outside [0, 1]")
         self.names = tuple(names) if names is not None else tuple(f"S{i + 1}" for i in range(r))
@@ -153,6 +155,11 @@ class System:
         }
         self.backend, self.n, self.r = K, n, r
         self._derive()
+        for i, ei in enumerate(e):
+            if getattr(ei, "free_symbols", None):
+                x = self.restitution[i]
+                if not (K.nonnegative(x) and K.nonnegative(K.one - x)):
+                    raise InvalidSystem(f"restitution[{i}] = {ei} is outside [0, 1] for some parameter value")
 
     def _derive(self) -> None:
         """Convert the source numbers into the backend and compute U, G and H."""

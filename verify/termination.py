@@ -1,0 +1,169 @@
+"""Proofs that the rule never exits, for systems with two constraints.
+
+Write ``b = (p(F_0), p(F_1))`` for the rates of a velocity. An impulse changes b by a
+linear map that depends only on b and the Gram matrix G: a single impact on S_k gives
+
+    N_k(b):  b_k -> -e_k b_k,   b_l -> b_l - (1 + e_k) b_k G_lk / G_kk      (l = 1 - k).
+
+If ``G_01 < 0``, the impact on S_k lowers b_l, so the rule may hit S_0 and S_1 alternately
+without end. For ``mu_0, mu_1 > 0`` let
+
+    C_k = { b != 0 : b_k <= 0,  b_l >= 0,  e_l b_k + mu_k b_l <= 0 }.
+
+Every b in C_k has ``b_k < 0 <= b_l``: the impact set is exactly {k}. If the current rates
+lie in C_k, ``N_k`` maps C_k into C_l and ``N_l`` maps C_l into C_k, then by induction the
+rule alternates single impacts forever: it never exits. Because the cones are convex and
+the maps linear, the two inclusions need checking only on the two extreme rays of each
+cone, ``(b_k, b_l) = (-1, 0)`` and ``(-mu_k, e_l)``: a finite list of sign conditions.
+
+This module finds such cones: with ``c_k = (1 + e_k) |G_01| / G_kk`` and
+``mu_k = lam c_l``, ``mu_l = (1 - lam) c_k``, the inclusions hold when
+``lam^2 c_0 c_1 >= e_l`` and ``(1 - lam)^2 c_0 c_1 >= e_k`` (for one COR e and lam = 1/2:
+``c_0 c_1 >= 4 e``, the condition for the two-step map to have real eigenvalues). Every
+condition is checked here with the backend's exact or certified signs; the certificate
+lists what was checked, so that a reader, or a test written without this module, can check
+it again.
+
+>>> from verify.cradle import cradle_system
+>>> s = cradle_system("1/100")
+>>> cert = cone_certificate(s, s.rates(s.velocity(["1", "0", "0"])), 0)
+>>> cert["kind"], cert["mu"]
+('alternating invariant cone', ['101/400', '101/400'])
+"""
+
+from __future__ import annotations
+
+from collections.abc import Sequence
+from fractions import Fraction
+from typing import Any
+
+from verify.errors import Undecided
+from verify.system import System
+
+STATEMENT = (
+    "From this state on the rule applies single impulses to the two constraints alternately, "
+    "forever: the rates stay in the cones C_0, C_1, where exactly one constraint is hit."
+)
+
+
+def _apply(system: System, k: int, w: Sequence[Any]) -> list[Any]:
+    """N_k(w) for a rate vector w (see the module docstring)."""
+    K, G, e = system.backend, system.gram, system.restitution
+    l = 1 - k
+    out = [K.zero, K.zero]
+    out[k] = K.zero - e[k] * w[k]
+    out[l] = w[l] - (K.one + e[k]) * w[k] * G[l][k] / G[k][k]
+    return out
+
+
+def _in_cone(system: System, k: int, mu_k: Any, w: Sequence[Any]) -> bool:
+    """w in C_k (the closed cone; w != 0 is not asked here)."""
+    K, e = system.backend, system.restitution
+    l = 1 - k
+    return K.nonnegative(K.zero - w[k]) and K.nonnegative(w[l]) and K.nonnegative(K.zero - (e[l] * w[k] + mu_k * w[l]))
+
+
+def _rays(system: System, k: int, mu_k: Any) -> list[list[Any]]:
+    K, e = system.backend, system.restitution
+    l = 1 - k
+    r1, r2 = [K.zero, K.zero], [K.zero, K.zero]
+    r1[k], r1[l] = K.zero - K.one, K.zero
+    r2[k], r2[l] = K.zero - mu_k, e[l]
+    return [r1, r2]
+
+
+def _lambda(system: System, cc: Any) -> Any:
+    """A weight lam in (0, 1) for the two cones: 1/2 for equal CORs, else found exactly."""
+    K, e = system.backend, system.restitution
+    half = K.convert(Fraction(1, 2))
+    source = system.source["restitution"]
+    if source[0] == source[1]:  # the same COR (compared exactly, before conversion)
+        return half
+    if not K.is_exact or not hasattr(K, "impl"):
+        return half  # a parameter or approximate backend: try the symmetric weight only
+    # exact rationals: lam in [sqrt(e_1/cc), 1 - sqrt(e_0/cc)] (for phase 0) found by bisection
+    c = K.to_number(cc)
+    e0, e1 = K.to_number(e[0]), K.to_number(e[1])
+    if c <= 0:
+        return half
+
+    def least(t: Fraction) -> Fraction:  # the least lam with lam^2 c >= t, from above, to 2^-60
+        lo, hi = Fraction(0), Fraction(1)
+        for _ in range(60):
+            mid = (lo + hi) / 2
+            lo, hi = (lo, mid) if mid * mid * c >= t else (mid, hi)
+        return hi
+
+    low, high = least(e1), 1 - least(e0)
+    return K.convert((low + high) / 2) if low <= high else half
+
+
+def cone_certificate(system: System, rates: Sequence[Any], phase: int) -> dict[str, Any] | None:
+    """A certificate that the rule never exits from rates ``rates`` about to hit ``phase``.
+
+    Returns None when the cones above do not apply (more than two constraints, G_01 >= 0,
+    conditions that fail). On a parameter backend the conditions are decided for the whole
+    parameter range, or a :class:`~verify.symbolic.Split` is raised where they change.
+    """
+    if system.r != 2:
+        return None
+    K, G, e = system.backend, system.gram, system.restitution
+    if K.sign(G[0][1]) >= 0:
+        return None
+    g = K.zero - G[0][1]
+    c = [(K.one + e[k]) * g / G[k][k] for k in (0, 1)]
+    lam = _lambda(system, c[0] * c[1])
+    j, i = phase, 1 - phase
+    mu = [K.zero, K.zero]
+    mu[j] = lam * c[i]
+    mu[i] = (K.one - lam) * c[j]
+    if K.sign(mu[0]) <= 0 or K.sign(mu[1]) <= 0:
+        return None
+    for k in (0, 1):  # N_k(C_k) in C_l, checked on the extreme rays of C_k
+        l = 1 - k
+        if not all(_in_cone(system, l, mu[l], _apply(system, k, ray)) for ray in _rays(system, k, mu[k])):
+            return None
+    if not (K.sign(rates[j]) < 0 and _in_cone(system, j, mu[j], rates)):
+        return None
+    show = K.to_exact if K.is_exact else K.to_decimal
+    return {
+        "kind": "alternating invariant cone",
+        "statement": STATEMENT,
+        "rigorous": K.is_rigorous,
+        "phase": j,
+        "rates": [show(x) for x in rates],
+        "gram": [[show(x) for x in row] for row in G],
+        "restitution": [show(x) for x in e],
+        "mu": [show(x) for x in mu],
+        "cones": "C_k = {b != 0 : b_k <= 0, b_l >= 0, e_l*b_k + mu_k*b_l <= 0}, l = 1 - k",
+        "map": "N_k: b_k -> -e_k*b_k, b_l -> b_l - (1 + e_k)*b_k*G_lk/G_kk",
+        "checked": [
+            "mu_0 > 0 and mu_1 > 0",
+            "N_0 maps the rays (-1, 0) and (-mu_0, e_1) of C_0 into C_1",
+            "N_1 maps the rays (0, -1) and (e_0, -mu_1) of C_1 into C_0",
+            f"the rates lie in C_{j}, with b_{j} < 0",
+        ],
+    }
+
+
+def cone_halt(system: System) -> Any:
+    """A stop test for :func:`verify.rule.solve`: ``("non_terminating", certificate)`` as soon
+    as the rates enter an invariant cone (two-constraint systems only; None otherwise)."""
+    if system.r != 2:
+        return None
+
+    def halt(system: System, v: Sequence[Any]) -> Any:
+        K = system.backend
+        b = system.rates(v)
+        try:
+            for j in (0, 1):
+                if K.sign(b[j]) < 0 and K.sign(b[1 - j]) >= 0:
+                    cert = cone_certificate(system, b, j)
+                    return ("non_terminating", cert) if cert else None
+        except Undecided as exc:
+            if hasattr(exc, "polys"):  # a parameter backend asks to cut its range: let it
+                raise
+            return None  # an enclosure too wide to decide a condition: no proof, go on
+        return None
+
+    return halt
