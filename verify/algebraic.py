@@ -48,6 +48,15 @@ def _eval(p: sp.Poly, q: Fraction) -> Fraction:
     return total
 
 
+def _eval_interval(coeffs: list[Fraction], lo: Fraction, hi: Fraction) -> tuple[Fraction, Fraction]:
+    """An enclosure of {p(t) : lo <= t <= hi} (interval Horner, exact rationals)."""
+    a = b = Fraction(0)
+    for c in coeffs:
+        products = (a * lo, a * hi, b * lo, b * hi)
+        a, b = min(products) + c, max(products) + c
+    return a, b
+
+
 def _sign(x: Fraction) -> int:
     return (x > 0) - (x < 0)
 
@@ -95,6 +104,22 @@ class RealAlgebraic:
             out = [r for r in out if r <= RealAlgebraic.rational(hi)]
         return sorted(out)
 
+    @classmethod
+    def from_number(cls, value: Any) -> RealAlgebraic:
+        """A parsed number (Fraction or a real algebraic closed form) as a RealAlgebraic."""
+        if isinstance(value, Fraction):
+            return cls.rational(value)
+        poly = sp.Poly(sp.minimal_polynomial(value, X), X, domain="QQ")
+        candidates = cls.roots_in(poly)
+        prec = 128
+        while len(candidates) > 1:
+            lo, hi = _interval_of(value, prec)
+            candidates = [c for c in candidates if not (c.hi < lo or hi < c.lo)]
+            for c in candidates:
+                c.refine()
+            prec *= 2
+        return candidates[0]
+
     @property
     def is_rational(self) -> bool:
         return self.lo == self.hi
@@ -126,6 +151,12 @@ class RealAlgebraic:
 
     def cmp(self, other: RealAlgebraic) -> int:
         """-1, 0 or 1, exactly."""
+        if self is other:
+            return 0
+        if self.hi < other.lo:
+            return -1
+        if other.hi < self.lo:
+            return 1
         if self.is_rational and other.is_rational:
             return _sign(self.lo - other.lo)
         if self.is_rational or other.is_rational:
@@ -159,9 +190,14 @@ class RealAlgebraic:
             return _sign(_eval(p, self.lo))
         if p.rem(self.poly).is_zero:
             return 0
-        while _count_roots(p, self.lo, self.hi) > 0:
+        coeffs = [_q(c) for c in p.all_coeffs()]
+        while True:  # p(x) != 0: an interval evaluation on a fine enough enclosure decides it
+            lo, hi = _eval_interval(coeffs, self.lo, self.hi)
+            if lo > 0:
+                return 1
+            if hi < 0:
+                return -1
             self.refine()
-        return _sign(_eval(p, (self.lo + self.hi) / 2))
 
     def between(self, other: RealAlgebraic) -> Fraction:
         """A rational strictly between this number and a larger one."""
@@ -206,9 +242,9 @@ class RealAlgebraic:
             self.refine()
 
 
-def _interval_of(r: Any) -> tuple[Fraction, Fraction]:
+def _interval_of(r: Any, prec: int = 256) -> tuple[Fraction, Fraction]:
     """A certified rational enclosure of a real closed form (interval arithmetic)."""
     from verify.numeric import _interval_context, _mpf_to_fraction, evaluate
 
-    x = evaluate(r, _interval_context(256))
+    x = evaluate(r, _interval_context(prec))
     return _mpf_to_fraction(x.a), _mpf_to_fraction(x.b)

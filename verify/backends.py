@@ -159,6 +159,58 @@ class RationalBackend(Backend):
         return f"exact (rationals, {self.impl}), rigorous"
 
 
+class AlgebraicBackend(Backend):
+    """Exact real algebraic numbers (``sqrt(3)/3``, ``cos(pi/12)``, ``3 - 2*sqrt(2)``, CRootOf).
+
+    Elements are SymPy closed forms; arithmetic is exact and every sign is decided
+    rigorously: interval enclosures at rising precision, and an exact test (the minimal
+    polynomial) when the value is 0. The ``exact`` backend switches to it by itself when an
+    input is irrational. Meant for short runs: expressions grow with the number of impulses.
+    """
+
+    name = "exact"
+    is_exact = True
+    is_rigorous = True
+
+    def __init__(self) -> None:
+        import sympy as sp
+
+        self.zero = sp.Integer(0)
+        self.one = sp.Integer(1)
+
+    def convert(self, value: Number) -> Any:
+        import sympy as sp
+
+        if isinstance(value, Fraction):
+            return sp.Rational(value.numerator, value.denominator)
+        return value
+
+    def to_number(self, x: Any) -> Number:
+        import sympy as sp
+
+        from verify.numbers import to_number
+
+        return to_number(sp.radsimp(sp.expand(x)))
+
+    def sign(self, x: Any) -> int:
+        import sympy as sp
+
+        from verify.numeric import certified_sign
+
+        return certified_sign(sp.expand(x))
+
+    def to_decimal(self, x: Any, digits: int = 30) -> str:
+        return format_decimal(self.to_number(x), digits)
+
+    def describe(self) -> str:
+        return "exact (algebraic numbers), rigorous"
+
+
+def exact_for(values: Any) -> Backend:
+    """The exact backend for these parsed numbers: rationals when they all are, else algebraic."""
+    return RationalBackend() if all(isinstance(v, Fraction) for v in values) else AlgebraicBackend()
+
+
 # -- mpmath -------------------------------------------------------------------------------
 
 

@@ -90,6 +90,36 @@ def _cmd_solve(args: argparse.Namespace) -> int:
     return 0
 
 
+def _cmd_cradle_map(args: argparse.Namespace) -> int:
+    from verify.cradle_map import aeev_rows_explained, approach_counts, cradle_map, map_json, termination_boundaries
+    from verify.records import dumps
+    from verify.render import cradle_map_text
+
+    masses = _list(args.masses) if args.masses else None
+    velocity = _list(args.velocity) if args.velocity else None
+    balls = args.balls if args.balls is not None else len(masses or velocity or [0, 0, 0])
+    interval = _list(args.interval)
+    if len(interval) != 2:
+        raise UsageError(f"{PROG} cradle-map: --interval takes two numbers LO,HI, got {args.interval!r}")
+    cmap = cradle_map(
+        balls, masses, velocity, v0=args.v0, lower=interval[0], upper=interval[1], max_impulses=args.max_impulses
+    )
+    if args.json:
+        sys.stdout.write(dumps(map_json(cmap)))
+    else:
+        default = balls == 3 and masses is None and velocity is None
+        rows = aeev_rows_explained(cmap) if default and interval == ["0", "1"] else []
+        bounds = termination_boundaries(cmap)
+        approach = approach_counts(bounds[0], range(2, args.approach + 1)) if bounds and args.approach >= 2 else []
+        sys.stdout.write(cradle_map_text(cmap, aeev_rows=rows, approach=approach))
+    if args.figure:
+        from verify.figures import cradle_staircase
+
+        cradle_staircase(cmap, args.figure)
+        print(f"figure written to {args.figure}", file=sys.stderr)
+    return 0
+
+
 def _cmd_table1(args: argparse.Namespace) -> int:
     from verify.records import dumps
     from verify.render import table1_json, table1_text
@@ -184,6 +214,36 @@ def build_parser() -> argparse.ArgumentParser:
     p.set_defaults(func=_cmd_solve)
 
     p = sub.add_parser(
+        "cradle-map",
+        help="the cradle for every eps at once: pieces, thresholds, termination",
+        formatter_class=_formatter,
+        description=(
+            "The exact eps-map of Newton's cradle: a partition of the eps interval into pieces with a fixed impact "
+            "sequence (exact endpoints, exit velocity as a function of eps), intervals proved never to exit "
+            "(with certificates), and what lies beyond the bound on impulses."
+        ),
+        epilog=(
+            "examples:\n  verify cradle-map\n  verify cradle-map --max-impulses 60 --json\n"
+            "  verify cradle-map --balls 4 --max-impulses 20\n  verify cradle-map --masses 1,2,1 --figure map.png\n"
+        ),
+    )
+    p.add_argument("--balls", type=int, default=None, help="number of balls N >= 2 (default 3)")
+    p.add_argument("--masses", help="masses m1,...,mN (default all 1)")
+    p.add_argument("--velocity", help="the left velocity v1,...,vN (default v0 on ball 1)")
+    p.add_argument("--v0", default="1", help="velocity of ball 1 (default 1)")
+    p.add_argument("--interval", default="0,1", help="the eps interval LO,HI inside [0, 1] (default 0,1)")
+    p.add_argument("--max-impulses", type=int, default=40, help="bound on the exploration (default 40)")
+    p.add_argument(
+        "--approach",
+        type=int,
+        default=6,
+        help="show impulse counts at eps = boundary + 10^-k for k = 2..K (default 6; 0 to skip)",
+    )
+    p.add_argument("--figure", help="also write the staircase figure (PNG) to this path")
+    p.add_argument("--json", action="store_true", help="print the map as JSON (contracts)")
+    p.set_defaults(func=_cmd_cradle_map)
+
+    p = sub.add_parser(
         "table1",
         help="the paper's Table 1, recomputed and checked",
         formatter_class=_formatter,
@@ -219,7 +279,7 @@ def main(argv: Sequence[str] | None = None) -> int:
         if args.command is None:
             parser.print_help()
             return 2
-        for name in ("max_iterations", "exact_cap", "dps"):
+        for name in ("max_iterations", "exact_cap", "dps", "max_impulses"):
             value = getattr(args, name, None)
             if value is not None and value < 0:
                 raise UsageError(f"{PROG} {args.command}: --{name.replace('_', '-')} must be >= 0, got {value}")

@@ -7,9 +7,10 @@ Newton's cradle: 3 balls (masses 1, 1, 1), eps = 1 for every contact
 
 from __future__ import annotations
 
+from fractions import Fraction
 from typing import Any
 
-from verify.numbers import format_decimal
+from verify.numbers import format_decimal, format_exact
 from verify.paper import PAPER_SIGMA_RELATIVE, PAPER_SIGMA_STATED
 from verify.records import result_record, value_string
 from verify.rule import Result
@@ -253,3 +254,80 @@ def table1_summary(table: Table1) -> str:
         f"the printed counts; sigma/||v0|| in {window} does"
     )
     return "\n".join(lines) + "\n"
+
+
+def cradle_map_text(cmap: Any, *, aeev_rows: list[dict[str, Any]], approach: list[tuple[Any, int]]) -> str:
+    """The cradle map in words and tables."""
+    from verify.cradle_map import termination_boundaries, threshold_between
+
+    masses = ", ".join(format_exact(m) for m in cmap.masses)
+    lines = [
+        f"Newton's cradle, {cmap.balls} balls (masses {masses}), left velocity "
+        f"({', '.join(format_exact(v) for v in cmap.velocity)}), one COR eps for every contact",
+        f"eps in {cmap.domain}; explored up to {cmap.max_impulses} impulses; exact endpoints, "
+        "decimals rounded to 12 digits",
+        "",
+        f"{'eps from':>16} {'to':>16}  {'impulses':>8}  what happens",
+    ]
+    for part in cmap.parts:
+        a, b = part.piece.lower.decimal(12), part.piece.upper.decimal(12)
+        left = "[" if part.piece.lower_closed else "("
+        right = "]" if part.piece.upper_closed else ")"
+        if part.stop == "exit":
+            what = "exit: " + _sequence(part.impact_sets)
+        elif part.stop == "non_terminating":
+            what = "never exits (certificate: invariant cones)"
+        else:
+            what = "unexplored"
+        count = str(part.iterations) if part.stop == "exit" else "-"
+        lines.append(f"{left}{a:>15} {b:>16}{right} {count:>8}  {what}")
+    points = [cmap.parts[0].piece.lower] + [p.piece.upper for p in cmap.parts]
+    lines += ["", "Exact endpoints (polynomials of degree 4 or less; all of them, as CRootOf, in --json):"]
+    seen: list[Any] = []
+    for x in points:
+        if (x.is_rational or x.poly.degree() <= 4) and not any(x is y for y in seen):
+            seen.append(x)
+            lines.append(f"  {x.decimal(12):>16} = {x}")
+    t34 = threshold_between(cmap, 4, 3)
+    if t34 is not None:
+        lines += ["", f"The threshold between 3 and 4 impulses, derived: eps = {t34} = {t34.decimal(20)}"]
+    bounds = termination_boundaries(cmap)
+    for part in cmap.non_terminating:
+        lines += [
+            "",
+            f"Never exits for eps in {part.piece}: proved by invariant cones "
+            f"(mu = {', '.join(part.certificate['mu'])});",
+            "  the certificate is in --json; tests/test_cradle_map.py checks it without the code that found it.",
+        ]
+    for b in bounds:
+        lines.append(f"Termination boundary: eps = {b} = {b.decimal(20)}")
+    for part in cmap.unexplored:
+        lines += ["", f"Unexplored {part.piece}: {part.reason}"]
+    if approach:
+        lines += [
+            "",
+            "Impulses until exit just above the boundary (certified interval runs):",
+            f"  {'eps':>22}  {'impulses':>8}  {'ratio to the row above':>23}",
+        ]
+        previous = None
+        for eps, n in approach:
+            ratio = "" if previous is None else format_decimal(Fraction(n, previous), 4)
+            lines.append(f"  {format_decimal(eps, 16):>22}  {n:>8}  {ratio:>23}")
+            previous = n
+        lines.append(
+            "  (each row is about ten times closer to the boundary; a ratio near sqrt(10) means a count "
+            "growing like (eps - boundary)^(-1/2))"
+        )
+    if aeev_rows:
+        lines += ["", "The paper's AEEV rows (Table 1), read off the map:"]
+        for row in aeev_rows:
+            lines.append(f"  eps = {row['eps']:<7} printed {row['printed']:<10} -> {row['verdict']}")
+    return "\n".join(lines) + "\n"
+
+
+def _sequence(impact_sets: list[tuple[int, ...]]) -> str:
+    """``(0)(1)(0)`` with runs folded: ``(0)(1) x 5``."""
+    words = ["(" + ",".join(str(j) for j in J) + ")" for J in impact_sets]
+    if len(words) > 8 and len(set(words[0::2])) == 1 and len(set(words[1::2])) == 1:
+        return f"{words[0]}{words[1]} alternating, {len(words)} impulses"
+    return "".join(words)

@@ -34,11 +34,14 @@ from __future__ import annotations
 
 from collections.abc import Callable, Sequence
 from dataclasses import dataclass, field
+from fractions import Fraction
 from functools import cached_property
 from typing import Any
 
+from verify.backends import AlgebraicBackend, RationalBackend
 from verify.errors import InvalidSystem, NoConvergence, Undecided
 from verify.linalg import dot, ldl, solve_spd
+from verify.numbers import to_number
 from verify.system import System
 from verify.termination import cone_halt
 
@@ -281,6 +284,9 @@ def solve(
     notes: list[str] = []
     while True:
         K = system.backend
+        if isinstance(K, RationalBackend) and not all(isinstance(to_number(x), Fraction) for x in velocity):
+            system = system.convert_to(AlgebraicBackend())  # an irrational velocity: stay exact
+            K = system.backend
         try:
             v0 = system.velocity(velocity)
             halts = [h for h in (halt, cone_halt(system) if certify else None) if h is not None]

@@ -62,7 +62,10 @@ class Piece:
 
     @property
     def is_point(self) -> bool:
-        return self.lower == self.upper
+        # points are built with the same number at both ends (cut) or from equal rationals
+        return self.lower is self.upper or (
+            self.lower.is_rational and self.upper.is_rational and self.lower.lo == self.upper.lo
+        )
 
     def contains(self, x: RealAlgebraic) -> bool:
         lo, hi = x.cmp(self.lower), x.cmp(self.upper)

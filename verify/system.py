@@ -28,7 +28,7 @@ from collections.abc import Sequence
 from fractions import Fraction
 from typing import Any
 
-from verify.backends import Backend, get_backend
+from verify.backends import Backend, RationalBackend, exact_for, get_backend
 from verify.errors import InvalidSystem
 from verify.linalg import NotPositiveDefinite, dot, ldl, matvec, solve_spd
 from verify.numbers import Number, format_exact, to_number
@@ -153,6 +153,8 @@ class System:
             "time_terms": tuple(c),
             "restitution": tuple(e),
         }
+        if backend == "exact" and isinstance(K, RationalBackend):
+            K = exact_for([x for row in (*g, *a) for x in row] + e + c)  # algebraic inputs: exact too
         self.backend, self.n, self.r = K, n, r
         self._derive()
         for i, ei in enumerate(e):

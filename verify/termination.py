@@ -98,12 +98,11 @@ def _lambda(system: System, cc: Any) -> Any:
     return K.convert((low + high) / 2) if low <= high else half
 
 
-def cone_certificate(system: System, rates: Sequence[Any], phase: int) -> dict[str, Any] | None:
-    """A certificate that the rule never exits from rates ``rates`` about to hit ``phase``.
+def cone_parameters(system: System, phase: int) -> list[Any] | None:
+    """(mu_0, mu_1) for which N_0 maps C_0 into C_1 and N_1 maps C_1 into C_0, or None.
 
-    Returns None when the cones above do not apply (more than two constraints, G_01 >= 0,
-    conditions that fail). On a parameter backend the conditions are decided for the whole
-    parameter range, or a :class:`~verify.symbolic.Split` is raised where they change.
+    Depends only on the system (G and the CORs) and on the constraint hit next; on a
+    parameter backend the conditions hold for the whole range, or a split is raised.
     """
     if system.r != 2:
         return None
@@ -123,6 +122,24 @@ def cone_certificate(system: System, rates: Sequence[Any], phase: int) -> dict[s
         l = 1 - k
         if not all(_in_cone(system, l, mu[l], _apply(system, k, ray)) for ray in _rays(system, k, mu[k])):
             return None
+    return mu
+
+
+def cone_certificate(
+    system: System, rates: Sequence[Any], phase: int, mu: list[Any] | None = None
+) -> dict[str, Any] | None:
+    """A certificate that the rule never exits from rates ``rates`` about to hit ``phase``.
+
+    Returns None when the cones above do not apply (more than two constraints, G_01 >= 0,
+    conditions that fail). On a parameter backend the conditions are decided for the whole
+    parameter range, or a :class:`~verify.symbolic.Split` is raised where they change.
+    ``mu`` passes :func:`cone_parameters` when it is already known.
+    """
+    mu = cone_parameters(system, phase) if mu is None else mu
+    if mu is None:
+        return None
+    K, G, e = system.backend, system.gram, system.restitution
+    j = phase
     if not (K.sign(rates[j]) < 0 and _in_cone(system, j, mu[j], rates)):
         return None
     show = K.to_exact if K.is_exact else K.to_decimal
@@ -152,13 +169,20 @@ def cone_halt(system: System) -> Any:
     if system.r != 2:
         return None
 
+    params: dict[tuple[int, int], Any] = {}  # per backend and phase: the cones do not depend on the state
+
     def halt(system: System, v: Sequence[Any]) -> Any:
         K = system.backend
         b = system.rates(v)
         try:
             for j in (0, 1):
                 if K.sign(b[j]) < 0 and K.sign(b[1 - j]) >= 0:
-                    cert = cone_certificate(system, b, j)
+                    key = (id(K), j)
+                    if key not in params:
+                        params[key] = cone_parameters(system, j)
+                    if params[key] is None:
+                        return None
+                    cert = cone_certificate(system, b, j, params[key])
                     return ("non_terminating", cert) if cert else None
         except Undecided as exc:
             if hasattr(exc, "polys"):  # a parameter backend asks to cut its range: let it
