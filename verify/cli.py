@@ -131,12 +131,15 @@ def _cmd_table1(args: argparse.Namespace) -> int:
 
 
 def _cmd_all(args: argparse.Namespace) -> int:
-    from verify.render import table1_summary
+    from verify.cradle_map import cradle_map
+    from verify.render import cradle_map_summary, table1_summary
     from verify.table1 import table1
 
     print("verify all: reproducing Pasquero (2021)", flush=True)
-    print("[1/1] Table 1 (Newton's cradle, Sect. 4.1) ...", flush=True)
+    print("[1/2] Table 1 (Newton's cradle, Sect. 4.1) ...", flush=True)
     sys.stdout.write(table1_summary(table1()))
+    print("[2/2] the cradle for every eps in [0, 1] (exact map, 40 impulses) ...", flush=True)
+    sys.stdout.write(cradle_map_summary(cradle_map(max_impulses=40)))
     return 0
 
 

@@ -17,7 +17,7 @@ one part, decided exactly. The union is the whole range.
 
 >>> m = cradle_map(max_impulses=8)
 >>> [(str(p.piece), p.iterations) for p in m.pieces][-3:]
-[('[1/7, 3 - 2*sqrt(2))', 4), ('[3 - 2*sqrt(2), 1)', 3), ('{1}', 2)]
+[('[CRootOf(x**4 - 8*x**3 - 2*x**2 - 8*x + 1, 0), 3 - 2*sqrt(2))', 4), ('[3 - 2*sqrt(2), 1)', 3), ('{1}', 2)]
 """
 
 from __future__ import annotations
@@ -50,6 +50,7 @@ class Part:
     exit_velocity: list[Any]  # SymPy expressions in eps
     certificate: dict[str, Any] | None = None
     reason: str = ""
+    exits_beyond_bound: bool = False  # unexplored, but every eps of it is proved to exit
 
     def same_behaviour(self, other: Part) -> bool:
         return (
@@ -157,7 +158,7 @@ def cradle_map(
     system0 = cradle_system("1", balls, masses)
     for part in parts:
         if part.stop == "max_iterations":
-            part.reason = _unexplored_reason(part, balls, masses, cache)
+            part.reason, part.exits_beyond_bound = _unexplored_reason(part, balls, masses, cache)
     return CradleMap(
         balls,
         [system0.source["mass_matrix"][i][i] for i in range(balls)],
@@ -179,11 +180,11 @@ def _merge(parts: list[Part]) -> list[Part]:
     return out
 
 
-def _unexplored_reason(part: Part, balls: int, masses: Sequence[Any] | None, cache: RootCache) -> str:
-    """Why a part is unexplored, and what is known of it beyond the bound."""
+def _unexplored_reason(part: Part, balls: int, masses: Sequence[Any] | None, cache: RootCache) -> tuple[str, bool]:
+    """Why a part is unexplored, and whether every eps of it is proved to exit later."""
     bound = part.iterations
     if balls != 3:
-        return f"still impacting after {bound} impulses; termination not decided for more than two contacts"
+        return f"still impacting after {bound} impulses; termination not decided for more than two contacts", False
     K = SymbolicBackend(part.piece, cache)
     system = cradle_system(EPS, 3, masses, backend=K)
     G, e = system.gram, system.restitution
@@ -200,8 +201,8 @@ def _unexplored_reason(part: Part, balls: int, masses: Sequence[Any] | None, cac
             f"every eps here exits, after more than {bound} impulses: the impacts alternate, and the two-step "
             f"map of the rates has non-real eigenvalues (c_0 c_1 < 4 eps, c_k = (1 + eps)|G_01|/G_kk), so it "
             "turns every direction out of the cone where an impact remains"
-        )
-    return f"still impacting after {bound} impulses; not decided"
+        ), True
+    return f"still impacting after {bound} impulses; not decided", False
 
 
 # -- what the map says about given values -------------------------------------------------

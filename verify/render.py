@@ -331,3 +331,24 @@ def _sequence(impact_sets: list[tuple[int, ...]]) -> str:
     if len(words) > 8 and len(set(words[0::2])) == 1 and len(set(words[1::2])) == 1:
         return f"{words[0]}{words[1]} alternating, {len(words)} impulses"
     return "".join(words)
+
+
+def cradle_map_summary(cmap: Any) -> str:
+    """A few lines of the cradle map for ``verify all``."""
+    from verify.cradle_map import aeev_rows_explained, termination_boundaries, threshold_between
+
+    lines = [f"  exact map: {len(cmap.pieces)} pieces with an exit, up to {cmap.max_impulses} impulses"]
+    t34 = threshold_between(cmap, 4, 3)
+    if t34 is not None:
+        lines.append(f"    3 -> 4 impulses at eps = {t34} (derived from the map, as the paper states)")
+    for b in termination_boundaries(cmap):
+        above = [p for p in cmap.parts if p.piece.lower >= b and p.stop != "non_terminating"]
+        rest = (
+            "exits for every larger eps"
+            if all(p.stop == "exit" or p.exits_beyond_bound for p in above)
+            else ("larger eps not all decided")
+        )
+        lines.append(f"    never exits for eps <= {b} = {b.decimal(12)} (certified); {rest}")
+    for row in aeev_rows_explained(cmap):
+        lines.append(f"    paper's row eps = {row['eps']} ({row['printed']}): {row['verdict']}")
+    return "\n".join(lines) + "\n"
