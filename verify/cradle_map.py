@@ -95,10 +95,6 @@ class CradleMap:
         """The points where the behaviour changes: (point, part below, part above)."""
         return [(b.piece.lower, a, b) for a, b in zip(self.parts, self.parts[1:])]
 
-    def boundary_of_non_termination(self) -> list[Piece]:
-        """The non-terminating intervals, merged where they touch."""
-        return [p.piece for p in self.non_terminating]
-
 
 def _validate(lower: Fraction, upper: Fraction, balls: int) -> None:
     if not (0 <= lower <= upper <= 1):

@@ -22,7 +22,6 @@ verify.symbolic.Split: the sign of eps - 1/2 is not constant for eps in [0, 1]
 from __future__ import annotations
 
 import itertools
-from collections.abc import Iterable
 from dataclasses import dataclass
 from fractions import Fraction
 from typing import Any
@@ -200,8 +199,3 @@ class SymbolicBackend(Backend):
 
     def describe(self) -> str:
         return f"symbolic (eps in {self.piece}), exact"
-
-
-def parameter_points(polys: Iterable[sp.Poly], cache: RootCache) -> list[RealAlgebraic]:
-    """All real roots of the given polynomials."""
-    return [r for p in polys for r in cache.roots(p)]
