@@ -121,7 +121,7 @@ def test_the_threshold_3_minus_2_sqrt2_is_derived_and_agrees_with_an_algebraic_r
     assert str(t) == "3 - 2*sqrt(2)"
     part = cmap.locate(t)
     run = run_cradle("3 - 2*sqrt(2)", v0="1")  # exact algebraic numbers, not the map's machinery
-    assert run.backend.describe().startswith("exact (algebraic")
+    assert run.backend.describe().startswith("exact (number field")
     assert (
         (run.stop, run.iterations, run.impact_sets)
         == ("exit", part.iterations, part.impact_sets)

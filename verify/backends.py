@@ -159,56 +159,96 @@ class RationalBackend(Backend):
         return f"exact (rationals, {self.impl}), rigorous"
 
 
-class AlgebraicBackend(Backend):
-    """Exact real algebraic numbers (``sqrt(3)/3``, ``cos(pi/12)``, ``3 - 2*sqrt(2)``, CRootOf).
+class NumberFieldBackend(Backend):
+    """Exact arithmetic in a real number field: ``sqrt(3)/3``, ``cos(pi/12)``, ``3 - 2*sqrt(2)``.
 
-    Elements are SymPy closed forms; arithmetic is exact and every sign is decided
-    rigorously: interval enclosures at rising precision, and an exact test (the minimal
-    polynomial) when the value is 0. The ``exact`` backend switches to it by itself when an
-    input is irrational. Meant for short runs: expressions grow with the number of impulses.
+    The field is Q(theta) for a primitive element theta of the given generators (SymPy's
+    ``AlgebraicField``); elements are polynomials in theta of degree below its minimal
+    polynomial's, so arithmetic and zero tests are exact. Signs are decided rigorously by
+    isolating theta, a root of its minimal polynomial, in a rational interval
+    (:class:`~verify.algebraic.RealAlgebraic`). The ``exact`` backend switches to it by
+    itself when an input is irrational but algebraic.
+
+    >>> import sympy as sp
+    >>> K = NumberFieldBackend([sp.sqrt(2)])
+    >>> x = K.convert(3 - 2 * sp.sqrt(2))
+    >>> K.sign(x), K.to_exact(x * x), K.to_decimal(x, 8)
+    (1, '17 - 12*sqrt(2)', '0.17157288')
     """
 
     name = "exact"
     is_exact = True
     is_rigorous = True
 
-    def __init__(self) -> None:
+    def __init__(self, generators: Any):
         import sympy as sp
 
-        self.zero = sp.Integer(0)
-        self.one = sp.Integer(1)
+        from verify.algebraic import RealAlgebraic
+
+        self.generators = tuple(generators)
+        self.field = sp.QQ.algebraic_field(*self.generators)
+        self.theta = RealAlgebraic.from_number(self.field.ext.as_expr())
+        self.zero = self.field.zero
+        self.one = self.field.one
 
     def convert(self, value: Number) -> Any:
         import sympy as sp
 
         if isinstance(value, Fraction):
-            return sp.Rational(value.numerator, value.denominator)
-        return value
+            return self.field.from_sympy(sp.Rational(value.numerator, value.denominator))
+        try:
+            return self.field.from_sympy(value)
+        except Exception as exc:  # CoercionFailed, NotAlgebraic: not in this field
+            raise BadNumber(f"{value} is not in the number field of {list(self.generators)} ({exc})") from None
+
+    def sign(self, x: Any) -> int:
+        import sympy as sp
+
+        from verify.algebraic import X
+
+        coeffs = x.to_list()
+        if not coeffs:
+            return 0
+        return self.theta.sign_of(sp.Poly(coeffs, X, domain="QQ"))
 
     def to_number(self, x: Any) -> Number:
         import sympy as sp
 
         from verify.numbers import to_number
 
-        return to_number(sp.radsimp(sp.expand(x)))
-
-    def sign(self, x: Any) -> int:
-        import sympy as sp
-
-        from verify.numeric import certified_sign
-
-        return certified_sign(sp.expand(x))
+        return to_number(sp.expand(self.field.to_sympy(x)))
 
     def to_decimal(self, x: Any, digits: int = 30) -> str:
         return format_decimal(self.to_number(x), digits)
 
     def describe(self) -> str:
-        return "exact (algebraic numbers), rigorous"
+        return f"exact (number field Q({', '.join(str(g) for g in self.generators)})), rigorous"
+
+
+def algebraic_generators(values: Any) -> list[Any] | None:
+    """The irrational values among ``values`` if they are all algebraic, else None."""
+    out = []
+    for v in values:
+        if isinstance(v, Fraction):
+            continue
+        if v.is_algebraic is not True:
+            return None
+        if v not in out:
+            out.append(v)
+    return out
 
 
 def exact_for(values: Any) -> Backend:
-    """The exact backend for these parsed numbers: rationals when they all are, else algebraic."""
-    return RationalBackend() if all(isinstance(v, Fraction) for v in values) else AlgebraicBackend()
+    """The exact backend for these parsed numbers: rationals when they all are, else their
+    number field; BadNumber when one is not algebraic (such as tan(3/10))."""
+    gens = algebraic_generators(list(values))
+    if gens is None:
+        bad = next(v for v in values if not isinstance(v, Fraction) and v.is_algebraic is not True)
+        raise BadNumber(
+            f"{bad} is not an algebraic number, so the exact backend cannot hold it: "
+            "use --backend interval (certified) or mp"
+        )
+    return NumberFieldBackend(gens) if gens else RationalBackend()
 
 
 # -- mpmath -------------------------------------------------------------------------------

@@ -34,11 +34,10 @@ from __future__ import annotations
 
 from collections.abc import Callable, Sequence
 from dataclasses import dataclass, field
-from fractions import Fraction
 from functools import cached_property
 from typing import Any
 
-from verify.backends import AlgebraicBackend, RationalBackend
+from verify.backends import exact_for
 from verify.errors import InvalidSystem, NoConvergence, Undecided
 from verify.linalg import dot, ldl, solve_spd
 from verify.numbers import to_number
@@ -213,6 +212,21 @@ def _system_for_rule(system: System, rule: str) -> System:
     raise InvalidSystem(f"unknown rule {rule!r} (choose from {', '.join(RULES)})")
 
 
+def _exact_backend_for_velocity(system: System, velocity: Sequence[Any]) -> System:
+    """On the exact backend, widen the number field when the velocity needs it."""
+    K = system.backend
+    values = [to_number(x, where=f"velocity[{i}]") for i, x in enumerate(velocity)]
+    try:
+        for x in values:
+            K.convert(x)
+        return system
+    except Exception:  # not in this field: build the field of every input
+        src = system.source
+        everything = [x for row in src["mass_matrix"] for x in row] + [x for row in src["normals"] for x in row]
+        everything += list(src["time_terms"]) + list(src["restitution"]) + values
+        return system.convert_to(exact_for(everything))
+
+
 def _iterate(system: System, v: tuple, max_iterations: int, halts: list[Halt], trace: bool) -> dict:
     K = system.backend
     steps: list[Step] = []
@@ -284,8 +298,8 @@ def solve(
     notes: list[str] = []
     while True:
         K = system.backend
-        if isinstance(K, RationalBackend) and not all(isinstance(to_number(x), Fraction) for x in velocity):
-            system = system.convert_to(AlgebraicBackend())  # an irrational velocity: stay exact
+        if K.name == "exact":
+            system = _exact_backend_for_velocity(system, velocity)
             K = system.backend
         try:
             v0 = system.velocity(velocity)
