@@ -120,6 +120,34 @@ def _cmd_cradle_map(args: argparse.Namespace) -> int:
     return 0
 
 
+def _cmd_corner(args: argparse.Namespace) -> int:
+    from verify.corner import run_corner
+    from verify.records import dumps, result_record
+    from verify.render import corner_text
+
+    run = run_corner(
+        alpha=args.alpha,
+        slope=args.slope,
+        phi=args.phi,
+        eps1=args.eps1,
+        eps2=args.eps2,
+        v0=args.v0,
+        backend=args.backend,
+        dps=args.dps,
+        max_iterations=args.max_iterations,
+    )
+    if args.json:
+        record = result_record(run.result, "corner")
+        record["zones"] = run.zones
+        record["repeated_multiple_impacts"] = run.repeated_multiple_impacts
+        if run.notes:
+            record["notes"] = run.notes
+        sys.stdout.write(dumps(record))
+    else:
+        sys.stdout.write(corner_text(run, args))
+    return 0
+
+
 def _cmd_table1(args: argparse.Namespace) -> int:
     from verify.records import dumps
     from verify.render import table1_json, table1_text
@@ -215,6 +243,33 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--json", action="store_true", help='print {"results": [...]}')
     _backend_options(p)
     p.set_defaults(func=_cmd_solve)
+
+    p = sub.add_parser(
+        "corner",
+        help="the disk in a corner (Sect. 4.2)",
+        formatter_class=_formatter,
+        description=(
+            "A disk in a corner of angle 2*alpha, walls kx - y = 0 (S1, COR eps1) and kx + y = 0 (S2, COR eps2), "
+            "entrance velocity v0 (cos phi, sin phi). Exact when every input is algebraic, certified intervals "
+            "otherwise."
+        ),
+        epilog=(
+            "examples:\n  verify corner --alpha pi/6 --phi pi/12 --eps1 0.999 --eps2 0.001\n"
+            "  verify corner --slope 1/2 --phi 1/10 --eps1 0 --eps2 0 --json\n"
+            "  verify corner --alpha 3/10 --phi 0 --eps1 0.5 --eps2 0.5 --backend mp --dps 40\n"
+        ),
+    )
+    angle = p.add_mutually_exclusive_group(required=True)
+    angle.add_argument("--alpha", help="half the corner angle, in (0, pi/2): pi/6, 3/10 (radians)")
+    angle.add_argument("--slope", help="k = tan(alpha) > 0 instead of alpha: 1/2, sqrt(3)/3")
+    p.add_argument("--phi", required=True, help="direction of the entrance velocity: pi/12, 0, -1/5")
+    p.add_argument("--eps1", required=True, help="COR of wall S1 (kx - y = 0), in [0, 1]")
+    p.add_argument("--eps2", required=True, help="COR of wall S2 (kx + y = 0), in [0, 1]")
+    p.add_argument("--v0", default="100", help="speed of the entrance velocity (default 100)")
+    p.add_argument("--max-iterations", type=int, default=10_000, help="cap on impulses (default 10000)")
+    p.add_argument("--json", action="store_true", help="print the result record with the zones (JSON)")
+    _backend_options(p)
+    p.set_defaults(func=_cmd_corner)
 
     p = sub.add_parser(
         "cradle-map",

@@ -352,3 +352,39 @@ def cradle_map_summary(cmap: Any) -> str:
     for row in aeev_rows_explained(cmap):
         lines.append(f"    paper's row eps = {row['eps']} ({row['printed']}): {row['verdict']}")
     return "\n".join(lines) + "\n"
+
+
+def corner_text(run: Any, args: Any) -> str:
+    """The human-readable report of one corner run."""
+    r = run.result
+    K = r.backend
+    angle = f"alpha = {args.alpha}" if args.alpha is not None else f"slope k = {args.slope}"
+    lines = [
+        f"Disk in a corner: {angle} (k = {format_exact(run.slope)}), entrance direction phi = {args.phi}, "
+        f"v0 = {args.v0}, eps1 = {args.eps1} (S1), eps2 = {args.eps2} (S2)",
+        f"entrance velocity: {', '.join(format_exact(v) for v in run.velocity[:2])}",
+        f"backend: {K.describe()}",
+    ]
+    lines += [f"note: {n}" for n in run.notes]
+    lines.append(f"zones visited: {' -> '.join(run.zones)}")
+    if run.repeated_multiple_impacts:
+        lines.append(f"repeated multiple impacts: {sum(1 for J in r.impact_sets if len(J) == 2)}")
+    lines.append("")
+    for w, st in enumerate(r.steps, 1):
+        if w > TRACE_LIMIT:
+            lines.append(f"  ... ({len(r.steps) - TRACE_LIMIT} more impulses)")
+            break
+        beta = "" if st.beta is None else f", beta = {K.to_decimal(st.beta, 12)}"
+        wall = "+".join(r.system.names[j] for j in st.impact_set)
+        lines.append(f"  impulse {w}: {wall}{beta}; velocity {', '.join(K.to_decimal(x, 12) for x in st.velocity[:2])}")
+    label = "exit velocity" if r.stop == "exit" else "velocity at the stop"
+    if K.is_exact:
+        lines.append(f"{label} (exact): {', '.join(_short_exact(K, x, 120) for x in r.exit_velocity[:2])}")
+    lines.append(f"{label} (decimal): {', '.join(K.to_decimal(x, 30) for x in r.exit_velocity[:2])}")
+    if K.enclosure(K.one) is not None:
+        for name, x in zip(("xd", "yd"), r.exit_velocity[:2]):
+            lo, hi = K.enclosure(x, 20)
+            lines.append(f"  {name} in [{lo}, {hi}]")
+    lines.append(f"iterations: {r.iterations}; stop: {r.stop}")
+    lines.append(f"kinetic energy: {K.to_decimal(r.kinetic_energy_in, 12)} -> {K.to_decimal(r.kinetic_energy_out, 12)}")
+    return "\n".join(lines) + "\n"
