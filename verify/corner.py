@@ -171,6 +171,9 @@ def run_corner(
     else:
         v = velocity_of(phi, v0)
     cors = [to_number(e, where=f"eps{i + 1}") for i, e in enumerate((eps1, eps2))]
+    for i, e in enumerate(cors):
+        if _certified_sign(e) < 0 or _certified_sign(1 - e) < 0:
+            raise InvalidSystem(f"eps{i + 1} = {(eps1, eps2)[i]} is outside [0, 1]")
     chosen = _backend_for([k, *v, *cors], backend, dps, notes)
     system = corner_system(k, cors[0], cors[1], backend=chosen, dps=dps if chosen != "exact" else None)
     result = solve(system, v, rule=rule, max_iterations=max_iterations, trace=trace, certify=certify)
@@ -207,7 +210,7 @@ def paper_step(k: Any, xd: Any, yd: Any, e1: Any, e2: Any) -> tuple[str, Any, An
     )
 
 
-def paper_run(k: Any, xd: Any, yd: Any, e1: Any, e2: Any, max_iterations: int = 1000) -> tuple[list[str], Any, Any]:
+def paper_run(k: Any, xd: Any, yd: Any, e1: Any, e2: Any, *, max_iterations: int = 1000) -> tuple[list[str], Any, Any]:
     """Iterate :func:`paper_step` until Z0: (zones, xd, yd)."""
     zones = []
     for _ in range(max_iterations + 1):
