@@ -11,6 +11,7 @@ from __future__ import annotations
 import argparse
 import sys
 from collections.abc import Sequence
+from fractions import Fraction
 from typing import Any
 
 from verify.errors import InvalidInput, Undecided, VerifyError
@@ -148,6 +149,27 @@ def _cmd_corner(args: argparse.Namespace) -> int:
     return 0
 
 
+def _cmd_corner_claims(args: argparse.Namespace) -> int:
+    from verify.corner_claims import check_claims
+    from verify.float_check import float_vs_exact
+    from verify.records import dumps
+    from verify.render import corner_claims_json, corner_claims_text
+    from verify.sweep import random_corner_cases
+    from verify.wedge import approach_slopes, rebounds_by_slope, symmetric_boundary
+
+    if args.cases < 1:
+        raise UsageError(f"{PROG} corner-claims: --cases must be >= 1, got {args.cases}")
+    claims = check_claims(args.cases, seed=args.seed, workers=args.workers)
+    boundary = symmetric_boundary()
+    eps = "1/4"
+    slopes = ["1/2", "2/5", *approach_slopes(Fraction(1, 4), 4), "3/10", "1/5"]
+    rebounds = rebounds_by_slope(eps, ["1", "3/10"], slopes)
+    floats = float_vs_exact(random_corner_cases(args.cases, seed=args.seed), workers=args.workers)
+    data = (claims, boundary, eps, rebounds, floats)
+    sys.stdout.write(dumps(corner_claims_json(*data)) if args.json else corner_claims_text(*data))
+    return 1 if any(c.verdict == "refuted" for c in claims) else 0
+
+
 def _cmd_table1(args: argparse.Namespace) -> int:
     from verify.records import dumps
     from verify.render import table1_json, table1_text
@@ -270,6 +292,23 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--json", action="store_true", help="print the result record with the zones (JSON)")
     _backend_options(p)
     p.set_defaults(func=_cmd_corner)
+
+    p = sub.add_parser(
+        "corner-claims",
+        help="the paper's claims about the corner, checked exactly; termination in the wedge; float vs exact",
+        formatter_class=_formatter,
+        description=(
+            "Check the claims of Sect. 4.2 on samples of exact rational corner cases (in parallel), derive the "
+            "symmetric termination boundary, show the rebounds as the corner narrows, and count where a plain "
+            "float implementation takes another branch. Exit code 1 if a claim is refuted."
+        ),
+        epilog="examples:\n  verify corner-claims\n  verify corner-claims --cases 10000 --json\n",
+    )
+    p.add_argument("--cases", type=int, default=2000, help="cases per sample (default 2000)")
+    p.add_argument("--seed", type=int, default=0, help="seed of the deterministic samples (default 0)")
+    p.add_argument("--workers", type=int, default=None, help="local processes (default: every core)")
+    p.add_argument("--json", action="store_true", help="print JSON")
+    p.set_defaults(func=_cmd_corner_claims)
 
     p = sub.add_parser(
         "cradle-map",

@@ -388,3 +388,60 @@ def corner_text(run: Any, args: Any) -> str:
     lines.append(f"iterations: {r.iterations}; stop: {r.stop}")
     lines.append(f"kinetic energy: {K.to_decimal(r.kinetic_energy_in, 12)} -> {K.to_decimal(r.kinetic_energy_out, 12)}")
     return "\n".join(lines) + "\n"
+
+
+def corner_claims_text(claims: Any, boundary: Any, eps: str, rebounds: Any, floats: Any) -> str:
+    """The corner's claims, the wedge's termination boundary and float-vs-exact, in words."""
+    lines = ["The disk in the corner (Sect. 4.2): the paper's claims, checked exactly", ""]
+    for c in claims:
+        lines.append(f"  [{c.verdict}] {c.name}")
+        lines.append(f"      {c.cases} cases; {c.note}")
+        if c.counterexample:
+            lines.append(f"      counterexample: {c.counterexample}")
+        for e in c.examples[:3]:
+            lines.append(f"      example: slope {e['slope']}, velocity {e['velocity']}, eps {e['eps1']}, {e['eps2']}")
+    k_star, alpha_star = boundary
+    lines += [
+        "",
+        "Termination in the wedge (symmetric corner, one COR eps):",
+        f"  invariant cones exist, so that the entrances that reach them never leave, iff tan(alpha) <= {k_star},",
+        f"  i.e. alpha <= {alpha_star} (derived: the alternating two-step map has real eigenvalues);",
+        "  above it the map rotates every alternating run out of the corner.",
+        f"  Narrower corners, more rebounds: eps = {eps}, entrance velocity (1, 3/10), exact runs:",
+        f"  {'slope k':>18}  {'impulses':>8}  {'stop':<16} below the boundary",
+    ]
+    for r in rebounds:
+        lines.append(f"  {r['slope']:>18}  {r['iterations']:>8}  {r['stop']:<16} {r['below_boundary']}")
+    lines += [
+        "",
+        f"Float against exact ({floats['cases']} random rational cases, the paper's eq. (10) in Python floats):",
+        f"  {floats['differing']} cases take another branch; reasons: {floats['reasons']}; "
+        f"{floats['differing_with_a_cor_of_0']} of them have a COR of 0",
+    ]
+    for e in floats["examples"][:3]:
+        case = e["case"]
+        lines.append(
+            f"  e.g. slope {case['slope']}, velocity {case['velocity']}, eps {case['eps1']}, {case['eps2']}: "
+            f"exact {'-'.join(e['exact_zones'])}, float {'-'.join(e['float_zones'])} ({e['reason']})"
+        )
+    return "\n".join(lines) + "\n"
+
+
+def corner_claims_json(claims: Any, boundary: Any, eps: str, rebounds: Any, floats: Any) -> dict[str, Any]:
+    """The same as :func:`corner_claims_text`, as JSON."""
+    return {
+        "claims": [
+            {
+                "claim": c.name,
+                "verdict": c.verdict,
+                "cases": c.cases,
+                "note": c.note,
+                "counterexample": c.counterexample,
+                "examples": c.examples,
+            }
+            for c in claims
+        ],
+        "symmetric_boundary": {"slope": str(boundary[0]), "alpha": str(boundary[1])},
+        "rebounds": {"eps": eps, "velocity": ["1", "3/10"], "runs": rebounds},
+        "float_vs_exact": floats,
+    }
