@@ -131,3 +131,38 @@ def _strict(mu: list[sp.Expr], lo: sp.Expr, hi: sp.Expr, interval: tuple | None)
         elif _sign_at(m, 0) <= 0:
             return False
     return True
+
+
+def check_repeating(cert: dict, masses: list[str], normals: list[list[str]]) -> list[str]:
+    """Check a "repeating direction" certificate: run the cycle of impacts on the rates with
+    this module's own formulas and compare with the stated rates and factor.
+
+    Rates evolve by b -> b - beta * sum_{j in J} (1 + e_j) (b_j / G_jj) G[:, j], with beta = 1
+    for one constraint and beta = (sum b_j^2 / G_jj) / (lam^T G_JJ lam), lam_j = b_j / G_jj,
+    for several (Sect. 3.5 c-d written in rates).
+    """
+    G = gram([read(m) for m in masses], [[read(x) for x in row] for row in normals])
+    e = [read(x) for x in cert["restitution"]]
+    b = [read(x) for x in cert["rates_earlier"]]
+    failures = []
+    for J in cert["cycle"]:
+        if sorted(J) != [j for j in range(len(b)) if _sign_at(b[j], 0) < 0]:
+            failures.append(f"the impact set {J} is not the set of incoming constraints at {b}")
+            return failures
+        lam = {j: b[j] / G[j, j] for j in J}
+        if len(J) == 1:
+            beta = 1
+        else:
+            num = sum(b[j] ** 2 / G[j, j] for j in J)
+            den = sum(lam[i] * G[i, j] * lam[j] for i in J for j in J)
+            beta = num / den
+        b = [sp.radsimp(sp.expand(b[m] - beta * sum((1 + e[j]) * lam[j] * G[m, j] for j in J))) for m in range(len(b))]
+    now = [read(x) for x in cert["rates_now"]]
+    c = read(cert["factor"])
+    if any(sp.simplify(x - y) != 0 for x, y in zip(b, now)):
+        failures.append("running the cycle does not give the stated rates")
+    if any(sp.simplify(y - c * x) != 0 for x, y in zip([read(v) for v in cert["rates_earlier"]], now)):
+        failures.append("the rates are not the stated multiple of the earlier ones")
+    if _sign_at(c, 0) <= 0:
+        failures.append("the factor is not positive")
+    return failures

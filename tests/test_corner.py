@@ -217,3 +217,34 @@ def test_corner_bad_input(argv, message, capsys):
     assert main(full) == 2
     err = capsys.readouterr().err
     assert message in err and err.count("\n") == 1, err
+
+
+def test_repeated_multiple_impacts_forever_are_certified():
+    """alpha = pi/6, phi = pi/12 (the paper's example) with eps1 = 1, eps2 = 0: every impulse is a
+    multiple impact that sends the velocity back along its own direction, scaled down: it never exits."""
+    run = run_corner(alpha="pi/6", phi="pi/12", eps1="1", eps2="0")
+    cert = run.result.certificate
+    assert run.result.stop == "non_terminating" and cert["kind"] == "repeating direction"
+    k = "-sqrt(3)/3"
+    assert certificate_check.check_repeating(cert, ["1", "1", "1"], [[k, "1", "0"], [k, "-1", "0"]]) == []
+    tampered = dict(cert, factor="1/2")
+    assert certificate_check.check_repeating(tampered, ["1", "1", "1"], [[k, "1", "0"], [k, "-1", "0"]])
+
+
+def test_corner_figures(tmp_path):
+    pytest.importorskip("matplotlib")
+    from verify import figures
+
+    for draw, kwargs in (
+        (figures.corner_multiple_impacts_map, {"n": 4}),
+        (figures.wedge_boundary, {"n": 5}),
+        (figures.corner_iterations_map, {"n": 3}),
+    ):
+        path = draw(tmp_path / f"{draw.__name__}.png", workers=1, **kwargs)
+        assert path.read_bytes()[:4] == b"\x89PNG"
+
+
+def test_corner_claims_cli(capsys):
+    assert main(["corner-claims", "--cases", "60", "--workers", "1"]) == 0
+    out = capsys.readouterr().out
+    assert "[holds] mirror symmetry" in out and "Float against exact" in out

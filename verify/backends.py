@@ -49,6 +49,7 @@ class Backend:
     is_exact: bool = False
     is_rigorous: bool = False
     refinable: bool = False  #: whether refined() can raise the precision after an undecided sign
+    is_parametric: bool = False  #: whether elements are functions of a parameter (the symbolic backend)
     dps: int | None = None
     zero: Any
     one: Any
@@ -248,7 +249,15 @@ def exact_for(values: Any) -> Backend:
             f"{bad} is not an algebraic number, so the exact backend cannot hold it: "
             "use --backend interval (certified) or mp"
         )
-    return NumberFieldBackend(gens) if gens else RationalBackend()
+    if not gens:
+        return RationalBackend()
+    key = tuple(str(g) for g in gens)
+    if key not in _FIELDS:  # building a field (primitive element, isolation) costs more than a short run
+        _FIELDS[key] = NumberFieldBackend(gens)
+    return _FIELDS[key]
+
+
+_FIELDS: dict[tuple[str, ...], NumberFieldBackend] = {}
 
 
 # -- mpmath -------------------------------------------------------------------------------
@@ -317,6 +326,8 @@ class IntervalBackend(Backend):
             return -1
         if x.a == 0 and x.b == 0:
             return 0
+        if not all(bound._mpi_[0][1] or not bound._mpi_[0][2] for bound in (x.a, x.b)):  # inf or nan
+            raise Undecided(f"an unbounded interval at {self.dps} digits (a division by an interval around 0)")
         lo, hi = self._bounds(x)
         raise Undecided(
             f"the interval [{format_decimal(lo, 6, 'floor')}, {format_decimal(hi, 6, 'ceiling')}] "

@@ -167,6 +167,20 @@ def _cmd_corner_claims(args: argparse.Namespace) -> int:
     floats = float_vs_exact(random_corner_cases(args.cases, seed=args.seed), workers=args.workers)
     data = (claims, boundary, eps, rebounds, floats)
     sys.stdout.write(dumps(corner_claims_json(*data)) if args.json else corner_claims_text(*data))
+    if args.figures:
+        from pathlib import Path
+
+        from verify import figures
+
+        out = Path(args.figures)
+        for name, draw in (
+            ("corner-exit-vs-entrance.png", figures.corner_exit_vs_entrance),
+            ("corner-iterations.png", figures.corner_iterations_map),
+            ("corner-multiple-impacts.png", figures.corner_multiple_impacts_map),
+            ("wedge-boundary.png", figures.wedge_boundary),
+        ):
+            draw(out / name, workers=args.workers)
+            print(f"figure written to {out / name}", file=sys.stderr)
     return 1 if any(c.verdict == "refuted" for c in claims) else 0
 
 
@@ -307,6 +321,7 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--cases", type=int, default=2000, help="cases per sample (default 2000)")
     p.add_argument("--seed", type=int, default=0, help="seed of the deterministic samples (default 0)")
     p.add_argument("--workers", type=int, default=None, help="local processes (default: every core)")
+    p.add_argument("--figures", metavar="DIR", help="also draw the corner's figures (PNG) into DIR")
     p.add_argument("--json", action="store_true", help="print JSON")
     p.set_defaults(func=_cmd_corner_claims)
 

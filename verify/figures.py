@@ -104,3 +104,247 @@ def _distance_panel(ax: Any, cmap: Any, boundary: Any) -> None:
     ax.set_ylabel("impulses until exit")
     ax.set_title("near the termination boundary")
     ax.grid(alpha=0.3, which="both")
+
+
+# -- the disk in the corner -------------------------------------------------------------------
+
+
+def _corner_runs(cases: list[dict[str, Any]], executor: Any = None, workers: int | None = None) -> list[dict[str, Any]]:
+    from verify.sweep import sweep
+
+    return sweep(cases, executor=executor, workers=workers, progress=False)
+
+
+def _angle_cases(alpha: str, phis: list[str], pairs: list[tuple[str, str]]) -> list[dict[str, Any]]:
+    return [
+        {
+            "id": f"{e1}-{e2}-{p}",
+            "alpha": alpha,
+            "phi": p,
+            "eps1": e1,
+            "eps2": e2,
+            "max_iterations": 2000,
+            "backend": "interval",
+        }
+        for e1, e2 in pairs
+        for p in phis
+    ]
+
+
+def corner_exit_vs_entrance(path: str | Path, *, executor: Any = None, workers: int | None = None) -> Path:
+    """Exit velocity against entrance direction (alpha = pi/6, v0 = 100), as in the paper's appendix:
+    exit speed and exit direction for three pairs of CORs (certified interval runs)."""
+    import math
+
+    plt = _pyplot()
+    pairs = [("0.999", "0.001"), ("1/2", "1/2"), ("1", "1")]
+    n = 181
+    phis = [f"({2 * j - 181})*pi/360" for j in range(n)]  # -90.5 .. 89.5 degrees, off the walls' directions
+    results = _corner_runs(_angle_cases("pi/6", phis, pairs), executor, workers)
+    fig, (ax1, ax2) = plt.subplots(1, 2, figsize=(10, 4), constrained_layout=True)
+    for i, (e1, e2) in enumerate(pairs):
+        rows = results[i * n : (i + 1) * n]
+        xs, speed, direction = [], [], []
+        for j, r in enumerate(rows):
+            if r["stop"] != "exit":
+                continue
+            vx, vy = (float(v) for v in r["exit_velocity"])  # display only
+            xs.append(j - 90.5)
+            speed.append(math.hypot(vx, vy))
+            direction.append(math.degrees(math.atan2(vy, vx)))
+        ax1.plot(xs, speed, lw=1.3, label=f"eps1 = {e1}, eps2 = {e2}")
+        ax2.plot(xs, direction, ".", ms=2.5, label=f"eps1 = {e1}, eps2 = {e2}")
+    ax1.set_xlabel("entrance direction phi (degrees)")
+    ax1.set_ylabel("exit speed (entrance speed 100)")
+    ax2.set_xlabel("entrance direction phi (degrees)")
+    ax2.set_ylabel("exit direction (degrees)")
+    for ax in (ax1, ax2):
+        ax.axvline(-30, color="0.5", ls=":", lw=1)
+        ax.axvline(30, color="0.5", ls=":", lw=1)
+        ax.grid(alpha=0.3)
+        ax.legend(fontsize=8)
+    ax1.set_title("disk in a corner, alpha = pi/6: exit speed")
+    ax2.set_title("exit direction (dotted: the walls' directions, +-alpha)")
+    return _save(fig, path)
+
+
+def _save(fig: Any, path: str | Path) -> Path:
+    plt = _pyplot()
+    path = Path(path)
+    path.parent.mkdir(parents=True, exist_ok=True)
+    fig.savefig(path, dpi=120, metadata=METADATA)
+    plt.close(fig)
+    return path
+
+
+def corner_iterations_map(path: str | Path, *, executor: Any = None, workers: int | None = None, n: int = 30) -> Path:
+    """Impulses until exit over (alpha, phi), for a symmetric and an asymmetric pair of CORs;
+    runs proved never to exit are marked. The grid's slopes and directions are rationals
+    (tan alpha and tan phi to 6 digits), so every run is exact and fast."""
+    import numpy as np
+    from mpmath import mp
+
+    plt = _pyplot()
+
+    def rational_tan(degrees: float) -> str:  # grid construction only; the runs are exact on these rationals
+        return mp.nstr(mp.tan(mp.radians(degrees)), 6, min_fixed=-10, max_fixed=10)
+
+    alphas = [(i + 0.5) * 90 / (2 * n) for i in range(2 * n)]
+    phis = [-89 + 178 * j / (2 * n) for j in range(2 * n + 1)]
+    pairs = [("1/2", "1/2"), ("0.999", "0.001")]
+    cases = [
+        {
+            "id": f"{a}-{p}-{e1}",
+            "slope": rational_tan(a),
+            "velocity": ["1", rational_tan(p)],
+            "eps1": e1,
+            "eps2": e2,
+            "max_iterations": 500,
+        }
+        for e1, e2 in pairs
+        for a in alphas
+        for p in phis
+    ]
+    results = _corner_runs(cases, executor, workers)
+    fig, axes = plt.subplots(1, 2, figsize=(11, 4.2), constrained_layout=True)
+    size = len(alphas) * len(phis)
+    for ax, (e1, e2), part in zip(axes, pairs, (results[:size], results[size:])):
+        grid = np.full((len(phis), len(alphas)), np.nan)
+        never = np.full_like(grid, np.nan)
+        for idx, r in enumerate(part):
+            i, j = divmod(idx, len(phis))
+            if r["stop"] == "exit":
+                grid[j, i] = max(r["iterations"], 0.5)
+            elif r["stop"] == "non_terminating":
+                never[j, i] = 1.0
+        extent = (0, 90, -90, 90)
+        im = ax.imshow(
+            grid,
+            origin="lower",
+            extent=extent,
+            aspect="auto",
+            cmap="viridis",
+            norm=_log_norm(),
+            interpolation="nearest",
+        )
+        ax.imshow(
+            never, origin="lower", extent=extent, aspect="auto", cmap="Reds", vmin=0, vmax=1.2, interpolation="nearest"
+        )
+        ax.set_xlabel("half corner angle alpha (degrees)")
+        ax.set_ylabel("entrance direction phi (degrees)")
+        ax.set_title(f"eps1 = {e1}, eps2 = {e2} (red: never exits, proved)", fontsize=9)
+        fig.colorbar(im, ax=ax, label="impulses until exit (log scale)")
+    return _save(fig, path)
+
+
+def _log_norm() -> Any:
+    from matplotlib.colors import LogNorm
+
+    return LogNorm(vmin=0.5, vmax=500)
+
+
+def corner_multiple_impacts_map(
+    path: str | Path, *, executor: Any = None, workers: int | None = None, n: int = 20
+) -> Path:
+    """How many multiple impacts, over (eps1, eps2), for alpha = pi/6 and phi = pi/12 (the paper's
+    example): repeated multiple impacts need very different CORs (certified interval runs)."""
+    import numpy as np
+
+    plt = _pyplot()
+    cors = [f"{j}/{n}" for j in range(n + 1)]
+    cases = [
+        {
+            "id": f"{a}-{b}",
+            "alpha": "pi/6",
+            "phi": "pi/12",
+            "eps1": a,
+            "eps2": b,
+            "max_iterations": 2000,
+            "backend": "interval",
+        }
+        for a in cors
+        for b in cors
+    ]
+    results = _corner_runs(cases, executor, workers)
+    grid = np.zeros((n + 1, n + 1))
+    forever = np.full((n + 1, n + 1), np.nan)
+    for idx, r in enumerate(results):
+        i, j = divmod(idx, n + 1)
+        grid[j, i] = min(r["multiple_impacts"], 4)
+        if r["stop"] == "non_terminating":
+            forever[j, i] = 1.0
+    fig, ax = plt.subplots(figsize=(5.8, 4.6), constrained_layout=True)
+    half = 0.5 / n
+    extent = (-half, 1 + half, -half, 1 + half)
+    im = ax.imshow(grid, origin="lower", extent=extent, cmap="magma_r", interpolation="nearest", vmin=0, vmax=4)
+    ax.imshow(
+        forever, origin="lower", extent=extent, cmap="Blues", vmin=0, vmax=1.3, interpolation="nearest", alpha=0.6
+    )
+    ax.plot([0.999], [0.001], "c*", ms=10, label="the paper's example (0.999, 0.001)")
+    ax.set_xlabel("eps1 (wall S1)")
+    ax.set_ylabel("eps2 (wall S2)")
+    ax.set_title("multiple impacts, alpha = pi/6, phi = pi/12 (blue: never exits, proved)")
+    ax.legend(loc="upper right", fontsize=8)
+    bar = fig.colorbar(im, ax=ax, label="number of multiple impacts", ticks=[0, 1, 2, 3, 4])
+    bar.ax.set_yticklabels(["0", "1", "2", "3", ">= 4"])
+    return _save(fig, path)
+
+
+def wedge_boundary(path: str | Path, *, executor: Any = None, workers: int | None = None, n: int = 30) -> Path:
+    """The symmetric termination boundary alpha*(eps) = pi/4 - atan(sqrt(eps)) with exact runs
+    around it (entrance direction phi = alpha/2, as in the paper's example)."""
+    import math
+
+    import sympy as sp
+
+    from verify.wedge import symmetric_boundary
+
+    plt = _pyplot()
+    _, alpha_star = symmetric_boundary()
+    eps = sp.Symbol("eps", positive=True)
+    curve = sp.lambdify(eps, alpha_star, "math")
+    cases = []
+    for i in range(1, n):
+        for j in range(1, n):
+            a = f"{j}*pi/{4 * n}"  # (0, pi/4)
+            e = f"{i}/{n}"
+            cases.append(
+                {
+                    "id": f"{a}-{e}",
+                    "alpha": a,
+                    "phi": f"{j}*pi/{8 * n}",
+                    "eps1": e,
+                    "eps2": e,
+                    "max_iterations": 3000,
+                    "backend": "interval",
+                }
+            )
+    results = _corner_runs(cases, executor, workers)
+    fig, ax = plt.subplots(figsize=(6, 4.5), constrained_layout=True)
+    style = {
+        "exit": ("o", "C0", "exits"),
+        "non_terminating": ("s", "C3", "never exits (proved)"),
+        "max_iterations": ("x", "0.4", "undecided within 3000 impulses"),
+    }
+    shown = set()
+    for case, r in zip(cases, results):
+        m, color, label = style[r["stop"]]
+        i = int(case["eps1"].split("/")[0])
+        j = int(case["alpha"].split("*")[0])
+        ax.plot(
+            i / n,
+            math.degrees(j * math.pi / (4 * n)),
+            m,
+            color=color,
+            ms=3,
+            label=None if r["stop"] in shown else label,
+        )
+        shown.add(r["stop"])
+    xs = [k / 400 for k in range(1, 400)]
+    ax.plot(xs, [math.degrees(curve(x)) for x in xs], "k-", lw=1.5, label=f"alpha* = {alpha_star}")
+    ax.set_xlabel("eps (both walls)")
+    ax.set_ylabel("half corner angle alpha (degrees)")
+    ax.set_title("termination in the wedge, entrance phi = alpha/2")
+    ax.legend(fontsize=8, loc="upper right")
+    ax.grid(alpha=0.3)
+    return _save(fig, path)

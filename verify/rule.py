@@ -42,7 +42,7 @@ from verify.errors import InvalidSystem, NoConvergence, Undecided
 from verify.linalg import dot, ldl, solve_spd
 from verify.numbers import to_number
 from verify.system import System
-from verify.termination import cone_halt
+from verify.termination import non_termination_halt
 
 RULES = ("general", "ideal", "symmetric", "asymmetric")
 DEFAULT_MAX_ITERATIONS = 10_000
@@ -303,7 +303,7 @@ def solve(
             K = system.backend
         try:
             v0 = system.velocity(velocity)
-            halts = [h for h in (halt, cone_halt(system) if certify else None) if h is not None]
+            halts = [h for h in (halt, non_termination_halt(system) if certify else None) if h is not None]
             out = _iterate(system, v0, max_iterations, halts, trace)
             break
         except Undecided as exc:

@@ -112,22 +112,34 @@ def grid_corner_cases(
 
 
 def run_case(case: dict[str, Any]) -> dict[str, Any]:
-    """Run one corner case dictionary; returns a summary made of plain values (picklable)."""
-    from verify.corner import run_corner
+    """Run one corner case dictionary; returns a summary made of plain values (picklable).
 
-    run = run_corner(
-        alpha=case.get("alpha"),
-        slope=case.get("slope"),
-        phi=case.get("phi"),
-        velocity=case.get("velocity"),
-        eps1=case["eps1"],
-        eps2=case["eps2"],
-        backend=case.get("backend", "exact"),
-        dps=case.get("dps"),
-        max_iterations=case.get("max_iterations", 100),
-        trace=False,
-        certify=case.get("certify", True),
-    )
+    A case on intervals whose sign stays undecided (a rate that is exactly 0) is run again
+    exactly when its inputs are algebraic; a case that cannot be decided either way comes
+    back with stop ``"undecided"`` and the reason, and the sweep goes on.
+    """
+    from verify.corner import run_corner
+    from verify.errors import InvalidInput, Undecided
+
+    try:
+        try:
+            run = _run(case, run_corner)
+        except Undecided:
+            if case.get("backend") != "interval":
+                raise
+            run = _run({**case, "backend": "exact"}, run_corner)  # a rate exactly 0: decide it exactly
+    except (Undecided, InvalidInput) as exc:  # not decidable here (or not algebraic): say so, go on
+        return {
+            "id": case.get("id"),
+            "stop": "undecided",
+            "iterations": None,
+            "zones": [],
+            "multiple_impacts": 0,
+            "exit_velocity": None,
+            "backend": case.get("backend", "exact"),
+            "rigorous": True,
+            "reason": " ".join(str(exc).split()),
+        }
     r = run.result
     K = r.backend
     return {
@@ -140,6 +152,27 @@ def run_case(case: dict[str, Any]) -> dict[str, Any]:
         "backend": K.describe(),
         "rigorous": K.is_rigorous,
     }
+
+
+def _run(case: dict[str, Any], run_corner: Any) -> Any:
+    backend: Any = case.get("backend", "exact")
+    if backend == "interval":  # sweeps give up on intervals early: an undecided sign is then decided exactly
+        from verify.backends import IntervalBackend
+
+        backend = IntervalBackend(case.get("dps") or 50, max_dps=case.get("max_dps", 200))
+    return run_corner(
+        alpha=case.get("alpha"),
+        slope=case.get("slope"),
+        phi=case.get("phi"),
+        velocity=case.get("velocity"),
+        eps1=case["eps1"],
+        eps2=case["eps2"],
+        backend=backend,
+        dps=case.get("dps") if backend == "exact" else None,
+        max_iterations=case.get("max_iterations", 100),
+        trace=False,
+        certify=case.get("certify", True),
+    )
 
 
 def _run_chunk(args: tuple[Callable[[dict[str, Any]], dict[str, Any]], list[dict[str, Any]]]) -> list[dict[str, Any]]:

@@ -132,6 +132,7 @@ class SymbolicBackend(Backend):
     name = "symbolic"
     is_exact = True
     is_rigorous = True
+    is_parametric = True
 
     def __init__(self, piece: Piece, cache: RootCache | None = None):
         self.piece = piece

@@ -163,6 +163,75 @@ def cone_certificate(
     }
 
 
+def repeating_certificate(
+    system: System,
+    earlier: Sequence[Any],
+    now: Sequence[Any],
+    impulses_between: int,
+    impact_sets: Sequence[Sequence[int]],
+) -> dict[str, Any] | None:
+    """A certificate that the rule never exits: the rates now are a positive multiple of earlier ones.
+
+    The rates evolve on their own (b -> b + A I(b)) and the impulse is positively homogeneous
+    (beta does not change when b is scaled), so rates c*b repeat, scaled by c, the impacts
+    that followed b: the same cycle of impact sets forever.
+    """
+    K = system.backend
+    if not K.is_exact or impulses_between < 1:
+        return None  # equality needs exact elements (canonical: rationals, number fields, rational functions)
+    pivot = next((i for i, x in enumerate(earlier) if x != K.zero), None)
+    if pivot is None:
+        return None
+    c = now[pivot] / earlier[pivot]
+    if any(y - c * x != K.zero for x, y in zip(earlier, now)):  # identical, as elements
+        return None
+    try:
+        if K.sign(c) <= 0:
+            return None
+    except Undecided:  # a factor whose sign changes with a parameter: no certificate, and no cut
+        return None
+    show = K.to_exact if K.is_exact else K.to_decimal
+    return {
+        "kind": "repeating direction",
+        "statement": (
+            "The rates are a positive multiple of the rates some impulses earlier; the rule depends on the rates "
+            "alone and is positively homogeneous, so the same cycle of impacts repeats forever."
+        ),
+        "rigorous": K.is_rigorous,
+        "rates_earlier": [show(x) for x in earlier],
+        "rates_now": [show(x) for x in now],
+        "factor": show(c),
+        "cycle": [list(J) for J in impact_sets],
+        "gram": [[show(x) for x in row] for row in system.gram],
+        "restitution": [show(x) for x in system.restitution],
+    }
+
+
+def non_termination_halt(system: System, memory: int = 8) -> Any:
+    """A stop test for :func:`verify.rule.solve` that returns ``("non_terminating", certificate)``
+    as soon as the run is proved never to exit: rates that repeat their direction (any
+    number of constraints), or rates inside invariant cones (two constraints)."""
+    cone = cone_halt(system)
+    history: list[tuple[int, Any, tuple[int, ...]]] = []  # (impulses so far, rates, impact set taken)
+
+    def halt(system: System, v: Sequence[Any]) -> Any:
+        K = system.backend
+        if K.is_parametric:  # rational functions of a parameter: the cones alone (equalities cost too much there)
+            return cone(system, v) if cone is not None else None
+        b = system.rates(v)
+        count = len(history)
+        for w, earlier, _ in reversed(history[-memory:]):
+            cycle = [J for _, _, J in history[w:]]
+            cert = repeating_certificate(system, earlier, b, count - w, cycle)
+            if cert:
+                return ("non_terminating", cert)
+        J = tuple(i for i, x in enumerate(b) if K.sign(x) < 0)
+        history.append((count, b, J))
+        return cone(system, v) if cone is not None else None
+
+    return halt
+
+
 def cone_halt(system: System) -> Any:
     """A stop test for :func:`verify.rule.solve`: ``("non_terminating", certificate)`` as soon
     as the rates enter an invariant cone (two-constraint systems only; None otherwise)."""
