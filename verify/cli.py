@@ -184,6 +184,41 @@ def _cmd_corner_claims(args: argparse.Namespace) -> int:
     return 1 if any(c.verdict == "refuted" for c in claims) else 0
 
 
+def _cmd_sweep(args: argparse.Namespace) -> int:
+    import time
+    from collections import Counter
+
+    from verify.records import dumps
+    from verify.sweep import random_corner_cases, sweep
+
+    if args.cases < 1:
+        raise UsageError(f"{PROG} sweep: --cases must be >= 1, got {args.cases}")
+    cases = random_corner_cases(args.cases, seed=args.seed, max_iterations=args.max_iterations)
+    start = time.perf_counter()
+    results = sweep(cases, workers=args.workers)
+    seconds = time.perf_counter() - start
+    stops = Counter(r["stop"] for r in results)
+    repeated = sum(1 for r in results if r["multiple_impacts"] > 1)
+    if args.json:
+        sys.stdout.write(
+            dumps(
+                {
+                    "cases": len(cases),
+                    "seconds": round(seconds, 3),
+                    "stops": dict(stops),
+                    "repeated_multiple_impacts": repeated,
+                    "results": results,
+                }
+            )
+        )
+    else:
+        print(f"{len(cases)} random rational corner cases (seed {args.seed}), exact, in {seconds:.1f} s")
+        for stop, count in sorted(stops.items()):
+            print(f"  {stop}: {count}")
+        print(f"  with repeated multiple impacts: {repeated}")
+    return 0
+
+
 def _cmd_table1(args: argparse.Namespace) -> int:
     from verify.records import dumps
     from verify.render import table1_json, table1_text
@@ -200,10 +235,17 @@ def _cmd_all(args: argparse.Namespace) -> int:
     from verify.table1 import table1
 
     print("verify all: reproducing Pasquero (2021)", flush=True)
-    print("[1/2] Table 1 (Newton's cradle, Sect. 4.1) ...", flush=True)
+    from verify.corner import run_corner
+    from verify.corner_claims import check_claims
+    from verify.render import corner_summary
+
+    print("[1/3] Table 1 (Newton's cradle, Sect. 4.1) ...", flush=True)
     sys.stdout.write(table1_summary(table1()))
-    print("[2/2] the cradle for every eps in [0, 1] (exact map, 40 impulses) ...", flush=True)
+    print("[2/3] the cradle for every eps in [0, 1] (exact map, 40 impulses) ...", flush=True)
     sys.stdout.write(cradle_map_summary(cradle_map(max_impulses=40)))
+    print("[3/3] the disk in the corner (Sect. 4.2): the paper's example and claims (2000 cases each) ...", flush=True)
+    example = run_corner(alpha="pi/6", phi="pi/12", eps1="0.999", eps2="0.001")
+    sys.stdout.write(corner_summary(example, check_claims(2000, progress=False)))
     return 0
 
 
@@ -324,6 +366,23 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--figures", metavar="DIR", help="also draw the corner's figures (PNG) into DIR")
     p.add_argument("--json", action="store_true", help="print JSON")
     p.set_defaults(func=_cmd_corner_claims)
+
+    p = sub.add_parser(
+        "sweep",
+        help="run many random rational corner cases exactly, in parallel",
+        formatter_class=_formatter,
+        description=(
+            "A deterministic batch of corner cases with rational inputs (slope in (1/10, 10), both walls hit at the "
+            "start, CORs in [0, 1] with 0 and 1 often), run exactly on every core; prints the stops and the time."
+        ),
+        epilog="examples:\n  verify sweep --cases 10000\n  verify sweep --cases 200 --seed 3 --json\n",
+    )
+    p.add_argument("--cases", type=int, default=10_000, help="number of cases (default 10000)")
+    p.add_argument("--seed", type=int, default=0, help="seed of the deterministic batch (default 0)")
+    p.add_argument("--workers", type=int, default=None, help="local processes (default: every core)")
+    p.add_argument("--max-iterations", type=int, default=100, help="cap on impulses per case (default 100)")
+    p.add_argument("--json", action="store_true", help="print the results as JSON")
+    p.set_defaults(func=_cmd_sweep)
 
     p = sub.add_parser(
         "cradle-map",

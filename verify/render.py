@@ -445,3 +445,16 @@ def corner_claims_json(claims: Any, boundary: Any, eps: str, rebounds: Any, floa
         "rebounds": {"eps": eps, "velocity": ["1", "3/10"], "runs": rebounds},
         "float_vs_exact": floats,
     }
+
+
+def corner_summary(example: Any, claims: Any) -> str:
+    """A few lines on the corner for ``verify all``."""
+    r = example.result
+    K = r.backend
+    lines = [
+        f"  the paper's example (alpha = pi/6, phi = pi/12, eps = 0.999, 0.001): zones {' -> '.join(example.zones)}, "
+        f"exit velocity {', '.join(K.to_decimal(x, 12) for x in r.exit_velocity[:2])} (computed exactly)",
+    ]
+    for c in claims:
+        lines.append(f"    [{c.verdict}] {c.name} ({c.cases} cases)")
+    return "\n".join(lines) + "\n"
