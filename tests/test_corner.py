@@ -248,3 +248,20 @@ def test_corner_claims_cli(capsys):
     assert main(["corner-claims", "--cases", "60", "--workers", "1"]) == 0
     out = capsys.readouterr().out
     assert "[holds] mirror symmetry" in out and "Float against exact" in out
+
+
+@given(both_walls(), cors)
+@settings(max_examples=40)
+def test_symmetric_corner_is_the_symmetric_and_ideal_rule(case, e):
+    """eq. (7) with eps1 = eps2 is eq. (6), and with eps1 = eps2 = 1 it is eq. (5): the named rules agree."""
+    k, xd, yd = case
+    general = run_corner(slope=k, velocity=[xd, yd], eps1=e, eps2=e, max_iterations=500)
+    symmetric = run_corner(slope=k, velocity=[xd, yd], eps1=e, eps2=e, max_iterations=500, rule="symmetric")
+    assert general.zones == symmetric.zones
+    ideal = run_corner(slope=k, velocity=[xd, yd], eps1=e, eps2=e, rule="ideal")
+    one = run_corner(slope=k, velocity=[xd, yd], eps1=1, eps2=1)
+    K = ideal.result.backend
+    assert ideal.zones == one.zones
+    assert [K.to_number(x) for x in ideal.result.exit_velocity] == [
+        one.result.backend.to_number(x) for x in one.result.exit_velocity
+    ]
