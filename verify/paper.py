@@ -16,14 +16,13 @@ it, are worked out by :func:`verify.table1.identify_aeev` (``verify table1`` pri
    largest), each strictly below sigma;
 3. ``||v0||`` is the Euclidean norm of the left velocity (100 in Table 1).
 
-The threshold itself does not fit the text: with the stated sigma = 10^-9 ||v0|| = 1e-7
-this test (or any of the variants tried by the identification) stops the 0.0744 row by
-AEEV after 16 impulses and the 0.01 and 0 rows after 29 and 30, not 17, 30 and 32. The
-printed counts are all reproduced exactly when sigma / ||v0|| lies in a window that
-:func:`verify.table1.identify_aeev` computes from the exact runs, about
-(3.748e-10, 4.657e-10]; paper mode uses 4e-10, inside it, and a test checks that it is.
-Any value in the window gives the same counts: Table 1 determines sigma to within that
-window and no better. ``verify table1`` prints the window and the stated-sigma counts.
+The threshold itself does not fit the text: the stated sigma = 10^-9 ||v0|| stops some
+rows by AEEV earlier than printed (``verify table1`` lists which, and where). The printed
+counts are all reproduced exactly when sigma / ||v0|| lies in a window that
+:func:`verify.table1.identify_aeev` computes from the exact runs (``verify table1``
+prints it); paper mode uses :data:`PAPER_SIGMA_RELATIVE`, inside it, and a test checks
+that it is and that the stated value is not. Any value in the window gives the same
+counts: Table 1 determines sigma to within that window and no better.
 
 The test is evaluated exactly, on squares, so no square root and no float is involved.
 """
