@@ -263,26 +263,36 @@ _FIELDS: dict[tuple[str, ...], NumberFieldBackend] = {}
 # -- mpmath -------------------------------------------------------------------------------
 
 
-class MPBackend(Backend):
-    """mpmath floating point at ``dps`` decimal digits; signs are heuristic (not rigorous)."""
-
-    name = "mp"
+class _ContextBackend(Backend):
+    """A backend over a private mpmath context (precision is part of the backend's value)."""
 
     def __init__(self, dps: int = DEFAULT_DPS):
-        from mpmath import MPContext
-
         if not isinstance(dps, int) or dps < 5:
             raise InvalidInput(f"dps must be an integer >= 5, got {dps!r}")
         self.dps = dps
-        self.ctx = MPContext()
+        self.ctx = self._context()
         self.ctx.dps = dps
         self.zero = self.ctx.mpf(0)
         self.one = self.ctx.mpf(1)
+
+    def _context(self) -> Any:  # pragma: no cover - abstract
+        raise NotImplementedError
 
     def convert(self, value: Number) -> Any:
         from verify.numeric import evaluate
 
         return evaluate(value, self.ctx)
+
+
+class MPBackend(_ContextBackend):
+    """mpmath floating point at ``dps`` decimal digits; signs are heuristic (not rigorous)."""
+
+    name = "mp"
+
+    def _context(self) -> Any:
+        from mpmath import MPContext
+
+        return MPContext()
 
     def sign(self, x: Any) -> int:
         return (x > 0) - (x < 0)
@@ -291,7 +301,7 @@ class MPBackend(Backend):
         return self.ctx.nstr(x, min(digits, self.dps))
 
 
-class IntervalBackend(Backend):
+class IntervalBackend(_ContextBackend):
     """mpmath intervals at ``dps`` digits: every sign is certified or raises Undecided.
 
     :meth:`refined` doubles the precision up to ``max_dps``; :func:`verify.rule.solve`
@@ -303,21 +313,13 @@ class IntervalBackend(Backend):
     refinable = True
 
     def __init__(self, dps: int = DEFAULT_DPS, max_dps: int = MAX_INTERVAL_DPS):
+        super().__init__(dps)
+        self.max_dps = max(max_dps, dps)
+
+    def _context(self) -> Any:
         from mpmath.ctx_iv import MPIntervalContext
 
-        if not isinstance(dps, int) or dps < 5:
-            raise InvalidInput(f"dps must be an integer >= 5, got {dps!r}")
-        self.dps = dps
-        self.max_dps = max(max_dps, dps)
-        self.ctx = MPIntervalContext()
-        self.ctx.dps = dps
-        self.zero = self.ctx.mpf(0)
-        self.one = self.ctx.mpf(1)
-
-    def convert(self, value: Number) -> Any:
-        from verify.numeric import evaluate
-
-        return evaluate(value, self.ctx)
+        return MPIntervalContext()
 
     def sign(self, x: Any) -> int:
         if x.a > 0:
