@@ -82,9 +82,6 @@ def check(
     def holds(expr: sp.Expr) -> bool:  # expr >= 0 for every eps considered
         return nonnegative_on(expr, lo, hi) if interval else _sign_at(expr, 0) >= 0
 
-    def positive(expr: sp.Expr) -> bool:
-        return holds(expr) and not (interval and nonnegative_on(-expr, lo, hi)) and (interval or _sign_at(expr, 0) > 0)
-
     def N(k: int, w: list[sp.Expr]) -> list[sp.Expr]:
         l = 1 - k
         out = [None, None]
