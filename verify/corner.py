@@ -31,6 +31,7 @@ from typing import Any
 from verify.backends import Backend, get_backend
 from verify.errors import InvalidInput, InvalidSystem
 from verify.numbers import Number, to_number
+from verify.numeric import certified_sign
 from verify.rule import DEFAULT_MAX_ITERATIONS, Result, solve
 from verify.system import System
 
@@ -58,25 +59,19 @@ def _sympy():
     return sympy
 
 
-def _certified_sign(x: Number) -> int:
-    from verify.numeric import certified_sign
-
-    return certified_sign(x)
-
-
 def slope_of(alpha: Any = None, slope: Any = None) -> Number:
     """k = tan(alpha), or the given slope; validated: 0 < alpha < pi/2, k > 0."""
     if (alpha is None) == (slope is None):
         raise InvalidInput("give exactly one of alpha and slope")
     if slope is not None:
         k = to_number(slope, where="slope")
-        if _certified_sign(k) <= 0:
+        if certified_sign(k) <= 0:
             raise InvalidSystem(f"slope = {slope} must be positive (k = tan(alpha), 0 < alpha < pi/2)")
         return k
     a = to_number(alpha, where="alpha")
     sp = _sympy()
     a_expr = sp.Rational(a.numerator, a.denominator) if isinstance(a, Fraction) else a
-    if _certified_sign(a_expr) <= 0 or _certified_sign(sp.pi / 2 - a_expr) <= 0:
+    if certified_sign(a_expr) <= 0 or certified_sign(sp.pi / 2 - a_expr) <= 0:
         raise InvalidSystem(f"alpha = {alpha} must lie in (0, pi/2)")
     return to_number(sp.tan(a_expr), where="tan(alpha)")
 
@@ -86,7 +81,7 @@ def velocity_of(phi: Any, v0: Any = "100") -> list[Number]:
     sp = _sympy()
     p = to_number(phi, where="phi")
     speed = to_number(v0, where="v0")
-    if _certified_sign(speed) <= 0:
+    if certified_sign(speed) <= 0:
         raise InvalidSystem(f"v0 = {v0} must be positive")
     p_expr = sp.Rational(p.numerator, p.denominator) if isinstance(p, Fraction) else p
     s_expr = sp.Rational(speed.numerator, speed.denominator) if isinstance(speed, Fraction) else speed
@@ -172,7 +167,7 @@ def run_corner(
         v = velocity_of(phi, v0)
     cors = [to_number(e, where=f"eps{i + 1}") for i, e in enumerate((eps1, eps2))]
     for i, e in enumerate(cors):
-        if _certified_sign(e) < 0 or _certified_sign(1 - e) < 0:
+        if certified_sign(e) < 0 or certified_sign(1 - e) < 0:
             raise InvalidSystem(f"eps{i + 1} = {(eps1, eps2)[i]} is outside [0, 1]")
     chosen = _backend_for([k, *v, *cors], backend, dps, notes)
     system = corner_system(k, cors[0], cors[1], backend=chosen, dps=dps if chosen != "exact" else None)

@@ -38,7 +38,7 @@ from functools import cached_property
 from typing import Any
 
 from verify.backends import exact_for
-from verify.errors import InvalidSystem, NoConvergence, Undecided
+from verify.errors import InvalidInput, InvalidSystem, NoConvergence, Undecided
 from verify.linalg import dot, ldl, solve_spd
 from verify.numbers import to_number
 from verify.system import System
@@ -220,7 +220,7 @@ def _exact_backend_for_velocity(system: System, velocity: Sequence[Any]) -> Syst
         for x in values:
             K.convert(x)
         return system
-    except Exception:  # not in this field: build the field of every input
+    except InvalidInput:  # not in this field (BadNumber): build the field of every input
         src = system.source
         everything = [x for row in src["mass_matrix"] for x in row] + [x for row in src["normals"] for x in row]
         everything += list(src["time_terms"]) + list(src["restitution"]) + values

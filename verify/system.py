@@ -32,12 +32,7 @@ from verify.backends import Backend, RationalBackend, exact_for, get_backend
 from verify.errors import InvalidSystem
 from verify.linalg import NotPositiveDefinite, dot, ldl, matvec, solve_spd
 from verify.numbers import Number, format_exact, to_number
-
-
-def _sign_of_number(x: Number) -> int:
-    from verify.numeric import certified_sign
-
-    return certified_sign(x)
+from verify.numeric import certified_sign
 
 
 def _is_exact_zero(K: Backend, x: Any) -> bool:
@@ -61,7 +56,7 @@ def _equal(a: Number, b: Number) -> bool:
         return False
     from verify.numbers import _to_sympy
 
-    return _sign_of_number(_to_sympy(a) - _to_sympy(b)) == 0
+    return certified_sign(_to_sympy(a) - _to_sympy(b)) == 0
 
 
 def _check_vector(values: Any, length: int | None, field: str) -> list:
@@ -139,7 +134,7 @@ class System:
         for i, ei in enumerate(e):
             if getattr(ei, "free_symbols", None):
                 continue  # a parameter such as eps: checked by the backend over its range, below
-            if _sign_of_number(ei) < 0 or _sign_of_number(1 - ei) < 0:
+            if certified_sign(ei) < 0 or certified_sign(1 - ei) < 0:
                 raise InvalidSystem(f"restitution[{i}] = {format_exact(ei)} is outside [0, 1]")
         self.names = tuple(names) if names is not None else tuple(f"S{i + 1}" for i in range(r))
         if len(self.names) != r:

@@ -160,7 +160,7 @@ def _fixed(q: Fraction, decimals: int) -> str:
     return ("-" if n < 0 else "") + body
 
 
-def _row_diagnosis(printed: list[str], states: list[list[Fraction]], momentum: Fraction, stop_state: int) -> list[str]:
+def _row_diagnosis(printed: list[str], states: list[list[Fraction]], momentum: Fraction) -> list[str]:
     """Row-level reasons for a row whose velocities disagree."""
     notes = []
     lows, highs = [], []
@@ -205,7 +205,7 @@ def table1(*, exact_cap: int = DEFAULT_EXACT_CAP, sigma_relative: Fraction = PAP
         if not all(c.agrees for c in row.checks[:-1]):
             follow = run_cradle(eps, v0=data["v0"], max_iterations=paper.iterations + 4, certify=False)
             states = _states(follow)
-            row.row_notes = _row_diagnosis(vel, states, v0, paper.iterations)
+            row.row_notes = _row_diagnosis(vel, states, v0)
         rows.append(row)
     return Table1(data["source"], v0, exact_cap, rows, identify_aeev(data))
 

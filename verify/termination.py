@@ -1,4 +1,9 @@
-"""Proofs that the rule never exits, for systems with two constraints.
+"""Proofs that the rule never exits: invariant cones (two constraints) and repeating directions.
+
+A *repeating direction* (any number of constraints): the rates are a positive multiple of
+the rates some impulses earlier; the rates evolve on their own and the impulse is
+positively homogeneous, so the same cycle of impacts repeats forever
+(:func:`repeating_certificate`). The rest of this docstring is about the cones.
 
 Write ``b = (p(F_0), p(F_1))`` for the rates of a velocity. An impulse changes b by a
 linear map that depends only on b and the Gram matrix G: a single impact on S_k gives
