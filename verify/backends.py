@@ -79,6 +79,11 @@ class Backend:
         """Lower and upper bounds of ``x`` as decimal strings, for interval backends."""
         return None
 
+    def size(self, x: Any) -> int:
+        """The storage size of ``x`` in bits: numerators and denominators of exact values
+        (what a size budget bounds); 0 on backends of fixed precision."""
+        return 0
+
     def refined(self) -> Backend | None:
         """The same backend at higher precision, or None when it cannot be refined."""
         return None
@@ -153,6 +158,9 @@ class RationalBackend(Backend):
     def to_number(self, x: Any) -> Fraction:
         return Fraction(int(x.numerator), int(x.denominator))
 
+    def size(self, x: Any) -> int:
+        return int(x.numerator).bit_length() + int(x.denominator).bit_length()
+
     def to_decimal(self, x: Any, digits: int = 30) -> str:
         return format_decimal(self.to_number(x), digits)
 
@@ -221,6 +229,9 @@ class NumberFieldBackend(Backend):
 
     def to_decimal(self, x: Any, digits: int = 30) -> str:
         return format_decimal(self.to_number(x), digits)
+
+    def size(self, x: Any) -> int:
+        return sum(int(c.numerator).bit_length() + int(c.denominator).bit_length() for c in x.to_list())
 
     def describe(self) -> str:
         return f"exact (number field Q({', '.join(str(g) for g in self.generators)})), rigorous"

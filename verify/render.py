@@ -458,3 +458,27 @@ def corner_summary(example: Any, claims: Any) -> str:
     for c in claims:
         lines.append(f"    [{c.verdict}] {c.name} ({c.cases} cases)")
     return "\n".join(lines) + "\n"
+
+
+def properties_text(profile: str, found: list) -> str:
+    """The verdict table of ``verify properties``, then every refutation with its case."""
+    import json
+
+    lines = [f"Property suite, profile {profile}: {len(found)} rows (property x rule x family)", ""]
+    width = max((len(v.property) for v in found), default=10)
+    lines.append(f"  {'property':{width}}  {'rule':10}  {'family':7}  {'verdict':8}  cases")
+    for v in found:
+        lines.append(f"  {v.property:{width}}  {v.rule:10}  {v.family:7}  {v.verdict:8}  {v.cases}")
+    counts = {k: sum(v.verdict == k for v in found) for k in ("proved", "holds", "refuted")}
+    lines += ["", "  " + ", ".join(f"{n} {k}" for k, n in counts.items())]
+    for v in found:
+        if v.verdict != "refuted":
+            continue
+        lines += [
+            "",
+            f"REFUTED: {v.property} ({v.rule} rule, {v.family})",
+            f"  {v.note}",
+            "  counterexample (case file):",
+        ]
+        lines.append("    " + json.dumps({"cases": [v.counterexample]}, sort_keys=True))
+    return "\n".join(lines) + "\n"

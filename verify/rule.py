@@ -32,6 +32,7 @@ all CORs 1, with equal CORs, and with two constraints: pick one by name in :func
 
 from __future__ import annotations
 
+import time
 from collections.abc import Callable, Sequence
 from dataclasses import dataclass, field
 from functools import cached_property
@@ -51,6 +52,33 @@ DEFAULT_MAX_ITERATIONS = 10_000
 #: known to remain; returns a stop reason (such as ``"aeev"``), or a pair (reason,
 #: certificate) such as ``("non_terminating", {...})``, or None to go on.
 Halt = Callable[[System, tuple], Any]
+
+
+@dataclass(frozen=True)
+class Budget:
+    """Limits on one run, which then stops with ``"budget"`` instead of going on.
+
+    ``bits`` bounds the size of the exact numbers (numerator plus denominator bits of
+    the largest velocity component, :meth:`~verify.backends.Backend.size`): a
+    deterministic limit, the same on every machine. ``seconds`` bounds the wall time of
+    the iteration: it depends on the machine, so results that hit it are not
+    reproducible; prefer ``bits`` where reproducibility matters.
+
+    >>> from verify.system import System
+    >>> s = System([[1, 0, 0], [0, 1, 0], [0, 0, 1]], [[-1, 1, 0], [0, -1, 1]], ["1/3", "1/7"])
+    >>> r = solve(s, ["100", "0", "0"], budget=Budget(bits=10))
+    >>> r.stop, r.iterations
+    ('budget', 2)
+    """
+
+    seconds: float | None = None
+    bits: int | None = None
+
+    def __post_init__(self) -> None:
+        for name in ("seconds", "bits"):
+            value = getattr(self, name)
+            if value is not None and (isinstance(value, bool) or not value > 0):
+                raise InvalidSystem(f"budget {name} must be positive, got {value!r}")
 
 
 @dataclass(frozen=True)
@@ -227,8 +255,19 @@ def _exact_backend_for_velocity(system: System, velocity: Sequence[Any]) -> Syst
         return system.convert_to(exact_for(everything))
 
 
-def _iterate(system: System, v: tuple, max_iterations: int, halts: list[Halt], trace: bool) -> dict:
+def _over_budget(K: Any, v: tuple, budget: Budget | None, deadline: float | None) -> bool:
+    if budget is None:
+        return False
+    if budget.bits is not None and max(K.size(x) for x in v) > budget.bits:
+        return True
+    return deadline is not None and time.monotonic() > deadline
+
+
+def _iterate(
+    system: System, v: tuple, max_iterations: int, halts: list[Halt], trace: bool, *, budget: Budget | None = None
+) -> dict:
     K = system.backend
+    deadline = time.monotonic() + budget.seconds if budget is not None and budget.seconds is not None else None
     steps: list[Step] = []
     impact_sets: list[tuple[int, ...]] = []
     betas: list[Any] = []
@@ -245,6 +284,9 @@ def _iterate(system: System, v: tuple, max_iterations: int, halts: list[Halt], t
             break
         if len(impact_sets) >= max_iterations:
             stop = "max_iterations"
+            break
+        if _over_budget(K, v, budget, deadline):
+            stop = "budget"
             break
         I, bt = _impulse_from_rates(system, b, J)
         v = tuple(x + y for x, y in zip(v, I))
@@ -271,6 +313,7 @@ def solve(
     halt: Halt | None = None,
     trace: bool = True,
     certify: bool = True,
+    budget: Budget | None = None,
 ) -> Result:
     """Run the rule from the left velocity ``velocity`` until it exits (or a stop test fires).
 
@@ -280,7 +323,8 @@ def solve(
     ``"max_iterations"``); ``halt`` is an extra stop test such as the paper's AEEV stop.
     With ``certify`` (the default) a two-constraint run also stops, with stop
     ``"non_terminating"`` and a certificate, as soon as it is proved never to exit
-    (:mod:`verify.termination`).
+    (:mod:`verify.termination`). ``budget`` (a :class:`Budget`) ends a run whose numbers
+    grow too large or which takes too long with stop ``"budget"``.
     On a backend whose signs can be undecided (intervals) the run is repeated at higher
     precision, and the result's ``notes`` say so; :class:`~verify.errors.NoConvergence` is
     raised when the precision limit is reached. ``trace=False`` keeps only impact sets
@@ -304,7 +348,7 @@ def solve(
         try:
             v0 = system.velocity(velocity)
             halts = [h for h in (halt, non_termination_halt(system) if certify else None) if h is not None]
-            out = _iterate(system, v0, max_iterations, halts, trace)
+            out = _iterate(system, v0, max_iterations, halts, trace, budget=budget)
             break
         except Undecided as exc:
             if not K.refinable:
