@@ -250,6 +250,7 @@ def _cmd_all(args: argparse.Namespace) -> int:
 
 
 def _cmd_properties(args: argparse.Namespace) -> int:
+    import json
     import os
 
     from verify.records import dumps
@@ -266,6 +267,8 @@ def _cmd_properties(args: argparse.Namespace) -> int:
 
     def progress(done: int, total: int, v: Any) -> None:
         line = f"  [{done}/{total}] {v.verdict:8} {v.cases:6} cases  {v.property} | {v.rule} | {v.family}"
+        if v.verdict == "refuted":  # shown at once: a long run may be stopped before its table
+            line += f"\n      {v.note}\n      {json.dumps(v.counterexample, sort_keys=True)}"
         print(line, file=sys.stderr, flush=True)
 
     found = verdicts(

@@ -1,0 +1,327 @@
+"""The property suite: its verdicts, its counterexamples, and tests of the tests.
+
+- The verdict table at the profile of HYPOTHESIS_PROFILE (dev: 25 cases a row, ci: 100;
+  thorough runs the ci table here: the 100,000-case run is ``verify properties --profile
+  thorough``): every property that is a theorem of the rule is proved or holds; every
+  refutation reproduces from its case record alone.
+- Each property catches a deliberately broken rule (a mutant of the engine).
+- The counterexamples found are kept as ``@example`` regressions of a test that compares
+  the energy check with an independent recomputation from the printed formulas.
+"""
+
+from __future__ import annotations
+
+import json
+import os
+from fractions import Fraction
+
+import pytest
+from hypothesis import example, given
+
+import verify.rule as rule_module
+from verify import formulas
+from verify.cli import main
+from verify.properties import PROPERTIES, SKIP, energy_does_not_increase, property_named
+from verify.records import case_from_record
+from verify.strategies import Drawn, cases
+from verify.system import System
+from verify.verdicts import Runner, search, verdicts
+
+PROFILE = {"dev": "dev", "ci": "ci", "thorough": "ci"}[os.environ.get("HYPOTHESIS_PROFILE", "dev")]
+
+#: Properties that are theorems of the rule (or of its implementation's contract): never refuted.
+THEOREMS = {p.name for p in PROPERTIES} - {"kinetic energy does not increase", "the rule exits (termination)"}
+
+
+@pytest.fixture(scope="module")
+def table():
+    return verdicts(PROFILE, workers=2)
+
+
+def test_every_row_has_a_verdict(table) -> None:
+    assert len(table) == 185
+    assert {v.verdict for v in table} <= {"proved", "holds", "refuted"}
+    assert all(v.cases >= 0 and v.note for v in table)
+
+
+def test_theorems_are_never_refuted(table) -> None:
+    refuted = [
+        (v.property, v.rule, v.family, v.note) for v in table if v.verdict == "refuted" and v.property in THEOREMS
+    ]
+    assert refuted == []
+
+
+def test_energy_and_termination_where_proved(table) -> None:
+    """Kinetic energy is proved for the ideal and symmetric rules; the ideal rule must exit."""
+    for v in table:
+        if v.property == "kinetic energy does not increase" and v.rule in ("ideal", "symmetric"):
+            assert v.verdict == "proved", v
+        if v.property == "the rule exits (termination)" and v.rule == "ideal":
+            assert v.verdict == "holds", v
+
+
+def test_refutations_reproduce_from_the_record_alone(table) -> None:
+    for v in table:
+        if v.verdict != "refuted":
+            continue
+        record = v.counterexample
+        case_from_record(record)  # loads as verify solve would
+        prop = property_named(v.property)
+        why = prop.check(Runner(), Drawn(v.family, v.rule, record), v.extra)
+        assert why not in (None, SKIP), v
+        if v.property == "kinetic energy does not increase":
+            assert "predicts" in v.note and "Where it fails" in v.note
+
+
+# -- an independent recomputation of the energy property, with the counterexamples found ---------
+
+
+def _independent_energy_rises(d: Drawn, impulses: int) -> tuple[bool, list]:
+    """Iterate eq. (8) as printed (:mod:`verify.formulas`) and watch the energy in the rest frame."""
+    g, a, t, e = (d.values(k) for k in ("mass_matrix", "normals", "time_terms", "restitution"))
+    if d.rule == "ideal":
+        e = [Fraction(1)] * len(e)
+    U = [formulas.solve_linear(g, row) for row in a]
+    G = [[sum(x * y for x, y in zip(row, u)) for u in U] for row in a]
+    c = formulas.solve_linear(G, [-x for x in t])
+    H = [sum(ck * u[i] for ck, u in zip(c, U)) for i in range(len(g))]
+
+    def energy(v):
+        rel = [x - h for x, h in zip(v, H)]
+        return formulas.phi(g, rel, rel) / 2
+
+    v, sets, rises = d.values("velocity"), [], False
+    for _ in range(impulses):
+        J = tuple(j for j in range(len(a)) if formulas.rate(a[j], t[j], v) < 0)
+        if not J:
+            break
+        w = [x + y for x, y in zip(v, formulas.printed_impulse("8", (g, a, t, e), v, J))]
+        rises = rises or energy(w) > energy(v)
+        v, sets = w, [*sets, J]
+    return rises, sets
+
+
+FOUND_ASYMMETRIC = {
+    "id": "cradle-asymmetric-kinetic-energy-does-not-increase",
+    "mass_matrix": [["1", "0", "0"], ["0", "1", "0"], ["0", "0", "1"]],
+    "normals": [["-1", "1", "0"], ["0", "-1", "1"]],
+    "time_terms": ["0", "0"],
+    "restitution": ["0", "1"],
+    "velocity": ["1/2", "-1/2", "-2"],
+    "max_iterations": 200,
+}
+FOUND_GENERAL = {
+    "id": "cradle-general-kinetic-energy-does-not-increase",
+    "mass_matrix": [["1", "0", "0", "0"], ["0", "1", "0", "0"], ["0", "0", "1", "0"], ["0", "0", "0", "1"]],
+    "normals": [["-1", "1", "0", "0"], ["0", "-1", "1", "0"], ["0", "0", "-1", "1"]],
+    "time_terms": ["0", "0", "0"],
+    "restitution": ["0", "1", "0"],
+    "velocity": ["0", "-1/3", "-4/3", "-4/3"],
+    "max_iterations": 200,
+}
+
+
+@given(cases("cradle", "general"))
+@example(Drawn("cradle", "asymmetric", FOUND_ASYMMETRIC))
+@example(Drawn("cradle", "general", FOUND_GENERAL))
+def test_energy_check_agrees_with_the_printed_formulas(d: Drawn) -> None:
+    runner = Runner()
+    result = runner(d.record, d.rule)
+    if result.stop == "budget":
+        return
+    rises, sets = _independent_energy_rises(d, result.iterations)
+    assert sets == result.impact_sets
+    assert (energy_does_not_increase(runner, d, None) is not None) == rises
+
+
+def test_the_found_counterexamples_still_refute() -> None:
+    for record, rule in ((FOUND_ASYMMETRIC, "asymmetric"), (FOUND_GENERAL, "general")):
+        assert _independent_energy_rises(Drawn("cradle", rule, record), 200)[0]
+
+
+# -- tests of the tests: each property catches a broken rule --------------------------------------
+
+_original_impulse = rule_module._impulse_from_rates
+_original_beta = rule_module._beta_from_rates
+_original_for_rule = rule_module._system_for_rule
+_original_rates = System.rates
+
+
+def _wrong_beta_sign(system, b, J):
+    impulse, beta = _original_impulse(system, b, J)
+    if beta is None:
+        return impulse, beta
+    K = system.backend
+    return tuple(K.zero - x for x in impulse), K.zero - beta
+
+
+def _reversed_cors(system, b, J):
+    return _original_impulse(system.with_restitution(list(system.source["restitution"])[::-1]), b, J)
+
+
+def _first_cor_for_all(system, b, J):
+    return _original_impulse(system.with_restitution([system.source["restitution"][0]] * system.r), b, J)
+
+
+def _coefficients(system, b, J, divide=True):
+    K = system.backend
+    beta = _original_beta(system, b, J) if len(J) > 1 else K.one
+    e = system.restitution
+    coef = [K.zero - beta * (K.one + e[j]) * (b[j] / system.gram_diag[j] if divide else b[j]) for j in J]
+    return coef, (beta if len(J) > 1 else None)
+
+
+def _euclidean_direction(system, b, J):  # impulse along dF_j^T instead of U_j = g^-1 dF_j^T
+    K = system.backend
+    coef, beta = _coefficients(system, b, J)
+    return tuple(sum((c * system.normals[j][i] for c, j in zip(coef, J)), K.zero) for i in range(system.n)), beta
+
+
+def _no_gram_division(system, b, J):
+    coef, beta = _coefficients(system, b, J, divide=False)
+    return system.combine_normals(list(zip(J, coef))), beta
+
+
+def _ignores_time_terms(system, b, J):
+    return _original_impulse(system, [x - t for x, t in zip(b, system.time_terms)], J)
+
+
+def _quadratic_in_rates(system, b, J):
+    K = system.backend
+    return _original_impulse(system, [x * (K.zero - x) for x in b], J)
+
+
+def _over_restitution(system, b, J):
+    impulse, beta = _original_impulse(system, b, J)
+    K = system.backend
+    return tuple(x * K.convert(Fraction(3, 2)) for x in impulse), beta
+
+
+def _inexact_off_by_a_little(system, b, J):
+    impulse, beta = _original_impulse(system, b, J)
+    K = system.backend
+    if K.is_exact:
+        return impulse, beta
+    return tuple(x * K.convert(Fraction(10**12 + 1, 10**12)) for x in impulse), beta
+
+
+def _beta_times_mass(system, b, J):
+    return _original_beta(system, b, J) * system.gram_diag[J[0]]
+
+
+def _ideal_with_cor_zero(system, rule):
+    if rule == "ideal":
+        return system.with_restitution([0] * system.r)
+    return _original_for_rule(system, rule)
+
+
+def _negated_rates(self, v):
+    return tuple(self.backend.zero - x for x in _original_rates(self, v))
+
+
+MUTANTS = {
+    "kinetic energy does not increase": ("_impulse_from_rates", _over_restitution, "corner", "ideal"),
+    "the exit velocity is outgoing": ("rates", _negated_rates, "corner", "general"),
+    "each impulse is eq. (8) as printed": ("_impulse_from_rates", _wrong_beta_sign, "corner", "general"),
+    "a single impact gives eq. (4)": ("_impulse_from_rates", _reversed_cors, "general", "general"),
+    "beta = 1 for one constraint": ("_beta_from_rates", _beta_times_mass, "general", "general"),
+    "all CORs 1 give the ideal rule (5)": ("_impulse_from_rates", _wrong_beta_sign, "corner", "ideal"),
+    "equal CORs give the symmetric rule (6)": ("_impulse_from_rates", _wrong_beta_sign, "corner", "symmetric"),
+    "two constraints: eq. (8) is the asymmetric rule (7)": (
+        "_impulse_from_rates",
+        _reversed_cors,
+        "corner",
+        "asymmetric",
+    ),
+    "orthogonal constraints give the codimension > 1 rule (Prop. 1)": (
+        "_impulse_from_rates",
+        _reversed_cors,
+        "corner",
+        "general",
+    ),
+    "relabelling the constraints changes nothing": ("_impulse_from_rates", _first_cor_for_all, "corner", "general"),
+    "mirror symmetry (corner y -> -y; cradle read backwards)": (
+        "_impulse_from_rates",
+        _first_cor_for_all,
+        "corner",
+        "general",
+    ),
+    "homogeneity: scaling the velocity by lambda > 0 scales the result": (
+        "_impulse_from_rates",
+        _quadratic_in_rates,
+        "corner",
+        "general",
+    ),
+    "scaling all masses changes nothing": ("_impulse_from_rates", _no_gram_division, "cradle", "general"),
+    "covariance under a linear change of coordinates": (
+        "_impulse_from_rates",
+        _euclidean_direction,
+        "corner",
+        "general",
+    ),
+    "frame independence (constraints in uniform motion)": (
+        "_impulse_from_rates",
+        _ignores_time_terms,
+        "corner",
+        "general",
+    ),
+    "the rule exits (termination)": ("_system_for_rule", _ideal_with_cor_zero, "cradle", "ideal"),
+    "momentum along directions free of constraints is conserved": (
+        "_impulse_from_rates",
+        _euclidean_direction,
+        "cradle",
+        "general",
+    ),
+    "backends agree (exact, interval, mp, float)": (
+        "_impulse_from_rates",
+        _inexact_off_by_a_little,
+        "corner",
+        "general",
+    ),
+}
+
+
+def test_every_property_has_a_mutant() -> None:
+    assert set(MUTANTS) == {p.name for p in PROPERTIES}
+
+
+@pytest.mark.parametrize("name", list(MUTANTS))
+def test_each_property_catches_a_broken_rule(name: str, monkeypatch: pytest.MonkeyPatch) -> None:
+    attribute, mutant, family, rule = MUTANTS[name]
+    target = System if attribute == "rates" else rule_module
+    monkeypatch.setattr(target, attribute, mutant)
+    verdict = search(property_named(name), family, rule, 100)
+    assert verdict.verdict == "refuted", f"{name}: the mutant {mutant.__name__} was not caught ({verdict.note})"
+    assert "the engine raised" not in verdict.note, verdict.note  # caught by the property, not by a crash
+
+
+# -- the command line ---------------------------------------------------------------------------------
+
+
+def test_cli_json_follows_the_contract(capsys: pytest.CaptureFixture[str]) -> None:
+    code = main(["properties", "--profile", "dev", "--property", "the exit velocity", "--family", "corner",
+                 "--workers", "1", "--quiet", "--json"])  # fmt: skip
+    out = json.loads(capsys.readouterr().out)
+    assert code == 0
+    assert out["profile"] == "dev" and len(out["properties"]) == 4
+    for row in out["properties"]:
+        assert set(row) == {"property", "rule", "family", "verdict", "cases", "counterexample", "note"}
+        assert row["verdict"] == "holds" and row["counterexample"] is None
+
+
+def test_cli_refutation_is_reproduced_by_verify_solve(tmp_path, capsys: pytest.CaptureFixture[str]) -> None:
+    folder = tmp_path / "found"
+    code = main(["properties", "--profile", "dev", "--property", "kinetic energy", "--rule", "asymmetric",
+                 "--family", "cradle", "--workers", "1", "--quiet", "--counterexamples", str(folder)])  # fmt: skip
+    text = capsys.readouterr().out
+    assert code == 1 and "REFUTED: kinetic energy does not increase (asymmetric rule, cradle)" in text
+    (path,) = folder.iterdir()
+    assert main(["solve", str(path), "--rule", "asymmetric", "--json"]) == 0
+    result = json.loads(capsys.readouterr().out)["results"][0]
+    assert result["stop"] == "exit" and result["impact_sets"][0] == [0, 1]
+
+
+def test_cli_rejects_an_unknown_property(capsys: pytest.CaptureFixture[str]) -> None:
+    assert main(["properties", "--property", "no such thing", "--quiet"]) == 2
+    err = capsys.readouterr().err
+    assert err.count("\n") == 1 and "unknown property 'no such thing'" in err
