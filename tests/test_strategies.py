@@ -43,12 +43,20 @@ def test_drawn_cases_are_valid(family: str, rule: str) -> None:
     check()
 
 
+def _orthogonal_pair(d) -> bool:
+    g, a = d.values("mass_matrix"), d.values("normals")
+    if len(a) < 2:
+        return False
+    u = [formulas.solve_linear(g, row) for row in a]
+    return sum(x * y for x, y in zip(a[0], u[1])) == 0
+
+
 FEATURES = {
     "a multiple impact": ("general", lambda d: sum(x < 0 for x in rates(d)) >= 2),
     "a grazing constraint": ("general", lambda d: 0 in rates(d)),
     "moving constraints": ("general", lambda d: any(Fraction(t) != 0 for t in d.record["time_terms"])),
-    "orthogonal constraints": ("general", lambda d: _orthogonal_pair(d)),
-    "a right-angle corner": ("corner", lambda d: _orthogonal_pair(d)),
+    "orthogonal constraints": ("general", _orthogonal_pair),
+    "a right-angle corner": ("corner", _orthogonal_pair),
     "four constraints": ("general", lambda d: len(d.record["normals"]) == 4),
     "five balls": ("cradle", lambda d: len(d.record["velocity"]) == 5),
 }
@@ -73,14 +81,6 @@ def test_the_strategies_reach_what_the_properties_need(feature: str) -> None:
 
     draw()
     assert any(seen), f"no case with {feature} in {len(seen)} draws"
-
-
-def _orthogonal_pair(d) -> bool:
-    g, a = d.values("mass_matrix"), d.values("normals")
-    if len(a) < 2:
-        return False
-    u = [formulas.solve_linear(g, row) for row in a]
-    return sum(x * y for x, y in zip(a[0], u[1])) == 0
 
 
 def test_failing_cases_shrink_to_something_readable() -> None:
