@@ -139,6 +139,36 @@ def test_the_found_counterexamples_still_refute() -> None:
         assert _independent_energy_rises(Drawn("cradle", rule, record), 200)[0]
 
 
+FOUND_NON_TERMINATING = {
+    "id": "cradle-symmetric-the-rule-exits-termination",
+    "mass_matrix": [["1", "0", "0"], ["0", "1", "0"], ["0", "0", "1"]],
+    "normals": [["-1", "1", "0"], ["0", "-1", "1"]],
+    "time_terms": ["0", "0"],
+    "restitution": ["0", "0"],
+    "velocity": ["2/3", "-1/3", "-1/3"],
+    "max_iterations": 200,
+}
+
+
+@given(cases("cradle", "symmetric"))
+@example(Drawn("cradle", "symmetric", FOUND_NON_TERMINATING))
+def test_non_termination_refutations_are_certified_independently(d: Drawn) -> None:
+    """Whenever the termination property is refuted, tests/certificate_check.py accepts the proof."""
+    from tests import certificate_check
+
+    result = Runner()(d.record, d.rule)
+    if result.stop != "non_terminating":
+        return
+    assert result.certificate["kind"] == "alternating invariant cone"
+    masses = [row[i] for i, row in enumerate(d.record["mass_matrix"])]
+    assert certificate_check.check(result.certificate, masses, d.record["normals"]) == []
+
+
+def test_the_found_non_terminating_case_still_refutes() -> None:
+    prop = property_named("the rule exits")
+    assert "proved never to exit" in prop.check(Runner(), Drawn("cradle", "symmetric", FOUND_NON_TERMINATING), None)
+
+
 # -- tests of the tests: each property catches a broken rule --------------------------------------
 
 _original_impulse = rule_module._impulse_from_rates

@@ -164,7 +164,7 @@ def _reduction(equal: str) -> Callable[[str], str | None]:
     return prove_it
 
 
-_PROOFS: dict[str, Callable[[str], str | None]] = {
+PROOFS: dict[str, Callable[[str], str | None]] = {
     "energy": _energy,
     "energy_change": _energy_change,
     "beta_one": _beta_one,
@@ -179,4 +179,4 @@ _PROOFS: dict[str, Callable[[str], str | None]] = {
 @cache
 def prove(name: str, rule: str) -> str | None:
     """The statement proved by proof ``name`` for ``rule``, or None if it does not apply."""
-    return _PROOFS[name](rule)
+    return PROOFS[name](rule)

@@ -396,7 +396,7 @@ class Property:
     rules: tuple[str, ...] = RULES
     families: tuple[str, ...] = FAMILIES
     proof: str | None = None  #: name of the proof in :mod:`verify.proofs`
-    explain: str | None = None  #: a proved identity that says where the property fails
+    explain: str | None = None  #: where the property fails: a proof's name in :mod:`verify.proofs`, or a sentence
 
 
 _ENTRIES = st.lists(small_rationals(2, 2), min_size=1, max_size=6)
@@ -436,7 +436,15 @@ PROPERTIES: tuple[Property, ...] = (
         frame_independent,
         extra=st.lists(small_rationals(2, 3), min_size=6, max_size=6),
     ),
-    Property("the rule exits (termination)", terminates),
+    Property(
+        "the rule exits (termination)",
+        terminates,
+        explain=(
+            "for two constraints the rule never exits exactly when the run enters the invariant cones of "
+            "verify/termination.py; for three unit balls that is eps <= 7 - 4*sqrt(3) (verify cradle-map), for "
+            "the symmetric corner tan(alpha) <= (1 - sqrt(e))/(1 + sqrt(e)) (verify corner-claims)"
+        ),
+    ),
     Property("momentum along directions free of constraints is conserved", momentum_is_conserved),
     Property("backends agree (exact, interval, mp, float)", backends_agree),
 )

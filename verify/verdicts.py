@@ -26,7 +26,7 @@ from collections import Counter
 from dataclasses import dataclass, field
 from typing import Any
 
-from verify.proofs import prove
+from verify.proofs import PROOFS, prove
 from verify.properties import PROPERTIES, SKIP, Property, property_named
 from verify.rule import Budget
 from verify.strategies import FAMILIES, RULES, Drawn, cases
@@ -162,8 +162,9 @@ def search(prop: Property, family: str, rule: str, examples: int) -> Verdict:
     note = why + (f" (with {_describe(extra)})" if extra is not None else "")
     if proof:
         note = f"contradicts the proof ({proof}): the implementation is wrong: " + note
-    elif prop.explain and prove(prop.explain, rule):
-        note += ". Where it fails: " + prove(prop.explain, rule)
+    elif prop.explain:
+        where = prove(prop.explain, rule) if prop.explain in PROOFS else prop.explain
+        note += f". Where it fails: {where}" if where else ""
     record = dict(d.record, id=f"{family}-{rule}-{_slug(prop.name)}")
     note += f"; reproduce with: verify solve CASE.json --rule {rule}"
     return Verdict(prop.name, rule, family, "refuted", tally["applied"], record, note, extra)
