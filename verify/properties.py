@@ -396,6 +396,7 @@ class Property:
     rules: tuple[str, ...] = RULES
     families: tuple[str, ...] = FAMILIES
     proof: str | None = None  #: name of the proof in :mod:`verify.proofs`
+    census: bool = False  #: count the outcomes of every case of a refuted row, not only up to the first failure
     explain: str | None = None  #: where the property fails: a proof's name in :mod:`verify.proofs`, or a sentence
 
 
@@ -439,6 +440,7 @@ PROPERTIES: tuple[Property, ...] = (
     Property(
         "the rule exits (termination)",
         terminates,
+        census=True,
         explain=(
             "for two constraints the rule never exits exactly when the run enters the invariant cones of "
             "verify/termination.py; for three unit balls that is eps <= 7 - 4*sqrt(3) (verify cradle-map), for "

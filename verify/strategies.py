@@ -113,8 +113,16 @@ def spd_matrices(draw: Any, n: int) -> list[list[Fraction]]:
     return [[sum((L[i][k] * L[j][k] for k in range(n)), Fraction(0)) for j in range(n)] for i in range(n)]
 
 
+_FACTORS: dict[str, Any] = {}
+
+
 def _metric_inverse_apply(g: list[list[Fraction]], a: list[Fraction]) -> tuple:
-    return solve_spd(_Q, ldl(_Q, g), a)
+    """``g^-1 a``; the factorisation of the last g is kept (a draw asks it several times)."""
+    key = repr(g)
+    if key not in _FACTORS:
+        _FACTORS.clear()
+        _FACTORS[key] = ldl(_Q, g)
+    return solve_spd(_Q, _FACTORS[key], a)
 
 
 @st.composite
@@ -134,11 +142,13 @@ def independent_normals(draw: Any, g: list[list[Fraction]], r: int, orthogonal: 
                 row.append(draw(small_rationals(2, 2)))
         rows.append(row)
     if orthogonal:  # Gram-Schmidt for <a, b> = a g^-1 b^T: keeps independence
+        U: list[tuple] = []
         for i in range(r):
             for k in range(i):
-                u_k = _metric_inverse_apply(g, rows[k])
+                u_k = U[k]
                 c = dot(_Q, rows[i], u_k) / dot(_Q, rows[k], u_k)
                 rows[i] = [x - c * y for x, y in zip(rows[i], rows[k])]
+            U.append(_metric_inverse_apply(g, rows[i]))
     return rows
 
 

@@ -167,7 +167,37 @@ def search(prop: Property, family: str, rule: str, examples: int) -> Verdict:
         note += f". Where it fails: {where}" if where else ""
     record = dict(d.record, id=f"{family}-{rule}-{_slug(prop.name)}")
     note += f"; reproduce with: verify solve CASE.json --rule {rule}"
-    return Verdict(prop.name, rule, family, "refuted", tally["applied"], record, note, extra)
+    tried = tally["applied"]
+    if prop.census:
+        tried, counts = _census(prop, strategy, examples)
+        note += f"; a separate census of {tried} cases ends: " + ", ".join(
+            f"{k}: {v}" for k, v in sorted(counts.items())
+        )
+    return Verdict(prop.name, rule, family, "refuted", tried, record, note, extra)
+
+
+def _census(prop: Property, strategy: Any, examples: int) -> tuple[int, Counter]:
+    """How the runs of a refuted row end, over all its cases (the search stops at the first failure)."""
+    from hypothesis import HealthCheck, Phase, given, settings
+
+    runner = Runner()
+    seen = Counter()
+
+    @settings(
+        max_examples=examples,
+        database=None,
+        deadline=None,
+        derandomize=True,
+        phases=[Phase.generate],
+        suppress_health_check=list(HealthCheck),
+    )
+    @given(strategy)
+    def count(item: Any) -> None:
+        seen["cases"] += 1
+        _check(prop, runner, item)
+
+    count()
+    return seen["cases"], runner.counts
 
 
 def _holds(prop: Property, row: tuple[str, str], tally: Counter, counts: Counter, proof: str | None) -> Verdict:
