@@ -145,7 +145,7 @@ BAD_CASES = [
         dict(normals=[["-1", "1", "0"], ["0", "1/0", "1"]]),
         'cases[1].normals[1][1]: not a number: "1/0"',
     ),
-    ("bare float", dict(restitution=[0.5, "1"]), "cases[1].restitution[0]: not a number: bare JSON number 0.5"),
+    ("bare float", dict(restitution=[0.5, "1"]), "cases[1].restitution[0]: expected a string, got the bare number 0.5"),
     ("COR outside", dict(restitution=["2", "1"]), "cases[1].restitution[0] = 2 is outside [0, 1]"),
     ("unknown field", dict(colour="red"), "cases[1]: unknown field 'colour'"),
 ]

@@ -9,6 +9,8 @@ should use the library (:mod:`verify`) directly.
 from __future__ import annotations
 
 import argparse
+import json
+import os
 import sys
 from collections.abc import Sequence
 from fractions import Fraction
@@ -301,6 +303,59 @@ def _write_counterexamples(folder: str, found: list) -> None:
         os.replace(path + ".tmp", path)
 
 
+def _cmd_oracle(args: argparse.Namespace) -> int:
+    from verify import oracle
+
+    if args.action == "export":
+        if os.path.exists(args.folder) and not os.path.isdir(args.folder):
+            raise UsageError(f"{PROG} oracle export: {args.folder!r} is not a directory")
+        for path in oracle.export(args.folder):
+            print(f"wrote {path}")
+        return 0
+    return _oracle_check(args)
+
+
+def _oracle_check(args: argparse.Namespace) -> int:
+    from verify import oracle
+    from verify.numbers import parse_number, to_number
+    from verify.records import dumps, load_cases
+    from verify.render import oracle_text
+
+    if (args.results is None) == (args.impl is None):
+        raise UsageError(f"{PROG} oracle check: give either RESULTS.json or --impl COMMAND")
+    tolerances = {}
+    for name in ("rtol", "atol"):
+        value = to_number(parse_number(getattr(args, name), where=f"--{name}"), where=f"--{name}")
+        if not isinstance(value, Fraction) or value < 0:
+            raise UsageError(
+                f"{PROG} oracle check: --{name} must be a non-negative rational, got {getattr(args, name)!r}"
+            )
+        tolerances[name] = value
+    cases = load_cases(args.cases)  # validated: schema, then every number
+    with open(args.cases, encoding="utf-8") as fh:
+        records = json.load(fh)["cases"]
+    if args.impl is not None:
+        with open(args.cases, encoding="utf-8") as fh:
+            text = oracle.run_implementation(args.impl, fh.read(), args.timeout)
+        source = f"the output of {args.impl!r}"
+    else:
+        try:
+            with open(args.results, encoding="utf-8") as fh:
+                text = fh.read()
+        except OSError as exc:
+            raise UsageError(f"{args.results}: cannot read ({exc.strerror})") from None
+        source = args.results
+    got = oracle.load_results(text, source)
+    expected = oracle.golden_results(records)
+    del cases
+    comparison = oracle.compare(records, expected, got, **tolerances)
+    if args.json:
+        sys.stdout.write(dumps(oracle.comparison_json(comparison)))
+    else:
+        sys.stdout.write(oracle_text(comparison))
+    return 0 if comparison.ok else 1
+
+
 # -- the parser ----------------------------------------------------------------------------------
 
 
@@ -521,6 +576,44 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--quiet", action="store_true", help="no progress lines on stderr")
     p.add_argument("--json", action="store_true", help="print the verdicts as JSON (contracts)")
     p.set_defaults(func=_cmd_properties)
+
+    p = sub.add_parser(
+        "oracle",
+        help="the reference oracle: export the golden dataset, check another implementation",
+        formatter_class=_formatter,
+        description=(
+            "export DIR writes the golden dataset (cases.json, results.json, README.md) from its generator; "
+            "check compares another implementation's results with the exact ones: stop, iteration count, impact "
+            "sets, exit velocity within atol + rtol * |v_in|. Every mismatch is listed; exit code 1 if any."
+        ),
+        epilog=(
+            "examples:\n  verify oracle export golden\n"
+            "  verify oracle check golden/cases.json my_results.json --rtol 1e-9\n"
+            "  verify oracle check golden/cases.json --impl 'python3 examples/float_impl.py'\n"
+        ),
+    )
+    oracle_sub = p.add_subparsers(dest="action", metavar="ACTION", parser_class=_Parser, required=True)
+    q = oracle_sub.add_parser("export", help="write the golden dataset into DIR", formatter_class=_formatter,
+                              epilog="example:\n  verify oracle export golden\n")  # fmt: skip
+    q.add_argument("folder", metavar="DIR")
+    q.set_defaults(func=_cmd_oracle)
+    q = oracle_sub.add_parser(
+        "check",
+        help="check RESULTS.json (or the output of --impl COMMAND) against the exact results of CASES.json",
+        formatter_class=_formatter,
+        epilog=(
+            "examples:\n  verify oracle check golden/cases.json my_results.json\n"
+            "  verify oracle check golden/cases.json --impl './my_solver --json' --timeout 60\n"
+        ),
+    )
+    q.add_argument("cases", metavar="CASES.json")
+    q.add_argument("results", metavar="RESULTS.json", nargs="?", help="the other implementation's result file")
+    q.add_argument("--impl", metavar="COMMAND", help="run COMMAND: case file on stdin, result file on stdout")
+    q.add_argument("--timeout", type=float, default=600.0, help="seconds allowed to --impl (default 600)")
+    q.add_argument("--rtol", default="1e-9", help="relative tolerance on the exit velocity (default 1e-9)")
+    q.add_argument("--atol", default="0", help="absolute tolerance on the exit velocity (default 0)")
+    q.add_argument("--json", action="store_true", help="print the comparison as JSON")
+    q.set_defaults(func=_cmd_oracle)
 
     p = sub.add_parser(
         "all",

@@ -118,6 +118,10 @@ def case_from_record(record: Any, where: str = "case", *, backend: Any = "exact"
             backend=backend,
             dps=dps,
         )
+        if system.backend.name == "exact":  # a velocity outside the field of the system widens it
+            from verify.rule import _exact_backend_for_velocity
+
+            system = _exact_backend_for_velocity(system, record["velocity"])
         velocity = system.velocity(record["velocity"])
     except InvalidInput as exc:
         raise _prefixed(where, exc) from None
@@ -141,8 +145,11 @@ def load_cases(path: str, *, backend: Any = "exact", dps: int | None = None) -> 
         raise InvalidInput(f"{path}: not valid JSON ({exc})") from None
     except RecursionError:
         raise InvalidInput(f"{path}: nested too deeply") from None
+    from verify.schema import validate
+
     if not isinstance(data, dict) or not isinstance(data.get("cases"), list):
         raise InvalidInput(f'{path}: expected an object {{"cases": [...]}}')
+    validate(data, "case")
     return [case_from_record(c, f"cases[{i}]", backend=backend, dps=dps) for i, c in enumerate(data["cases"])]
 
 

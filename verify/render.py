@@ -482,3 +482,20 @@ def properties_text(profile: str, found: list) -> str:
         ]
         lines.append("    " + json.dumps({"cases": [v.counterexample]}, sort_keys=True))
     return "\n".join(lines) + "\n"
+
+
+def oracle_text(comparison: Any) -> str:
+    """Every mismatch of ``verify oracle check``, then a summary table."""
+    lines = []
+    for m in comparison.mismatches:
+        lines.append(f"MISMATCH {m.case_id}: {m.field}: {m.detail}")
+    fields: dict[str, int] = {}
+    for m in comparison.mismatches:
+        key = m.field.split("[")[0]
+        fields[key] = fields.get(key, 0) + 1
+    lines += ["", "  what                 count", f"  cases checked        {comparison.checked}",
+              f"  cases agreeing       {comparison.agreeing}"]  # fmt: skip
+    lines += [f"  {k:20} {v}" for k, v in sorted(fields.items())]
+    lines.append("")
+    lines.append("OK: every case agrees" if comparison.ok else f"{len(comparison.mismatches)} mismatches")
+    return "\n".join(lines) + "\n"

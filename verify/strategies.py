@@ -60,7 +60,7 @@ class Drawn:
 
 
 def _fractions(x: Any) -> Any:
-    return [_fractions(y) for y in x] if isinstance(x, list) else Fraction(x)
+    return [_fractions(y) for y in x] if isinstance(x, (list, tuple)) else Fraction(x)
 
 
 @cache
@@ -176,11 +176,26 @@ def incoming_velocities(
     if "hit" not in roles:
         roles[draw(st.integers(0, r - 1))] = "hit"
     chosen = [j for j in range(r) if roles[j] != "free"]
-    targets = [-draw(positive_rationals(3, 3)) if roles[j] == "hit" else Fraction(0) for j in chosen]
+    targets = {j: -draw(positive_rationals(3, 3)) if roles[j] == "hit" else Fraction(0) for j in chosen}
+    return velocity_with_rates((g, normals, time_terms), w, targets)
+
+
+def velocity_with_rates(system: tuple, w: list[Fraction], targets: dict[int, Fraction]) -> list[Fraction]:
+    """``v = w + sum_k c_k g^-1 a_k`` whose rates ``p(F_j)`` equal ``targets[j]`` exactly.
+
+    ``system`` is ``(g, normals, time_terms)``; the other rates are whatever follows.
+
+    >>> velocity_with_rates(([[1, 0], [0, 1]], [[1, 1]], [0]), [0, 0], {0: -2})
+    [Fraction(-1, 1), Fraction(-1, 1)]
+    """
+    g, normals, time_terms = (_fractions(x) for x in system)  # never ints: int / int is a float
+    w = _fractions(list(w))
+    targets = {j: Fraction(t) for j, t in targets.items()}
+    chosen = sorted(targets)
     U = [_metric_inverse_apply(g, normals[k]) for k in chosen]
     rates = [time_terms[j] + dot(_Q, normals[j], w) for j in chosen]
     G = [[dot(_Q, normals[j], u) for u in U] for j in chosen]
-    c = solve_spd(_Q, ldl(_Q, G), [t - b for t, b in zip(targets, rates)])
+    c = solve_spd(_Q, ldl(_Q, G), [targets[j] - b for j, b in zip(chosen, rates)])
     return [x + dot(_Q, c, [u[i] for u in U]) for i, x in enumerate(w)]
 
 
