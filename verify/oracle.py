@@ -12,7 +12,7 @@ the stop reason, the iteration count, the impact sets, and the exit velocity wit
 ``atol + rtol * |v_in|`` (max norm of the entrance velocity); every mismatch is listed.
 
 >>> [c["id"] for c in golden_cases()][:2]
-['paper-table1-eps-1', 'paper-table1-eps-0.9']
+['paper-table1-eps-1', 'paper-table1-eps-0.99']
 """
 
 from __future__ import annotations
