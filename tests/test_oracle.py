@@ -243,3 +243,11 @@ def test_the_readme_shows_what_the_worked_example_prints(capsys) -> None:
     main(["oracle", "check", str(GOLDEN / "cases.json"), "--impl", f"{sys.executable} {FLOAT_IMPL}"])
     printed = [line for line in capsys.readouterr().out.splitlines() if line.startswith("MISMATCH ")]
     assert shown == printed
+
+
+def test_oversized_result_files_are_refused(monkeypatch) -> None:
+    import verify.records
+
+    monkeypatch.setattr(verify.records, "MAX_FILE_BYTES", 100)
+    with pytest.raises(InvalidInput, match="larger than 100 bytes"):
+        oracle.load_results(" " * 101, "big.json")

@@ -356,9 +356,11 @@ def _compare_velocity(case: dict, exact: dict, mine: dict, rtol: Fraction, atol:
 def load_results(text: str, source: str) -> list[dict]:
     """Parse and validate a result file (schema of the contracts); errors name the field."""
     from verify.errors import InvalidInput
-    from verify.records import BareJSONNumber, _reject_constant
+    from verify.records import MAX_FILE_BYTES, BareJSONNumber, _reject_constant
     from verify.schema import validate
 
+    if len(text) > MAX_FILE_BYTES:
+        raise InvalidInput(f"{source}: larger than {MAX_FILE_BYTES} bytes")
     try:
         data = json.loads(text, parse_float=BareJSONNumber, parse_constant=_reject_constant)
     except json.JSONDecodeError as exc:
