@@ -121,9 +121,31 @@ FOUND_GENERAL = {
 }
 
 
+FOUND_BY_THOROUGH = [  # verify properties --profile thorough (the first ones the search met)
+    Drawn("corner", "asymmetric", {
+        "id": "corner-asymmetric-kinetic-energy-does-not-increase", "max_iterations": 200,
+        "mass_matrix": [["1", "0", "0"], ["0", "1", "0"], ["0", "0", "1"]],
+        "normals": [["-1/2", "1", "0"], ["-1/2", "-1", "0"]], "restitution": ["0", "1"], "time_terms": ["0", "0"],
+        "velocity": ["2", "0", "0"]}),
+    Drawn("general", "asymmetric", {
+        "id": "general-asymmetric-kinetic-energy-does-not-increase", "max_iterations": 200,
+        "mass_matrix": [["1", "0", "0", "0"], ["0", "1", "0", "0"], ["0", "0", "1", "0"], ["0", "0", "0", "1"]],
+        "normals": [["1", "0", "0", "2"], ["0", "1", "0", "-1"]], "restitution": ["0", "1"],
+        "time_terms": ["0", "-1"], "velocity": ["-1/5", "0", "0", "-2/5"]}),
+    Drawn("general", "general", {
+        "id": "general-general-kinetic-energy-does-not-increase", "max_iterations": 200,
+        "mass_matrix": [["1", "1", "0"], ["1", "2", "0"], ["0", "0", "1"]],
+        "normals": [["1", "0", "0"], ["0", "1", "0"]], "restitution": ["0", "1"], "time_terms": ["0", "0"],
+        "velocity": ["-1", "-1", "0"]}),
+]  # fmt: skip
+
+
 @given(cases("cradle", "general"))
 @example(Drawn("cradle", "asymmetric", FOUND_ASYMMETRIC))
 @example(Drawn("cradle", "general", FOUND_GENERAL))
+@example(FOUND_BY_THOROUGH[0])
+@example(FOUND_BY_THOROUGH[1])
+@example(FOUND_BY_THOROUGH[2])
 def test_energy_check_agrees_with_the_printed_formulas(d: Drawn) -> None:
     runner = Runner()
     result = runner(d.record, d.rule)
@@ -137,6 +159,8 @@ def test_energy_check_agrees_with_the_printed_formulas(d: Drawn) -> None:
 def test_the_found_counterexamples_still_refute() -> None:
     for record, rule in ((FOUND_ASYMMETRIC, "asymmetric"), (FOUND_GENERAL, "general")):
         assert _independent_energy_rises(Drawn("cradle", rule, record), 200)[0]
+    for d in FOUND_BY_THOROUGH:
+        assert _independent_energy_rises(d, 200)[0], d.record["id"]
 
 
 FOUND_NON_TERMINATING = {
