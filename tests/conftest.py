@@ -19,3 +19,14 @@ def _reset_mpmath():
     yield
     assert mpmath.mp.prec == prec, "a test or the library changed the global mpmath precision"
     mpmath.mp.prec, mpmath.mp.pretty = prec, pretty
+
+
+PROPERTY_PROFILE = {"dev": "dev", "ci": "ci", "thorough": "ci"}[os.environ.get("HYPOTHESIS_PROFILE", "dev")]
+
+
+@pytest.fixture(scope="session")
+def property_verdicts():
+    """The verdict table at the test profile, computed once (properties and reports share it)."""
+    from verify.verdicts import verdicts
+
+    return verdicts(PROPERTY_PROFILE, workers=2)

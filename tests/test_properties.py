@@ -12,7 +12,6 @@
 from __future__ import annotations
 
 import json
-import os
 from fractions import Fraction
 
 import pytest
@@ -25,17 +24,15 @@ from verify.properties import PROPERTIES, SKIP, energy_does_not_increase, proper
 from verify.records import case_from_record
 from verify.strategies import Drawn, cases
 from verify.system import System
-from verify.verdicts import Runner, search, verdicts
-
-PROFILE = {"dev": "dev", "ci": "ci", "thorough": "ci"}[os.environ.get("HYPOTHESIS_PROFILE", "dev")]
+from verify.verdicts import Runner, search
 
 #: Properties that are theorems of the rule (or of its implementation's contract): never refuted.
 THEOREMS = {p.name for p in PROPERTIES} - {"kinetic energy does not increase", "the rule exits (termination)"}
 
 
 @pytest.fixture(scope="module")
-def table():
-    return verdicts(PROFILE, workers=2)
+def table(property_verdicts):
+    return property_verdicts
 
 
 def test_every_row_has_a_verdict(table) -> None:

@@ -152,22 +152,14 @@ def _cmd_corner(args: argparse.Namespace) -> int:
 
 
 def _cmd_corner_claims(args: argparse.Namespace) -> int:
-    from verify.corner_claims import check_claims
-    from verify.float_check import float_vs_exact
+    from verify.corner_claims import corner_findings
     from verify.records import dumps
     from verify.render import corner_claims_json, corner_claims_text
-    from verify.sweep import random_corner_cases
-    from verify.wedge import approach_slopes, rebounds_by_slope, symmetric_boundary
 
     if args.cases < 1:
         raise UsageError(f"{PROG} corner-claims: --cases must be >= 1, got {args.cases}")
-    claims = check_claims(args.cases, seed=args.seed, workers=args.workers)
-    boundary = symmetric_boundary()
-    eps = "1/4"
-    slopes = ["1/2", "2/5", *approach_slopes(Fraction(1, 4), 4), "3/10", "1/5"]
-    rebounds = rebounds_by_slope(eps, ["1", "3/10"], slopes)
-    floats = float_vs_exact(random_corner_cases(args.cases, seed=args.seed), workers=args.workers)
-    data = (claims, boundary, eps, rebounds, floats)
+    data = corner_findings(args.cases, seed=args.seed, workers=args.workers)
+    claims = data[0]
     sys.stdout.write(dumps(corner_claims_json(*data)) if args.json else corner_claims_text(*data))
     if args.figures:
         from pathlib import Path
@@ -232,22 +224,32 @@ def _cmd_table1(args: argparse.Namespace) -> int:
 
 
 def _cmd_all(args: argparse.Namespace) -> int:
-    from verify.cradle_map import cradle_map
-    from verify.render import cradle_map_summary, table1_summary
-    from verify.table1 import table1
+    import time
 
-    print("verify all: reproducing Pasquero (2021)", flush=True)
-    from verify.corner import run_corner
-    from verify.corner_claims import check_claims
-    from verify.render import corner_summary
+    from verify.render import all_summary
+    from verify.report import write_reports
 
-    print("[1/3] Table 1 (Newton's cradle, Sect. 4.1) ...", flush=True)
-    sys.stdout.write(table1_summary(table1()))
-    print("[2/3] the cradle for every eps in [0, 1] (exact map, 40 impulses) ...", flush=True)
-    sys.stdout.write(cradle_map_summary(cradle_map(max_impulses=40)))
-    print("[3/3] the disk in the corner (Sect. 4.2): the paper's example and claims (2000 cases each) ...", flush=True)
-    example = run_corner(alpha="pi/6", phi="pi/12", eps1="0.999", eps2="0.001")
-    sys.stdout.write(corner_summary(example, check_claims(2000, progress=False)))
+    start = time.monotonic()
+    print("verify all: reproducing Pasquero (2021), then writing the reports", flush=True)
+
+    def progress(line: str) -> None:
+        print(f"{line} ({time.monotonic() - start:.0f} s)", flush=True)
+
+    ctx = write_reports(args.out, profile="ci", workers=args.workers, progress=progress)
+    summary, failed = all_summary(ctx)
+    sys.stdout.write(summary)
+    print(f"reports written to {args.out}/ in {time.monotonic() - start:.0f} s")
+    return 1 if failed else 0
+
+
+def _cmd_report(args: argparse.Namespace) -> int:
+    from verify.report import write_reports
+
+    if os.path.exists(args.out) and not os.path.isdir(args.out):
+        raise UsageError(f"{PROG} report: --out {args.out!r} is not a directory")
+    write_reports(args.out, profile=args.profile, workers=args.workers,
+                  progress=lambda line: print(line, file=sys.stderr, flush=True))  # fmt: skip
+    print(f"reports written to {args.out}/")
     return 0
 
 
@@ -616,12 +618,31 @@ def build_parser() -> argparse.ArgumentParser:
     q.set_defaults(func=_cmd_oracle)
 
     p = sub.add_parser(
-        "all",
-        help="the main job: reproduce the paper",
+        "report",
+        help="regenerate the reports (reports/: one page per topic, figures)",
         formatter_class=_formatter,
-        description="Reproduce the paper: everything that exists so far, with a summary.",
-        epilog="example:\n  verify all\n",
+        description="Write reports/README.md and one page per topic, every number from the library.",
+        epilog="examples:\n  verify report\n  verify report --out /tmp/reports --profile dev\n",
     )
+    p.add_argument("--out", default="reports", help="the folder to write (default reports)")
+    p.add_argument("--profile", default="ci", choices=("dev", "ci", "thorough"), help="property profile (default ci)")
+    p.add_argument("--workers", type=int, default=None, help="processes (default: every core)")
+    p.set_defaults(func=_cmd_report)
+
+    p = sub.add_parser(
+        "all",
+        help="the main job: reproduce the paper, check the properties and the oracle, write the reports",
+        formatter_class=_formatter,
+        description=(
+            "Reproduce the paper (Table 1, the threshold, the corner example), run the cradle map, the corner claims, "
+            "the properties (ci profile) and the oracle self-check, write the reports, and summarise what was "
+            "reproduced, what disagrees with the paper and what was refuted. Exit code 1 only if the program "
+            "contradicts itself: a proved property refuted, or the oracle failing its self-check."
+        ),
+        epilog="examples:\n  verify all\n  verify all --out /tmp/reports\n",
+    )
+    p.add_argument("--out", default="reports", help="the folder for the reports (default reports)")
+    p.add_argument("--workers", type=int, default=None, help="processes (default: every core)")
     p.set_defaults(func=_cmd_all)
     return parser
 

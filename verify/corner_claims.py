@@ -157,3 +157,20 @@ def check_claims(
         )
     )
     return claims
+
+
+def corner_findings(cases: int = 2000, *, seed: int = 0, workers: int | None = None) -> tuple:
+    """Everything ``verify corner-claims`` reports: (claims, symmetric termination boundary,
+    eps, rebounds by slope, float against exact), for the text and JSON views."""
+    from fractions import Fraction
+
+    from verify.float_check import float_vs_exact
+    from verify.sweep import random_corner_cases
+    from verify.wedge import approach_slopes, rebounds_by_slope, symmetric_boundary
+
+    claims = check_claims(cases, seed=seed, workers=workers)
+    eps = "1/4"
+    slopes = ["1/2", "2/5", *approach_slopes(Fraction(1, 4), 4), "3/10", "1/5"]
+    rebounds = rebounds_by_slope(eps, ["1", "3/10"], slopes)
+    floats = float_vs_exact(random_corner_cases(cases, seed=seed), workers=workers)
+    return claims, symmetric_boundary(), eps, rebounds, floats

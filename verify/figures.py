@@ -348,3 +348,40 @@ def wedge_boundary(path: str | Path, *, executor: Any = None, workers: int | Non
     ax.legend(fontsize=8, loc="upper right")
     ax.grid(alpha=0.3)
     return _save(fig, path)
+
+
+def cradle_motion(path: str | Path, eps_values: tuple[str, ...] = ("0.9", "0.5", "0.1")) -> Path:
+    """Like the paper's Fig. 1: the three disks after the impact, one panel per eps.
+
+    Disk D1 hits D2 and D3 (at rest, touching) with v0 = 1; each panel shows the centres
+    x_i(t) = x_i(0) + v_i t of the three unit-radius disks for t in [0, 4] with their exact
+    exit velocities (decimals only for drawing), and the disks drawn at t = 0 and t = 4.
+    """
+    plt = _pyplot()
+    from matplotlib.patches import Circle
+
+    from verify.cradle import run_cradle
+
+    fig, axes = plt.subplots(len(eps_values), 1, figsize=(7.0, 2.0 * len(eps_values)), sharex=True)
+    colours = ("tab:blue", "tab:orange", "tab:green")
+    t_end = 4.0
+    for ax, eps in zip(axes, eps_values):
+        r = run_cradle(eps, v0="1")
+        K = r.backend
+        v = [float(K.to_decimal(x, 17)) for x in r.exit_velocity]
+        for i, (vi, colour) in enumerate(zip(v, colours)):
+            x0 = 2.0 * i
+            ax.add_patch(Circle((x0, 0.0), 1.0, fill=False, ec=colour, ls=":", lw=1))
+            ax.add_patch(Circle((x0 + vi * t_end, 0.0), 1.0, fill=False, ec=colour, lw=1.5))
+            ax.annotate("", xy=(x0 + vi * t_end, 0.0), xytext=(x0, 0.0),
+                        arrowprops={"arrowstyle": "->", "color": colour})  # fmt: skip
+            ax.text(x0 + vi * t_end, -1.45, f"D{i + 1}: v = {K.to_decimal(r.exit_velocity[i], 4)}",
+                    ha="center", fontsize=8, color=colour)  # fmt: skip
+        ax.set_title(f"eps = {eps}: {r.iterations} impulses, disks at t = 0 (dotted) and t = {t_end:g} (solid)")
+        ax.set_aspect("equal")
+        ax.set_ylim(-1.9, 1.3)
+        ax.set_yticks([])
+    axes[-1].set_xlim(-1.5, 9.5)
+    axes[-1].set_xlabel("position along the line of centres (disk radii; v0 = 1 radius per unit time)")
+    fig.tight_layout()
+    return _save(fig, path)

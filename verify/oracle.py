@@ -28,6 +28,7 @@ from verify.numbers import format_exact
 from verify.strategies import velocity_with_rates
 
 GOLDEN_VERSION = "1"
+DEFAULT_RTOL = Fraction(1, 10**9)
 SEED = 2021
 
 

@@ -499,3 +499,35 @@ def oracle_text(comparison: Any) -> str:
     lines.append("")
     lines.append("OK: every case agrees" if comparison.ok else f"{len(comparison.mismatches)} mismatches")
     return "\n".join(lines) + "\n"
+
+
+def all_summary(ctx: dict) -> tuple[str, bool]:
+    """The closing summary of ``verify all``, and whether the program contradicted itself."""
+    from verify.cradle_map import termination_boundaries
+
+    lines = ["", "Summary", "======="]
+    table = ctx["table1"]
+    bad = [(row.eps, c.column) for row in table.rows for c in row.checks if not c.agrees]
+    lines.append(f"Table 1: {len(table.rows)} rows recomputed; {len(bad)} printed entries disagree "
+                 f"({', '.join(f'eps {e} {c}' for e, c in bad)}); see reports/table1.md")  # fmt: skip
+    cmap = ctx["cradle_map"]
+    bounds = termination_boundaries(cmap)
+    three = next((p for p in cmap.parts if p.stop == "exit" and p.iterations == 3), None)
+    lines.append(f"Cradle: threshold 3 -> 4 impulses at eps = {three.piece.lower if three else '?'} (derived); "
+                 f"never exits for eps <= {bounds[0] if bounds else '?'}; see reports/cradle-map.md")  # fmt: skip
+    example, claims = ctx["corner"]
+    lines.append(f"Corner example: {example.result.iterations} impulses, stop {example.result.stop}; claims: "
+                 + ", ".join(f"{c.verdict}" for c in claims))  # fmt: skip
+    found = ctx["verdicts"]
+    refuted = [v for v in found if v.verdict == "refuted"]
+    lines.append(f"Properties ({ctx['profile']}): {sum(v.verdict == 'proved' for v in found)} proved, "
+                 f"{sum(v.verdict == 'holds' for v in found)} hold, {len(refuted)} refuted:")  # fmt: skip
+    for name in dict.fromkeys(v.property for v in refuted):
+        rows = [f"{v.rule}/{v.family}" for v in refuted if v.property == name]
+        lines.append(f"  - {name}: {', '.join(rows)}")
+    contradictions = [v for v in refuted if v.note.startswith("contradicts the proof")]
+    lines.append("Oracle self-check: " + ("passed" if ctx["oracle_ok"] else "FAILED"))
+    failed = bool(contradictions) or not ctx["oracle_ok"]
+    if contradictions:
+        lines.append(f"PROGRAM ERROR: {len(contradictions)} rows contradict a SymPy proof (see reports/properties.md)")
+    return "\n".join(lines) + "\n", failed

@@ -1,0 +1,201 @@
+"""The reports: ``verify report`` writes ``reports/``, one page per topic, all from the library.
+
+Every number on a page comes from a library call made while writing it; the pages quote the
+text views of the commands (:mod:`verify.render`) and name the command that prints each
+one. Output is deterministic (fixed seeds, derandomised Hypothesis, no timestamps, figure
+metadata stripped): writing twice gives the same bytes. Pages are written whole to
+temporary names and renamed at the end, so an interrupted run leaves the old reports.
+
+>>> [name for name, _ in PAGES][:2]
+['table1.md', 'cradle-map.md']
+"""
+
+from __future__ import annotations
+
+import os
+from collections.abc import Callable
+from fractions import Fraction
+from pathlib import Path
+from typing import Any
+
+CORNER_CASES = 2000
+
+
+def _block(text: str) -> str:
+    return "```text\n" + text.rstrip("\n") + "\n```\n"
+
+
+def _page_table1(out: Path, ctx: dict) -> str:
+    from verify.render import table1_text
+    from verify.table1 import table1
+
+    ctx["table1"] = table = table1()
+    return (
+        "# Table 1: Newton's cradle (Sect. 4.1)\n\n"
+        "The paper's Table 1 beside the exact results and the paper-mode results (the paper's own termination: a\n"
+        "cap of 10^4 impulses and the AEEV stop). Every printed entry is marked as agreeing or not, with the\n"
+        "reason. Command: `verify table1` (`--json` for exact values).\n\n" + _block(table1_text(table))
+    )
+
+
+def _page_cradle_map(out: Path, ctx: dict) -> str:
+    from verify.cradle_map import aeev_rows_explained, approach_counts, cradle_map, termination_boundaries
+    from verify.figures import cradle_staircase
+    from verify.render import cradle_map_text
+
+    ctx["cradle_map"] = cmap = cradle_map(max_impulses=40)
+    bounds = termination_boundaries(cmap)
+    approach = approach_counts(bounds[0], range(2, 7)) if bounds else []
+    cradle_staircase(cmap, out / "cradle-staircase.png")
+    return (
+        "# The cradle for every eps in [0, 1]\n\n"
+        "eps runs as a symbol; the interval is cut at the exact roots wherever a sign changes. Thresholds are\n"
+        "exact algebraic numbers (with decimals); the termination boundary comes with its certificate\n"
+        "(`verify cradle-map --json`); the AEEV rows of Table 1 are read off the map. Command: `verify cradle-map`.\n\n"
+        + _block(cradle_map_text(cmap, aeev_rows=aeev_rows_explained(cmap), approach=approach))
+        + "\n![Impulse count against eps: the staircase and the termination boundary](cradle-staircase.png)\n"
+    )
+
+
+def _page_corner(out: Path, ctx: dict) -> str:
+    from types import SimpleNamespace
+
+    from verify import figures
+    from verify.corner import run_corner
+    from verify.corner_claims import corner_findings
+    from verify.render import corner_claims_text, corner_text
+
+    example = run_corner(alpha="pi/6", phi="pi/12", eps1="0.999", eps2="0.001")
+    args = SimpleNamespace(alpha="pi/6", slope=None, phi="pi/12", eps1="0.999", eps2="0.001", v0="100", json=False)
+    findings = corner_findings(CORNER_CASES, seed=0, workers=ctx["workers"])
+    ctx["corner"] = (example, findings[0])
+    names = [
+        ("corner-exit-vs-entrance.png", figures.corner_exit_vs_entrance, "exit speed and direction against entrance"),
+        ("corner-multiple-impacts.png", figures.corner_multiple_impacts_map, "where repeated multiple impacts occur"),
+        ("wedge-boundary.png", figures.wedge_boundary, "the symmetric termination boundary"),
+    ]
+    for name, draw, _ in names:
+        draw(out / name, workers=ctx["workers"])
+    pictures = "".join(f"\n![{what}]({name})\n" for name, _, what in names)
+    return (
+        "# The disk in a corner (Sect. 4.2)\n\n"
+        "The paper's example traced impulse by impulse (`verify corner --alpha pi/6 --phi pi/12 --eps1 0.999 "
+        "--eps2 0.001`):\n\n" + _block(corner_text(example, args)) + "\n"
+        f"The paper's claims on {CORNER_CASES} exact rational cases, the termination boundary, the rebounds as the\n"
+        f"corner narrows, and float against exact (`verify corner-claims --cases {CORNER_CASES}`):\n\n"
+        + _block(corner_claims_text(*findings))
+        + pictures
+    )
+
+
+def _page_properties(out: Path, ctx: dict) -> str:
+    from verify.render import properties_text
+    from verify.verdicts import verdicts
+
+    found = ctx.get("verdicts") or verdicts(ctx["profile"], workers=ctx["workers"])
+    ctx["verdicts"] = found
+    return (
+        "# Properties of the rule\n\n"
+        f"Every property x rule x family, profile `{ctx['profile']}` "
+        f"(`verify properties --profile {ctx['profile']}`).\n"
+        "Each refutation comes with its shrunk exact counterexample; save it as a case file and rerun it\n"
+        "with "
+        "`verify solve CASE.json --rule RULE` (or let `verify properties --counterexamples DIR` write the files).\n\n"
+        + _block(properties_text(ctx["profile"], found))
+    )
+
+
+def _page_oracle(out: Path, ctx: dict) -> str:
+    import json
+    import sys
+
+    from verify import oracle
+    from verify.render import oracle_text
+
+    cases = oracle.golden_cases()
+    results = oracle.golden_results(cases)
+    self_check = oracle.compare(cases, results, json.loads(json.dumps(results)), rtol=Fraction(0), atol=Fraction(0))
+    example = Path(__file__).resolve().parent.parent / "examples" / "float_impl.py"
+    lines = [
+        "# The reference oracle\n",
+        "The golden dataset (`golden/`, written by `verify oracle export golden`): what it contains.\n",
+        oracle._summary(cases, results).split("\n", 2)[2],
+        "Self-check: the exact results compared with themselves at zero tolerance "
+        "(`verify oracle check golden/cases.json golden/results.json --rtol 0`):\n",
+        _block(oracle_text(self_check)),
+    ]
+    if example.exists():  # a source checkout: the worked example of the README
+        text = oracle.run_implementation(f"{sys.executable} {example}", json.dumps({"cases": cases}), 600)
+        got = oracle.load_results(text, "examples/float_impl.py")
+        lines += [
+            "\nAn independent float implementation (`examples/float_impl.py`) checked against it "
+            '(`verify oracle check golden/cases.json --impl "python3 examples/float_impl.py"`):\n',
+            _block(oracle_text(oracle.compare(cases, results, got, rtol=oracle.DEFAULT_RTOL, atol=Fraction(0)))),
+        ]
+    ctx["oracle_ok"] = self_check.ok
+    return "\n".join(lines)
+
+
+def _page_performance(out: Path, ctx: dict) -> str:
+    return (
+        "# Performance\n\n"
+        "`verify bench` (issue 8) does not exist yet: there are no benchmark figures to show. Timings quoted\n"
+        "elsewhere in this repository name the command that measured them.\n"
+    )
+
+
+def _page_fig1(out: Path, ctx: dict) -> str:
+    from verify.figures import cradle_motion
+
+    cradle_motion(out / "cradle-motion.png")
+    return (
+        "# The three disks after the impact (like the paper's Fig. 1)\n\n"
+        "Disk D1 hits D2 and D3 at rest with v0 = 1; the exact exit velocities of `verify cradle --eps E --v0 1`\n"
+        "for eps = 0.9, 0.5, 0.1 move the disks from where they touched (dotted) for four time units (solid).\n\n"
+        "![The three disks after the impact for eps = 0.9, 0.5, 0.1](cradle-motion.png)\n"
+    )
+
+
+PAGES: list[tuple[str, Callable[[Path, dict], str]]] = [
+    ("table1.md", _page_table1),
+    ("cradle-map.md", _page_cradle_map),
+    ("corner.md", _page_corner),
+    ("properties.md", _page_properties),
+    ("oracle.md", _page_oracle),
+    ("performance.md", _page_performance),
+    ("fig1.md", _page_fig1),
+]
+
+TITLES = {
+    "table1.md": "Table 1: printed, exact and paper mode, every entry checked",
+    "cradle-map.md": "The cradle for every eps: thresholds, termination boundary, staircase, AEEV rows",
+    "corner.md": "The disk in a corner: the paper's example, claims, figures, termination, float vs exact",
+    "properties.md": "Properties: verdicts and counterexamples",
+    "oracle.md": "The reference oracle: golden dataset and how to check an implementation",
+    "performance.md": "Performance",
+    "fig1.md": "The three disks after the impact (Fig. 1)",
+}
+
+
+def write_reports(out: str | Path = "reports", *, profile: str = "ci", workers: int | None = None,
+                  progress: Callable[[str], None] | None = None, verdicts: Any = None) -> dict[str, Any]:  # fmt: skip
+    """Write every page and the index into ``out``; returns what the summary of
+    ``verify all`` needs (the results of each topic, whether the oracle self-check passed).
+    ``verdicts`` reuses property verdicts already computed for ``profile``."""
+    out = Path(out)
+    out.mkdir(parents=True, exist_ok=True)
+    ctx: dict[str, Any] = {"profile": profile, "workers": workers, "verdicts": verdicts}
+    texts: dict[str, str] = {}
+    for i, (name, page) in enumerate(PAGES, 1):
+        if progress:
+            progress(f"[report {i}/{len(PAGES)}] {TITLES[name]} ...")
+        texts[name] = page(out, ctx)
+    index = ["# Reports\n", "Generated by `verify report` (also run by `verify all`); do not edit by hand.\n"]
+    index += [f"- [{TITLES[name]}]({name})" for name, _ in PAGES]
+    texts["README.md"] = "\n".join(index) + "\n"
+    for name, text in texts.items():
+        with open(out / (name + ".tmp"), "w", encoding="utf-8", newline="\n") as fh:
+            fh.write(text)
+    for name in texts:
+        os.replace(out / (name + ".tmp"), out / name)
+    return ctx
