@@ -243,10 +243,15 @@ def verdicts(
     properties: Any = None,
     families: Any = None,
     rules: Any = None,
-    workers: int = 1,
+    workers: int | None = 1,
     progress: Any = None,
 ) -> list[Verdict]:
-    """Every row's verdict under a profile (``workers`` > 1 runs rows in processes)."""
+    """Every row's verdict under a profile (``workers`` > 1 runs rows in processes; None:
+    one per core)."""
+    if workers is None:
+        import os
+
+        workers = os.cpu_count() or 1
     table = rows(properties, families, rules)
     per_prop = Counter(p.name for p, _, _ in table)
     jobs = [(p.name, f, r, examples_per_row(profile, per_prop[p.name])) for p, f, r in table]
