@@ -87,11 +87,6 @@ def test_solve(tmp_path, capsys):
     assert json.loads(out)["results"][1]["exit_velocity"] == ["325/16", "375/16", "225/4"]
 
 
-def test_all(capsys):
-    code, out, _ = run(["all"], capsys)
-    assert code == 0 and "Table 1" in out
-
-
 BAD = [
     ("COR above 1", ["cradle", "--eps", "1.5"], "restitution[0] = 3/2 is outside [0, 1]"),
     ("COR below 0", ["cradle", "--eps", "-0.1"], "outside [0, 1]"),

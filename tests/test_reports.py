@@ -1,31 +1,59 @@
-"""The committed reports are what the program writes now (a stale page fails this test)."""
+"""The main job and the committed reports: ``verify all`` writes what is committed.
+
+``verify all --out TMP`` runs once here (the property verdicts of the test profile are
+computed once per session and shared with tests/test_properties.py); every page it writes
+must equal the committed one, byte for byte, or the committed ``reports/`` is stale.
+"""
 
 from __future__ import annotations
 
+import contextlib
+import io
 from pathlib import Path
 
+import pytest
+
+import verify.verdicts
 from tests.conftest import PROPERTY_PROFILE
-from verify.report import PAGES, write_reports
+from verify.cli import main
+from verify.report import PAGES
 
 REPORTS = Path(__file__).resolve().parent.parent / "reports"
 
 
-def test_committed_reports_are_up_to_date(tmp_path: Path, property_verdicts) -> None:
-    write_reports(tmp_path, profile=PROPERTY_PROFILE, workers=2, verdicts=property_verdicts)
-    written = sorted(p.name for p in tmp_path.iterdir())
-    assert not [name for name in written if name.endswith(".tmp")]
-    assert written == sorted(p.name for p in REPORTS.iterdir() if p.name != ".gitkeep")
-    for name in written:
+@pytest.fixture(scope="module")
+def written(tmp_path_factory, property_verdicts):
+    out = tmp_path_factory.mktemp("reports")
+    text = io.StringIO()
+    with pytest.MonkeyPatch.context() as patch, contextlib.redirect_stdout(text):
+        patch.setattr(verify.verdicts, "verdicts", lambda profile, **kw: property_verdicts)
+        code = main(["all", "--out", str(out), "--workers", "2"])
+    return out, code, text.getvalue()
+
+
+def test_verify_all_succeeds_and_summarises(written) -> None:
+    _, code, text = written
+    assert code == 0
+    for line in ("Table 1: 17 rows recomputed", "Cradle: threshold 3 -> 4 impulses at eps = 3 - 2*sqrt(2)",
+                 "Properties (", "Oracle self-check: passed", "reports written to"):  # fmt: skip
+        assert line in text, line
+
+
+def test_committed_reports_are_up_to_date(written) -> None:
+    out = written[0]
+    names = sorted(p.name for p in out.iterdir())
+    assert not [name for name in names if name.endswith(".tmp")]
+    assert names == sorted(p.name for p in REPORTS.iterdir() if p.name != ".gitkeep")
+    for name in names:
         if name == "properties.md" and PROPERTY_PROFILE != "ci":
             continue  # the committed page is the ci profile's
-        assert (tmp_path / name).read_bytes() == (REPORTS / name).read_bytes(), f"reports/{name} is stale"
+        assert (out / name).read_bytes() == (REPORTS / name).read_bytes(), f"reports/{name} is stale"
 
 
 def test_every_page_is_in_the_index() -> None:
     index = (REPORTS / "README.md").read_text()
     assert all(f"]({name})" in index for name, _ in PAGES)
     for name, _ in PAGES:
-        text = (REPORTS / name).read_text()
-        for line in text.splitlines():
+        for line in (REPORTS / name).read_text().splitlines():
             if line.startswith("!["):
                 assert (REPORTS / line.split("](")[1].rstrip(")")).exists(), line
