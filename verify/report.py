@@ -115,7 +115,11 @@ def _page_oracle(out: Path, ctx: dict) -> str:
     cases = oracle.golden_cases()
     results = oracle.golden_results(cases)
     self_check = oracle.compare(cases, results, json.loads(json.dumps(results)), rtol=Fraction(0), atol=Fraction(0))
-    example = Path(__file__).resolve().parent.parent / "examples" / "float_impl.py"
+    candidates = [
+        Path.cwd() / "examples" / "float_impl.py",
+        Path(__file__).resolve().parent.parent / "examples" / "float_impl.py",
+    ]
+    example = next((p for p in candidates if p.exists()), candidates[0])
     lines = [
         "# The reference oracle\n",
         "The golden dataset (`golden/`, written by `verify oracle export golden`): what it contains.\n",
@@ -132,6 +136,8 @@ def _page_oracle(out: Path, ctx: dict) -> str:
             '(`verify oracle check golden/cases.json --impl "python3 examples/float_impl.py"`):\n',
             _block(oracle_text(oracle.compare(cases, results, got, rtol=oracle.DEFAULT_RTOL, atol=Fraction(0)))),
         ]
+    else:
+        lines.append("\n(The worked example `examples/float_impl.py` is in the source checkout; run from its root.)\n")
     ctx["oracle_ok"] = self_check.ok
     return "\n".join(lines)
 
