@@ -13,7 +13,7 @@ import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
-from verify import oracle
+from verify import formulas, oracle
 from verify.cli import main
 from verify.errors import InvalidInput
 from verify.records import load_cases
@@ -46,6 +46,7 @@ def test_golden_dataset_covers_what_it_promises() -> None:
 
 
 def _rate(a, t, v):
+    """p(F) of a case's constraint, or None when an entry is irrational."""
     from fractions import Fraction
 
     from verify.numbers import parse_number, to_number
@@ -54,7 +55,7 @@ def _rate(a, t, v):
     if not all(isinstance(x, Fraction) for x in values):
         return None
     n = len(a)
-    return values[n] + sum(x * y for x, y in zip(values[:n], values[n + 1 :]))
+    return formulas.rate(values[:n], values[n], values[n + 1 :])
 
 
 def test_the_golden_results_agree_with_themselves(capsys: pytest.CaptureFixture[str]) -> None:

@@ -392,3 +392,10 @@ def test_cli_rejects_an_unknown_property(capsys: pytest.CaptureFixture[str]) -> 
     assert main(["properties", "--property", "no such thing", "--quiet"]) == 2
     err = capsys.readouterr().err
     assert err.count("\n") == 1 and "unknown property 'no such thing'" in err
+
+
+def test_cli_profile_names_are_the_verdict_profiles() -> None:
+    from verify.cli import PROFILE_NAMES
+    from verify.verdicts import PROFILES
+
+    assert tuple(PROFILES) == PROFILE_NAMES

@@ -19,6 +19,9 @@ from typing import Any
 from verify.errors import InvalidInput, Undecided, VerifyError
 
 PROG = "verify"
+#: The property profiles (the keys of verify.verdicts.PROFILES, which is not imported here:
+#: it loads Hypothesis and SymPy, and every command would start slower). A test checks both agree.
+PROFILE_NAMES = ("dev", "ci", "thorough")
 
 
 class UsageError(VerifyError):
@@ -333,12 +336,12 @@ def _oracle_check(args: argparse.Namespace) -> int:
                 f"{PROG} oracle check: --{name} must be a non-negative rational, got {getattr(args, name)!r}"
             )
         tolerances[name] = value
-    cases = load_cases(args.cases)  # validated: schema, then every number
+    load_cases(args.cases)  # validates the file: schema, then every number
     with open(args.cases, encoding="utf-8") as fh:
-        records = json.load(fh)["cases"]
+        case_text = fh.read()
+    records = json.loads(case_text)["cases"]
     if args.impl is not None:
-        with open(args.cases, encoding="utf-8") as fh:
-            text = oracle.run_implementation(args.impl, fh.read(), args.timeout)
+        text = oracle.run_implementation(args.impl, case_text, args.timeout)
         source = f"the output of {args.impl!r}"
     else:
         try:
@@ -349,7 +352,6 @@ def _oracle_check(args: argparse.Namespace) -> int:
         source = args.results
     got = oracle.load_results(text, source)
     expected = oracle.golden_results(records)
-    del cases
     comparison = oracle.compare(records, expected, got, **tolerances)
     if args.json:
         sys.stdout.write(dumps(oracle.comparison_json(comparison)))
@@ -375,6 +377,8 @@ def _backend_options(p: argparse.ArgumentParser) -> None:
 
 def build_parser() -> argparse.ArgumentParser:
     """The argument parser of ``verify`` (subcommands as in the contracts)."""
+    from verify.rule import RULES
+
     parser = _Parser(
         prog=PROG,
         formatter_class=_formatter,
@@ -424,7 +428,7 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument(
         "--rule",
         default="general",
-        choices=("general", "ideal", "symmetric", "asymmetric"),
+        choices=RULES,
         help="general (eq. 8, default), ideal (5), symmetric (6) or asymmetric (7)",
     )
     p.add_argument("--json", action="store_true", help='print {"results": [...]}')
@@ -559,14 +563,14 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument(
         "--profile",
         default="ci",
-        choices=("dev", "ci", "thorough"),
+        choices=PROFILE_NAMES,
         help="cases per row: dev 25, ci 100 (default), thorough 100000 per property",
     )
     p.add_argument("--property", action="append", help="only this property (name or prefix; repeatable)")
     p.add_argument(
         "--rule",
         action="append",
-        choices=("ideal", "symmetric", "asymmetric", "general"),
+        choices=RULES,
         help="only this rule (repeatable)",
     )
     p.add_argument(
@@ -625,7 +629,7 @@ def build_parser() -> argparse.ArgumentParser:
         epilog="examples:\n  verify report\n  verify report --out /tmp/reports --profile dev\n",
     )
     p.add_argument("--out", default="reports", help="the folder to write (default reports)")
-    p.add_argument("--profile", default="ci", choices=("dev", "ci", "thorough"), help="property profile (default ci)")
+    p.add_argument("--profile", default="ci", choices=PROFILE_NAMES, help="property profile (default ci)")
     p.add_argument("--workers", type=int, default=None, help="processes (default: every core)")
     p.set_defaults(func=_cmd_report)
 

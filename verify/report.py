@@ -112,7 +112,7 @@ def _page_oracle(out: Path, ctx: dict) -> str:
     from verify import oracle
     from verify.render import oracle_text
 
-    cases = oracle.golden_cases()
+    cases, skipped = oracle.golden_dataset()
     results = oracle.golden_results(cases)
     self_check = oracle.compare(cases, results, json.loads(json.dumps(results)), rtol=Fraction(0), atol=Fraction(0))
     candidates = [
@@ -123,7 +123,7 @@ def _page_oracle(out: Path, ctx: dict) -> str:
     lines = [
         "# The reference oracle\n",
         "The golden dataset (`golden/`, written by `verify oracle export golden`): what it contains.\n",
-        oracle._summary(cases, results).split("\n", 2)[2],
+        oracle.dataset_description(cases, results, skipped),
         "Self-check: the exact results compared with themselves at zero tolerance "
         "(`verify oracle check golden/cases.json golden/results.json --rtol 0`):\n",
         _block(oracle_text(self_check)),

@@ -128,17 +128,17 @@ def search(prop: Property, family: str, rule: str, examples: int) -> Verdict:
 
     runner = Runner()
     tally = Counter()
-    first: dict[str, Any] = {}
+    shrinking = False  # once a failure is found, Hypothesis shrinks it: those calls are not counted
 
     def fails(item: Any) -> bool:
+        nonlocal shrinking
         why = _check(prop, runner, item)
-        if not first:
+        if not shrinking:
             tally["drawn"] += 1
             tally["skipped" if why == SKIP else "applied"] += 1
         if why is None or why == SKIP:
             return False
-        if not first:
-            first["counts"] = Counter(runner.counts)
+        shrinking = True
         return True
 
     strategy = cases(family, rule)
