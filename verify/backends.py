@@ -30,6 +30,7 @@ their ``sign`` decides exactly or raises.
 
 from __future__ import annotations
 
+import functools
 import os
 from fractions import Fraction
 from typing import Any
@@ -50,6 +51,7 @@ class Backend:
     is_rigorous: bool = False
     refinable: bool = False  #: whether refined() can raise the precision after an undecided sign
     is_parametric: bool = False  #: whether elements are functions of a parameter (the symbolic backend)
+    fraction_free: bool = False  #: whether the rule may run over integers (rationals only)
     dps: int | None = None
     zero: Any
     one: Any
@@ -103,7 +105,9 @@ class Backend:
 # -- exact rationals ------------------------------------------------------------------
 
 
+@functools.cache
 def _rational_impls() -> dict[str, Any]:
+    """The installed rational types, fastest first (looked up once)."""
     impls: dict[str, Any] = {}
     try:
         import gmpy2
@@ -132,6 +136,7 @@ class RationalBackend(Backend):
     name = "exact"
     is_exact = True
     is_rigorous = True
+    fraction_free = True  #: the rule may run over integers here (:mod:`verify.fraction_free`)
 
     def __init__(self, impl: str = "auto"):
         impls = _rational_impls()
@@ -143,9 +148,12 @@ class RationalBackend(Backend):
         self._q = impls[impl]
         self.zero = self._q(0)
         self.one = self._q(1)
+        self._units = {-1: self._q(-1), 0: self.zero, 1: self.one}
 
     def convert(self, value: Number) -> Any:
-        if isinstance(value, Fraction):
+        if type(value) is Fraction or isinstance(value, Fraction):
+            if value.denominator == 1 and -2 < value.numerator < 2:
+                return self._units[value.numerator]  # -1, 0, 1: most entries of mass matrices and normals
             return self._q(value.numerator, value.denominator)
         raise BadNumber(
             f"{value} is irrational: the exact backend computes over the rationals; "
@@ -154,6 +162,12 @@ class RationalBackend(Backend):
 
     def sign(self, x: Any) -> int:
         return (x > 0) - (x < 0)
+
+    def from_integers(self, numerator: Any, denominator: Any) -> Any:
+        """The element ``numerator / denominator`` (integers, denominator non-zero)."""
+        if self.impl == "gmpy2":
+            return self._q(numerator, denominator)
+        return self._q(int(numerator), int(denominator))
 
     def to_number(self, x: Any) -> Fraction:
         return Fraction(int(x.numerator), int(x.denominator))

@@ -245,6 +245,28 @@ def _cmd_all(args: argparse.Namespace) -> int:
     return 1 if failed else 0
 
 
+def _cmd_bench(args: argparse.Namespace) -> int:
+    from verify.bench import QUICK, bench, bench_json, bench_text
+    from verify.records import dumps
+
+    if args.save and os.path.isdir(args.save):
+        raise UsageError(f"{PROG} bench: --save {args.save!r} is a directory")
+    options = dict(QUICK) if args.quick else {}
+    if args.size is not None:
+        if args.size < 1:
+            raise UsageError(f"{PROG} bench: --size must be >= 1, got {args.size}")
+        options["size"] = args.size
+    figures = bench(**options, progress=lambda line: print(line, file=sys.stderr, flush=True))
+    record = bench_json(figures, quick=args.quick)
+    if args.save:
+        tmp = args.save + ".tmp"
+        with open(tmp, "w", encoding="utf-8", newline="\n") as fh:
+            fh.write(dumps(record))
+        os.replace(tmp, args.save)
+    sys.stdout.write(dumps(record) if args.json else bench_text(record))
+    return 0
+
+
 def _cmd_report(args: argparse.Namespace) -> int:
     from verify.report import write_reports
 
@@ -632,6 +654,25 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--profile", default="ci", choices=PROFILE_NAMES, help="property profile (default ci)")
     p.add_argument("--workers", type=int, default=None, help="processes (default: every core)")
     p.set_defaults(func=_cmd_report)
+
+    p = sub.add_parser(
+        "bench",
+        help="throughput figures, each beside a baseline measured in the same run",
+        formatter_class=_formatter,
+        description=(
+            "Time the exact engine and the float path on a fixed batch of 10,000 corner cases against plain "
+            "Fraction and float loops, Table 1 against pure-Python rationals, the cost of one impulse on the exact "
+            "and interval backends at 10 to 10,000 impulses, and peak memory. Ratios are against baselines timed "
+            "alternately in the same run (best of 3). --save FILE keeps the JSON record (the report's performance "
+            "page reads reports/bench.json)."
+        ),
+        epilog="examples:\n  verify bench\n  verify bench --quick --json\n  verify bench --save reports/bench.json\n",
+    )
+    p.add_argument("--json", action="store_true", help="print the figures as JSON")
+    p.add_argument("--quick", action="store_true", help="a smoke run: 500 cases, one round, up to 100 impulses")
+    p.add_argument("--size", type=int, default=None, help="cases in the corner batch (default 10000)")
+    p.add_argument("--save", default=None, metavar="FILE", help="also write the JSON record to FILE")
+    p.set_defaults(func=_cmd_bench)
 
     p = sub.add_parser(
         "all",

@@ -376,6 +376,10 @@ def parse_number(text: str, *, where: str | None = None, symbols: dict[str, Any]
         raise BadNumber(f"{prefix}not a number: {_quote(text)} (nested too deeply)") from None
 
 
+_SMALL_INTS = 16
+_INT_FRACTIONS = {i: Fraction(i) for i in range(-_SMALL_INTS + 1, _SMALL_INTS)}
+
+
 def to_number(value: Any, *, where: str | None = None) -> Number:
     """Turn a user value into a :data:`Number`: strings are parsed, ints and Fractions kept.
 
@@ -389,6 +393,10 @@ def to_number(value: Any, *, where: str | None = None) -> Number:
     ...
     verify.errors.BadNumber: not a number: 0.1 is a binary float; pass "0.1" (read exactly) or a Fraction
     """
+    if type(value) is Fraction:  # the common case, already exact and immutable
+        return value
+    if type(value) is int and -_SMALL_INTS < value < _SMALL_INTS:  # 0 and 1 fill mass matrices
+        return _INT_FRACTIONS[value]
     prefix = f"{where}: " if where else ""
     if isinstance(value, str):
         return parse_number(value, where=where)

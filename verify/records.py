@@ -121,8 +121,9 @@ def case_from_record(record: Any, where: str = "case", *, backend: Any = "exact"
         if system.backend.name == "exact":  # a velocity outside the field of the system widens it
             from verify.rule import _exact_backend_for_velocity
 
-            system = _exact_backend_for_velocity(system, record["velocity"])
-        velocity = system.velocity(record["velocity"])
+            system, velocity = _exact_backend_for_velocity(system, record["velocity"])
+        else:
+            velocity = system.velocity(record["velocity"])
     except InvalidInput as exc:
         raise _prefixed(where, exc) from None
     return Case(case_id, system, record["velocity"], velocity, cap)

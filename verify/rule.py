@@ -38,9 +38,10 @@ from dataclasses import dataclass, field
 from functools import cached_property
 from typing import Any
 
+from verify import fraction_free
 from verify.backends import exact_for
 from verify.errors import InvalidInput, InvalidSystem, NoConvergence, Undecided
-from verify.linalg import dot, ldl, solve_spd
+from verify.linalg import ldl, solve_spd
 from verify.numbers import to_number
 from verify.system import System
 from verify.termination import non_termination_halt
@@ -113,11 +114,19 @@ class Result:
     steps: tuple[Step, ...]
     impact_sets: list[tuple[int, ...]]
     betas: list[Any]
-    kinetic_energy_in: Any
-    kinetic_energy_out: Any
     max_iterations: int
     notes: tuple[str, ...] = ()
     certificate: dict | None = field(default=None)
+
+    @cached_property
+    def kinetic_energy_in(self) -> Any:
+        """The kinetic energy before the impact (rest frame of the constraints)."""
+        return self.system.kinetic_energy(self.velocity_in)
+
+    @cached_property
+    def kinetic_energy_out(self) -> Any:
+        """The kinetic energy of the exit velocity."""
+        return self.system.kinetic_energy(self.exit_velocity)
 
     @property
     def iterations(self) -> int:
@@ -168,16 +177,26 @@ def _gram_solve(system: System, rhs: Sequence[Any], J: Sequence[int]) -> tuple:
 
 
 def _beta_from_rates(system: System, b: Sequence[Any], J: Sequence[int]) -> Any:
-    """beta of step c), computed in the basis (U_j): with ``lambda_j = p(F_j)/G_jj``,
-    ``sum V_j = sum lambda_j U_j`` and ``V_J = sum mu_k U_k`` (Gram solve), so
-    ``Phi(V_J, sum V_j) = mu^T G_JJ lambda`` and ``||sum V_j||^2 = lambda^T G_JJ lambda``.
+    """beta of step c), computed in the basis (U_j) without solving the Gram system.
+
+    With ``lambda_j = p(F_j)/G_jj``, ``sum V_j = sum lambda_j U_j``, so
+    ``||sum V_j||^2 = lambda^T G_JJ lambda``; and ``Phi(V_J, U_k) = p(F_k)`` for k in J
+    (``V_J = sum mu_k U_k`` with ``G_JJ mu = p(F_J)``), so ``Phi(V_J, sum V_j) = sum_j
+    p(F_j) lambda_j``: the Gram solve of V_J is not needed for beta.
     """
-    K = system.backend
-    bJ = [b[j] for j in J]
-    lam = [bj / system.gram_diag[j] for bj, j in zip(bJ, J)]
-    mu = _gram_solve(system, bJ, J)
-    G_lam = [dot(K, [system.gram[j][k] for k in J], lam) for j in J]
-    return dot(K, mu, G_lam) / dot(K, lam, G_lam)
+    inv = system._inverse_gram_diag
+    lam = [b[j] * inv[j] for j in J]
+    numerator = None
+    norm = None
+    for a, (j, lj) in enumerate(zip(J, lam)):
+        term = b[j] * lj
+        numerator = term if numerator is None else numerator + term
+        row = system.gram[j]
+        g_lam = row[j] * lj  # the j-th entry of G_JJ lambda, times lambda_j below
+        for k, lk in zip(J[a + 1 :], lam[a + 1 :]):
+            g_lam = g_lam + (row[k] + row[k]) * lk  # G symmetric: off-diagonal terms twice
+        norm = lj * g_lam if norm is None else norm + lj * g_lam
+    return numerator / norm
 
 
 def beta(system: System, v: Sequence[Any], J: Sequence[int]) -> Any:
@@ -194,16 +213,17 @@ def beta(system: System, v: Sequence[Any], J: Sequence[int]) -> Any:
 
 
 def _impulse_from_rates(system: System, b: Sequence[Any], J: Sequence[int]) -> tuple[tuple, Any]:
-    """Eq. (8) given the rates p(F_i): returns (impulse, beta or None)."""
-    K = system.backend
-    e = system.restitution
+    """Eq. (8) given the rates p(F_i): returns (impulse, beta or None).
+
+    The impulse is ``sum_j c_j U_j`` with ``c_j = -(1 + e_j) p(F_j) / G_jj`` for a single
+    impact and ``c_j = -beta (1 + e_j) p(F_j) / G_jj`` for a multiple one.
+    """
     if len(J) == 1:
         (j,) = J
-        coef = [K.zero - (K.one + e[j]) * b[j] / system.gram_diag[j]]
-        return system.combine_normals(list(zip(J, coef))), None
+        return system.combine_normals([(j, system._single_coefficient[j] * b[j])]), None
     bt = _beta_from_rates(system, b, J)
-    coef = [K.zero - bt * (K.one + e[j]) * b[j] / system.gram_diag[j] for j in J]
-    return system.combine_normals(list(zip(J, coef))), bt
+    m, inv = system._minus_one_plus_e, system._inverse_gram_diag
+    return system.combine_normals([(j, bt * m[j] * (b[j] * inv[j])) for j in J]), bt
 
 
 def impulse(system: System, v: Sequence[Any], J: Sequence[int] | None = None) -> tuple:
@@ -240,19 +260,18 @@ def _system_for_rule(system: System, rule: str) -> System:
     raise InvalidSystem(f"unknown rule {rule!r} (choose from {', '.join(RULES)})")
 
 
-def _exact_backend_for_velocity(system: System, velocity: Sequence[Any]) -> System:
-    """On the exact backend, widen the number field when the velocity needs it."""
-    K = system.backend
+def _exact_backend_for_velocity(system: System, velocity: Sequence[Any]) -> tuple[System, tuple]:
+    """On the exact backend, widen the number field when the velocity needs it; returns the
+    system and the velocity converted into its backend."""
     values = [to_number(x, where=f"velocity[{i}]") for i, x in enumerate(velocity)]
     try:
-        for x in values:
-            K.convert(x)
-        return system
+        return system, system.velocity(values)
     except InvalidInput:  # not in this field (BadNumber): build the field of every input
         src = system.source
         everything = [x for row in src["mass_matrix"] for x in row] + [x for row in src["normals"] for x in row]
         everything += list(src["time_terms"]) + list(src["restitution"]) + values
-        return system.convert_to(exact_for(everything))
+        system = system.convert_to(exact_for(everything))
+        return system, system.velocity(values)
 
 
 def _over_budget(K: Any, v: tuple, budget: Budget | None, deadline: float | None) -> bool:
@@ -304,6 +323,34 @@ def _iterate(
     }
 
 
+#: impulses on the rationals before a run without trace or stop tests moves to integers
+#: (:mod:`verify.fraction_free`): short runs do not repay the integer set-up
+FRACTION_FREE_AFTER = 3
+
+
+def _iterate_untraced(system: System, v: tuple, max_iterations: int, budget: Budget | None) -> dict:
+    """:func:`_iterate` without trace or stop tests, on a rational backend: the first
+    impulses on the rationals, the rest of a long run over integers (same values)."""
+    started = time.monotonic()
+    first = min(max_iterations, FRACTION_FREE_AFTER)
+    out = _iterate(system, v, first, [], False, budget=budget)
+    if out["stop"] != "max_iterations" or first == max_iterations:
+        return out
+    if budget is not None and budget.seconds is not None:
+        left = budget.seconds - (time.monotonic() - started)
+        if left <= 0:
+            return {**out, "stop": "budget"}
+        budget = Budget(seconds=left, bits=budget.bits)
+    rest = fraction_free.iterate(system, out["v"], max_iterations - first, budget=budget)
+    return {
+        **out,
+        "v": rest["v"],
+        "stop": rest["stop"],
+        "impact_sets": out["impact_sets"] + rest["impact_sets"],
+        "betas": out["betas"] + rest["betas"],
+    }
+
+
 def solve(
     system: System,
     velocity: Sequence[Any],
@@ -342,13 +389,17 @@ def solve(
     notes: list[str] = []
     while True:
         K = system.backend
-        if K.name == "exact":
-            system = _exact_backend_for_velocity(system, velocity)
-            K = system.backend
         try:
-            v0 = system.velocity(velocity)
+            if K.name == "exact":
+                system, v0 = _exact_backend_for_velocity(system, velocity)
+                K = system.backend
+            else:
+                v0 = system.velocity(velocity)
             halts = [h for h in (halt, non_termination_halt(system) if certify else None) if h is not None]
-            out = _iterate(system, v0, max_iterations, halts, trace, budget=budget)
+            if K.fraction_free and not trace and not halts:
+                out = _iterate_untraced(system, v0, max_iterations, budget)
+            else:
+                out = _iterate(system, v0, max_iterations, halts, trace, budget=budget)
             break
         except Undecided as exc:
             if not K.refinable:
@@ -370,8 +421,6 @@ def solve(
         steps=tuple(out["steps"]),
         impact_sets=out["impact_sets"],
         betas=out["betas"],
-        kinetic_energy_in=system.kinetic_energy(v0),
-        kinetic_energy_out=system.kinetic_energy(out["v"]),
         max_iterations=max_iterations,
         notes=tuple(notes),
         certificate=out["certificate"],

@@ -29,7 +29,7 @@ from fractions import Fraction
 from typing import Any
 
 from verify.backends import Backend, RationalBackend, exact_for, get_backend
-from verify.errors import InvalidSystem
+from verify.errors import InvalidSystem, Undecided
 from verify.linalg import NotPositiveDefinite, dot, ldl, matvec, solve_spd
 from verify.numbers import Number, format_exact, to_number
 from verify.numeric import certified_sign
@@ -37,8 +37,6 @@ from verify.numeric import certified_sign
 
 def _is_exact_zero(K: Backend, x: Any) -> bool:
     """Whether ``x`` is exactly 0 (an undecidable sign counts as non-zero)."""
-    from verify.errors import Undecided
-
     try:
         return K.sign(x) == 0
     except Undecided:
@@ -47,6 +45,14 @@ def _is_exact_zero(K: Backend, x: Any) -> bool:
 
 def _nonzero(K: Backend, row: Sequence[Any]) -> tuple:
     return tuple((k, x) for k, x in enumerate(row) if not _is_exact_zero(K, x))
+
+
+def _sparse_dot(K: Backend, sparse_row: Sequence[tuple[int, Any]], v: Sequence[Any]) -> Any:
+    """``a . v`` for a row given by its non-zero entries ``(k, a_k)`` (the same sum as a full dot)."""
+    total = K.zero
+    for k, a in sparse_row:
+        total = total + a * v[k]
+    return total
 
 
 def _equal(a: Number, b: Number) -> bool:
@@ -60,11 +66,11 @@ def _equal(a: Number, b: Number) -> bool:
 
 
 def _check_vector(values: Any, length: int | None, field: str) -> list:
-    if isinstance(values, (str, bytes)) or not isinstance(values, Sequence):
+    if type(values) not in (list, tuple) and (isinstance(values, (str, bytes)) or not isinstance(values, Sequence)):
         raise InvalidSystem(f"{field}: expected a list of numbers, got {type(values).__name__}")
     if length is not None and len(values) != length:
         raise InvalidSystem(f"{field}: expected {length} numbers, got {len(values)}")
-    return [to_number(x, where=f"{field}[{i}]") for i, x in enumerate(values)]
+    return [x if type(x) is Fraction else to_number(x, where=f"{field}[{i}]") for i, x in enumerate(values)]
 
 
 class System:
@@ -84,6 +90,11 @@ class System:
     __slots__ = (
         "U",
         "_energy_terms",
+        "_fraction_free",
+        "_inverse_gram_diag",
+        "_minus_one_plus_e",
+        "_moving",
+        "_single_coefficient",
         "_sparse_U",
         "_sparse_normals",
         "backend",
@@ -134,7 +145,7 @@ class System:
         for i, ei in enumerate(e):
             if getattr(ei, "free_symbols", None):
                 continue  # a parameter such as eps: checked by the backend over its range, below
-            if certified_sign(ei) < 0 or certified_sign(1 - ei) < 0:
+            if not (0 <= ei <= 1) if type(ei) is Fraction else (certified_sign(ei) < 0 or certified_sign(1 - ei) < 0):
                 raise InvalidSystem(f"restitution[{i}] = {format_exact(ei)} is outside [0, 1]")
         self.names = tuple(names) if names is not None else tuple(f"S{i + 1}" for i in range(r))
         if len(self.names) != r:
@@ -161,22 +172,35 @@ class System:
     def _derive(self) -> None:
         """Convert the source numbers into the backend and compute U, G and H."""
         K, src = self.backend, self.source
+        self._fraction_free = None  # the integer constants of verify.fraction_free, made when first needed
         self.g = tuple(tuple(K.convert(x) for x in row) for row in src["mass_matrix"])
         self.normals = tuple(tuple(K.convert(x) for x in row) for row in src["normals"])
         self.time_terms = tuple(K.convert(x) for x in src["time_terms"])
         self.restitution = tuple(K.convert(x) for x in src["restitution"])
-        try:
-            g_factors = ldl(K, self.g)
-        except NotPositiveDefinite as exc:
-            raise InvalidSystem(
-                f"mass_matrix is not positive definite (pivot {exc.index} of its LDL^T factorisation "
-                f"is {K.to_decimal(exc.pivot, 12)})"
-            ) from None
         for i, row in enumerate(self.normals):
             if all(K.sign(x) == 0 for x in row):
                 raise InvalidSystem(f"normals[{i}] is zero: a constraint needs a non-zero gradient")
-        self.U = tuple(solve_spd(K, g_factors, row) for row in self.normals)
-        self.gram = tuple(tuple(dot(K, ai, uj) for uj in self.U) for ai in self.normals)
+        self._sparse_normals = tuple(_nonzero(K, row) for row in self.normals)
+        n = self.n
+        diagonal = all(_is_exact_zero(K, self.g[i][j]) for i in range(n) for j in range(n) if i != j)
+        if diagonal:  # U_i = dF_i / diag(g), entry by entry, on the non-zero pattern of dF_i
+            for i in range(n):
+                if K.sign(self.g[i][i]) <= 0:
+                    self._not_positive_definite(i, self.g[i][i])
+            U = []
+            for row in self._sparse_normals:
+                u = [K.zero] * n
+                for k, a in row:
+                    u[k] = a / self.g[k][k]
+                U.append(tuple(u))
+            self.U = tuple(U)
+        else:
+            try:
+                g_factors = ldl(K, self.g)
+            except NotPositiveDefinite as exc:
+                self._not_positive_definite(exc.index, exc.pivot)
+            self.U = tuple(solve_spd(K, g_factors, row) for row in self.normals)
+        self.gram = tuple(tuple(_sparse_dot(K, ai, uj) for uj in self.U) for ai in self._sparse_normals)
         try:
             gram_factors = ldl(K, self.gram)
         except NotPositiveDefinite as exc:
@@ -186,8 +210,11 @@ class System:
             ) from None
         self.gram_diag = tuple(self.gram[i][i] for i in range(self.r))
         # the rule's inner loop skips the entries that are exactly zero (sparse rows)
-        self._sparse_normals = tuple(_nonzero(K, row) for row in self.normals)
         self._sparse_U = tuple(_nonzero(K, row) for row in self.U)
+        # constants of eq. (8), computed once: -(1 + e_j), 1 / G_jj and -(1 + e_j) / G_jj
+        self._minus_one_plus_e = tuple(K.zero - (K.one + e) for e in self.restitution)
+        self._inverse_gram_diag = tuple(K.one / d for d in self.gram_diag)
+        self._single_coefficient = tuple(m / d for m, d in zip(self._minus_one_plus_e, self.gram_diag))
         half = K.convert(Fraction(1, 2))
         self._energy_terms = tuple(
             (i, j, half * self.g[i][j] if i == j else self.g[i][j])
@@ -195,11 +222,18 @@ class System:
             for j in range(i, self.n)
             if not _is_exact_zero(K, self.g[i][j])
         )
-        if all(K.sign(ci) == 0 for ci in self.time_terms):
+        self._moving = not all(K.sign(ci) == 0 for ci in self.time_terms)
+        if not self._moving:
             self.rest_frame = (K.zero,) * self.n
         else:
             mu = solve_spd(K, gram_factors, self.time_terms)
             self.rest_frame = tuple(K.zero - dot(K, mu, [u[k] for u in self.U]) for k in range(self.n))
+
+    def _not_positive_definite(self, index: int, pivot: Any) -> None:
+        raise InvalidSystem(
+            f"mass_matrix is not positive definite (pivot {index} of its LDL^T factorisation "
+            f"is {self.backend.to_decimal(pivot, 12)})"
+        )
 
     # -- derived systems --------------------------------------------------------------
     def convert_to(self, backend: str | Backend, *, dps: int | None = None) -> System:
@@ -241,19 +275,20 @@ class System:
         """``p(F_i) = dF_i/dt + dF_i . v`` for every constraint (negative: an impact, eq. 2)."""
         out = []
         for ci, row in zip(self.time_terms, self._sparse_normals):
-            total = ci
+            total = ci if self._moving else None  # fixed constraints: no "0 +" on every rate
             for k, a in row:
-                total = total + a * v[k]
+                total = a * v[k] if total is None else total + a * v[k]
             out.append(total)
         return tuple(out)
 
     def combine_normals(self, coefficients: Sequence[tuple[int, Any]]) -> tuple:
         """``sum c_j U_j`` over the pairs ``(j, c_j)``: the shape of every impulse."""
-        out = [self.backend.zero] * self.n
+        out: list[Any] = [None] * self.n
         for j, c in coefficients:
             for k, u in self._sparse_U[j]:
-                out[k] = out[k] + c * u
-        return tuple(out)
+                out[k] = c * u if out[k] is None else out[k] + c * u
+        zero = self.backend.zero
+        return tuple(zero if x is None else x for x in out)
 
     def phi(self, u: Sequence[Any], w: Sequence[Any]) -> Any:
         """The metric ``Phi(u, w) = u^T g w``."""

@@ -1,0 +1,124 @@
+"""The fast paths give the rule's own results: integers for long exact runs, the float batch.
+
+Nothing here is timed (``verify bench`` measures; CI only smoke-runs it).
+"""
+
+from __future__ import annotations
+
+import json
+from fractions import Fraction
+
+from hypothesis import given, settings
+from hypothesis import strategies as st
+
+import verify.rule as rule_module
+from verify import fraction_free
+from verify.bench import batch, corner_loop
+from verify.cli import main
+from verify.float_batch import corner_batch, solve_batch, systems_batch
+from verify.rule import Budget, solve
+from verify.strategies import cases
+from verify.system import System
+
+
+def _system(record: dict) -> System:
+    return System(record["mass_matrix"], record["normals"], record["restitution"], record.get("time_terms"))
+
+
+@settings(max_examples=60, deadline=None)
+@given(cases("general", "general"))
+def test_integer_iteration_equals_the_traced_rule(drawn) -> None:
+    """Fraction-free integers against the traced path (which never takes them), exactly."""
+    rec = drawn.record
+    s = _system(rec)
+    if not s.backend.fraction_free:
+        return
+    budget = Budget(bits=4096)  # multiple impacts can triple the sizes: bound them
+    traced = solve(s, rec["velocity"], max_iterations=60, trace=True, certify=False, budget=budget)
+    fast = fraction_free.iterate(s, traced.velocity_in, 60, budget=budget)
+    assert fast["impact_sets"] == traced.impact_sets
+    assert fast["betas"] == traced.betas
+    assert fast["stop"] == traced.stop
+    assert list(fast["v"]) == list(traced.exit_velocity)
+
+
+def test_solve_switches_to_integers_on_long_runs_with_the_same_result(monkeypatch) -> None:
+    k, xd, yd, e1, e2 = Fraction(125, 374), Fraction(334, 91), Fraction(130761, 136136), Fraction(0), Fraction(61, 228)
+    s = System([[1, 0, 0], [0, 1, 0], [0, 0, 1]], [[-k, 1, 0], [-k, -1, 0]], [e1, e2])
+    calls = []
+    original = fraction_free.iterate
+    monkeypatch.setattr(fraction_free, "iterate", lambda *a, **kw: calls.append(1) or original(*a, **kw))
+    fast = solve(s, [xd, yd, 0], max_iterations=100, trace=False, certify=False)
+    traced = solve(s, [xd, yd, 0], max_iterations=100, trace=True, certify=False)
+    assert calls == [1]  # the untraced run went to integers after FRACTION_FREE_AFTER impulses
+    assert fast.iterations == 100 > rule_module.FRACTION_FREE_AFTER
+    assert list(fast.exit_velocity) == list(traced.exit_velocity) and fast.impact_sets == traced.impact_sets
+    assert corner_loop(k, xd, yd, e1, e2)[0] == fast.impact_sets  # and the plain Fraction loop agrees
+
+
+def test_integer_budget_stops_where_the_rational_one_does() -> None:
+    s = System([[1, 0, 0], [0, 1, 0], [0, 0, 1]], [[Fraction(-47, 190), 1, 0], [Fraction(-47, 190), -1, 0]],
+               [Fraction(47, 200), Fraction(107, 491)])  # fmt: skip
+    v = [Fraction(854, 15), Fraction(-742553, 57000), 0]
+    fast = solve(s, v, max_iterations=500, trace=False, certify=False, budget=Budget(bits=2000))
+    traced = solve(s, v, max_iterations=500, trace=True, certify=False, budget=Budget(bits=2000))
+    assert fast.stop == traced.stop == "budget"
+    assert fast.iterations == traced.iterations
+
+
+def _assert_batch_matches_exact(systems_and_velocities, result) -> None:
+    for i, (s, v) in enumerate(systems_and_velocities):
+        exact = solve(s, v, max_iterations=100, trace=False, certify=False, budget=Budget(bits=4096))
+        if exact.stop == "budget":
+            continue
+        assert result.impact_sets(i) == list(exact.impact_sets), i
+        assert result.stop[i] == exact.stop
+        for j, x in enumerate(exact.exit_velocity):  # the radius encloses the exact value
+            assert abs(Fraction(float(result.v[i][j])) - s.backend.to_number(x)) <= Fraction(float(result.r_v[i][j]))
+
+
+def test_float_path_takes_the_exact_branches_on_the_bench_batch() -> None:
+    cases_ = batch(400)
+    out = solve_batch(corner_batch([c[0] for c in cases_], [c[1:3] for c in cases_], [c[3:] for c in cases_]))
+    pairs = [
+        (System([[1, 0, 0], [0, 1, 0], [0, 0, 1]], [[-c[0], 1, 0], [-c[0], -1, 0]], list(c[3:])), [c[1], c[2], 0])
+        for c in cases_
+    ]
+    _assert_batch_matches_exact(pairs, out)
+    assert out.fallback.any() and not out.fallback.all()  # both paths are exercised
+    wrong = sum(
+        1
+        for i, c in enumerate(cases_)
+        if corner_loop(*(x.numerator / x.denominator for x in c))[0] != out.impact_sets(i)
+    )
+    assert wrong > 0  # plain floats do go wrong on this batch; the float path did not
+
+
+@settings(max_examples=40, deadline=None)
+@given(st.lists(cases("general", "general"), min_size=1, max_size=6))
+def test_float_path_on_general_systems(drawn) -> None:
+    shapes = {(len(d.record["mass_matrix"]), len(d.record["normals"])) for d in drawn}
+    first = [d for d in drawn if (len(d.record["mass_matrix"]), len(d.record["normals"])) == next(iter(shapes))]
+    systems = [_system(d.record) for d in first]
+    if not all(s.backend.fraction_free for s in systems) or any(s._moving for s in systems):
+        return  # the batch holds fixed rational constraints
+    velocities = [d.record["velocity"] for d in first]
+    out = solve_batch(systems_batch(systems, velocities), budget=Budget(bits=4096))
+    _assert_batch_matches_exact(list(zip(systems, velocities)), out)
+
+
+def test_bench_quick_smoke(capsys, tmp_path) -> None:
+    target = tmp_path / "bench.json"
+    assert main(["bench", "--quick", "--size", "40", "--json", "--save", str(target)]) == 0
+    record = json.loads(capsys.readouterr().out)
+    assert json.loads(target.read_text()) == record
+    assert set(record) >= {"figures", "machine"}
+    for f in record["figures"]:
+        assert set(f) == {"name", "value", "unit", "baseline", "ratio"}
+    names = [f["name"] for f in record["figures"]]
+    assert len(names) == len(set(names)) and "corner_batch.exact_engine" in names
+
+
+def test_bench_bad_size_is_a_usage_error(capsys) -> None:
+    assert main(["bench", "--size", "0"]) == 2
+    assert "--size" in capsys.readouterr().err
