@@ -270,8 +270,7 @@ def solve_batch(
             res = solve(system, velocity, max_iterations=max_iterations, trace=False, certify=False, budget=budget)
             exact_results[int(i)] = res
             K = res.backend
-            v[i] = [_exact_float(K.to_number(x))[0] for x in res.exit_velocity]
-            rv[i] = [_exact_float(K.to_number(x))[1] for x in res.exit_velocity]
+            v[i], rv[i] = zip(*(_exact_float(K.to_number(x)) for x in res.exit_velocity))
             stop[i] = res.stop
             iterations[i] = res.iterations
     else:

@@ -48,13 +48,6 @@ except ImportError:  # pragma: no cover - exercised where gmpy2 is absent
 FULL_CONTENT_EVERY = 16
 
 
-def _lcm(values: Any) -> int:
-    out = 1
-    for q in values:
-        out = out * q // math.gcd(out, q)
-    return out
-
-
 @dataclass(frozen=True)
 class IntegerData:
     """The constants of the rule for one rational system, over integers (see the module)."""
@@ -80,9 +73,9 @@ def integer_data(system: Any) -> IntegerData:
     q = K.to_number
     normals = [[q(x) for x in row] for row in system.normals]
     times = [q(x) for x in system.time_terms]
-    L = _lcm(x.denominator for x in [*times, *(x for row in normals for x in row)])
+    L = math.lcm(*(x.denominator for x in [*times, *(x for row in normals for x in row)]))
     U = [[q(x) for x in row] for row in system.U]
-    M = _lcm(x.denominator for row in U for x in row)
+    M = math.lcm(*(x.denominator for row in U for x in row))
     gram = [[q(x) for x in row] for row in system.gram]
     minus = [-(1 + q(e)) for e in system.restitution]
     singles = []
@@ -90,9 +83,9 @@ def integer_data(system: Any) -> IntegerData:
         s = minus[j] / gram[j][j]
         singles.append((_int(s.denominator * L * M), _int(s.numerator)))
     inverse = [1 / gram[j][j] for j in range(system.r)]
-    QI = _lcm(x.denominator for x in inverse)
-    QG = _lcm(x.denominator for row in gram for x in row)
-    Ed = _lcm(x.denominator for x in minus)
+    QI = math.lcm(*(x.denominator for x in inverse))
+    QG = math.lcm(*(x.denominator for row in gram for x in row))
+    Ed = math.lcm(*(x.denominator for x in minus))
     data = IntegerData(
         A=tuple(tuple((k, _int(a * L)) for k, a in enumerate(row) if a) for row in normals),
         C=tuple(_int(c * L) for c in times),
@@ -124,7 +117,7 @@ def iterate(system: Any, v: tuple, max_iterations: int, *, budget: Any = None) -
     K = system.backend
     data = integer_data(system)
     start = [K.to_number(x) for x in v]
-    D = _int(_lcm(x.denominator for x in start))
+    D = _int(math.lcm(*(x.denominator for x in start)))
     V = [_int(x.numerator * (D // x.denominator)) for x in start]
     len(V)
     A, C, Uz, single, P, Gz, E = data.A, data.C, data.Uz, data.single, data.P, data.Gz, data.E
