@@ -2,9 +2,11 @@
 
 from __future__ import annotations
 
+import os
 import re
 import shutil
 import subprocess
+import sys
 from pathlib import Path
 
 import pytest
@@ -26,10 +28,29 @@ def test_readme_opens_with_exactly_two_commands():
     assert "pytest" in commands[1]
 
 
-def test_ci_runs_the_readme_commands():
-    ci = (ROOT / ".ci" / "run").read_text(encoding="utf-8").splitlines()
-    for command in readme_commands():
-        assert command in ci
+def ci_commands() -> list[str]:
+    """The lines of .ci/run after it has made and entered its virtual environment."""
+    lines = (ROOT / ".ci" / "run").read_text(encoding="utf-8").splitlines()
+    start = next(i for i, line in enumerate(lines) if line.startswith(". .ci-venv/bin/activate"))
+    return [line for line in lines[start + 1 :] if line.strip() and not line.startswith("#")]
+
+
+def test_ci_runs_the_readme_commands_and_nothing_else():
+    """CI is the README: its two commands verbatim, in order, and no other command after the venv."""
+    assert ci_commands() == readme_commands()
+
+
+def test_ci_sets_no_environment_variable_of_ours():
+    text = (ROOT / ".ci" / "run").read_text(encoding="utf-8")
+    assert "export" not in text and "HYPOTHESIS" not in text
+
+
+def test_an_empty_hypothesis_profile_means_the_default():
+    """Some CI systems export empty variables: HYPOTHESIS_PROFILE="" must still start the suite."""
+    env = {**os.environ, "HYPOTHESIS_PROFILE": ""}
+    cmd = [sys.executable, "-m", "pytest", "-q", "-p", "no:cacheprovider", "--collect-only", "tests/test_readme.py"]
+    out = subprocess.run(cmd, cwd=ROOT, env=env, capture_output=True, text=True, check=False)
+    assert out.returncode == 0, out.stdout + out.stderr
 
 
 @pytest.mark.skipif(shutil.which("ruff") is None, reason="ruff is not installed")

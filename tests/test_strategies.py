@@ -84,7 +84,13 @@ def test_the_strategies_reach_what_the_properties_need(feature: str) -> None:
 
 
 def test_failing_cases_shrink_to_something_readable() -> None:
-    d = find(cases("general", "general"), lambda d: len(d.record["normals"]) >= 3)
+    """A search shrinks to the simplest case with three constraints, whatever ran before it.
+
+    No example database (an earlier run's failures would be replayed first) and derandomised,
+    so the result is the same in every run and in any test order.
+    """
+    quiet = settings(database=None, derandomize=True, suppress_health_check=list(HealthCheck))
+    d = find(cases("general", "general"), lambda d: len(d.record["normals"]) >= 3, settings=quiet)
     assert d.record["mass_matrix"] == [["1" if i == j else "0" for j in range(4)] for i in range(4)]
     assert all(len(x) <= 4 for row in d.record["normals"] for x in row)
     assert d.record["time_terms"] == ["0", "0", "0"]
