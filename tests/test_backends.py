@@ -9,6 +9,7 @@ import sympy as sp
 
 from verify.backends import BACKENDS, IntervalBackend, RationalBackend, _rational_impls, get_backend
 from verify.errors import BadNumber, InvalidInput, Undecided
+from verify.numbers import format_decimal
 
 # (name, operation on (K, a, b), exact expected value) with a = 1/3 and b = -5/7
 CONTRACT = [
@@ -108,3 +109,43 @@ def test_unknown_backend_and_bad_dps():
         get_backend("quantum")
     with pytest.raises(InvalidInput, match="dps"):
         get_backend("mp", dps=2)
+
+
+def _significant_digits(text: str) -> int:
+    mantissa = text.lstrip("-").lower().split("e")[0]
+    return len(mantissa.replace(".", "").lstrip("0"))
+
+
+@pytest.mark.parametrize(
+    "q", [Fraction(381, 80), Fraction(1, 3), Fraction(-22, 7), Fraction(10**25, 3), Fraction(1, 7 * 10**12)]
+)
+def test_interval_decimals_show_only_the_digits_the_enclosure_certifies(q):
+    K = IntervalBackend(20)
+    seven_tenths = K.convert(Fraction(7, 10))
+    x = K.convert(q) * seven_tenths / seven_tenths  # an enclosure of q, wider than a point
+    lo, hi = (Fraction(b) for b in K.enclosure(x, 40))
+    assert lo < q < hi
+    text = K.to_decimal(x, 30)
+    d = _significant_digits(text)
+    assert 15 <= d < 30  # 20-digit intervals certify about 20 digits here, not 30
+    assert Fraction(text) == Fraction(format_decimal(q, d))  # q correctly rounded to the digits shown
+    assert K.to_decimal(x, 8) == format_decimal(q, 8) or _significant_digits(K.to_decimal(x, 8)) == 8
+
+
+def test_interval_decimals_of_a_point_and_of_an_enclosure_of_zero():
+    K = IntervalBackend(20)
+    assert K.to_decimal(K.convert(Fraction(1, 4)), 30) == "0.25"  # a point is exact
+    third = K.convert(Fraction(1, 3))
+    zero = third * K.convert(Fraction(3)) - K.one  # encloses 0: no significant digit is certain
+    text = K.to_decimal(zero, 30)
+    assert text.startswith("0e-") and Fraction(text) == 0
+    lo, hi = (Fraction(b) for b in K.enclosure(zero, 30))
+    assert max(-lo, hi) < Fraction(1, 10 ** int(text[3:])) / 2  # every value inside rounds to 0 there
+
+
+def test_float_backend_refuses_a_value_beyond_the_float_range() -> None:
+    """1e400 read exactly has no binary64 value: bad input (InvalidInput), not an OverflowError."""
+    from verify.errors import InvalidInput
+
+    with pytest.raises(InvalidInput, match=r"1e\+400 is beyond the range"):
+        get_backend("float").convert(Fraction(10) ** 400)

@@ -106,7 +106,7 @@ BAD = [
     ("unknown backend", ["cradle", "--eps", "0.5", "--backend", "quantum"], "invalid choice: 'quantum'"),
     ("negative cap", ["cradle", "--eps", "0.5", "--max-iterations", "-1"], "--max-iterations must be >= 0"),
     ("tiny dps", ["cradle", "--eps", "0.5", "--backend", "mp", "--dps", "2"], "dps must be an integer >= 5"),
-    ("non-integer option", ["cradle", "--eps", "0.5", "--balls", "three"], "invalid int value: 'three'"),
+    ("non-integer option", ["cradle", "--eps", "0.5", "--balls", "three"], "--balls must be an integer, got 'three'"),
     ("no command", [], ""),
 ]
 
@@ -172,3 +172,9 @@ def test_every_subcommand_has_help_with_an_example():
 def test_python_dash_m_verify_help():
     out = subprocess.run([sys.executable, "-m", "verify", "--help"], capture_output=True, text=True, check=True)
     assert "cradle" in out.stdout and "table1" in out.stdout
+
+
+def test_the_command_line_names_its_flag_where_the_library_names_its_parameter(capsys):
+    assert main(["cradle", "--eps", "1/2", "--masses", "1,tan(1),1"]) == 2
+    err = capsys.readouterr().err
+    assert "--backend interval" in err and 'backend="' not in err

@@ -185,3 +185,80 @@ def test_huge_integers_format_past_the_str_limit():
 
 def test_split_list_respects_parentheses():
     assert split_list("1/2, sqrt(2), CRootOf(x**2 - 2, 1)") == ["1/2", "sqrt(2)", "CRootOf(x**2 - 2, 1)"]
+
+
+# -- format_decimal takes every exact number the library hands out ------------------------------------
+
+
+class _RationalWithoutFloat:
+    """An exact rational of an unknown library: integer numerator and denominator, no float."""
+
+    def __init__(self, numerator: int, denominator: int):
+        self.numerator, self.denominator = numerator, denominator
+
+    def __float__(self) -> float:
+        raise AssertionError("format_decimal went through a float")
+
+
+def test_format_decimal_reads_exact_rationals_through_their_integers():
+    q = Fraction(-(10**40) - 1, 3)  # 41 digits: a float would lose them
+    assert format_decimal(_RationalWithoutFloat(q.numerator, q.denominator), 35) == format_decimal(q, 35)
+    assert format_decimal(7) == "7"
+
+
+@pytest.mark.parametrize("impl", ["gmpy2", "flint", "python"])
+def test_format_decimal_reads_the_values_of_every_rational_backend(impl):
+    from verify.backends import RationalBackend, _rational_impls
+    from verify.rule import solve
+    from verify.system import System
+
+    if impl not in _rational_impls():
+        pytest.skip(f"{impl} is not installed")
+    K = RationalBackend(impl)
+    s = System([[1, 0, 0], [0, 1, 0], [0, 0, 1]], [[-1, 1, 0], [0, -1, 1]], ["1/3", "1/7"], backend=K)
+    r = solve(s, ["100", "0", "0"])
+    for x in r.exit_velocity:
+        assert format_decimal(x, 25) == format_decimal(K.to_number(x), 25)
+        assert format_decimal(x, 25, "floor") == format_decimal(K.to_number(x), 25, "floor")
+
+
+def test_format_decimal_of_the_default_backend_values():
+    from verify import System, solve
+
+    s = System([[1, 0, 0], [0, 1, 0], [0, 0, 1]], [[-1, 1, 0], [0, -1, 1]], ["0.5", "0.5"])
+    r = solve(s, ["100", "0", "0"])  # gmpy2's mpq or flint's fmpq when the fast extras are installed
+    for x in r.exit_velocity:
+        assert format_decimal(x) == format_decimal(s.backend.to_number(x))
+
+
+@pytest.mark.parametrize(
+    ("value", "name"), [(0.5, "float"), (True, "bool"), (object(), "object"), (sp.Symbol("x") + 1, "x")]
+)
+def test_format_decimal_refuses_floats_and_unknown_types_by_name(value, name):
+    with pytest.raises(TypeError, match=name):
+        format_decimal(value)
+
+
+def test_format_decimal_refuses_number_field_elements_and_points_to_the_backend():
+    from verify.backends import NumberFieldBackend
+
+    K = NumberFieldBackend([sp.sqrt(2)])
+    x = K.convert(3 - 2 * sp.sqrt(2))
+    with pytest.raises(TypeError, match="to_decimal"):
+        format_decimal(x)
+    assert K.to_decimal(x, 8) == format_decimal(3 - 2 * sp.sqrt(2), 8)
+
+
+def test_format_decimal_rounds_algebraic_values_in_the_direction_asked():
+    from verify.algebraic import RealAlgebraic
+
+    assert (format_decimal(sp.sqrt(2), 3, "floor"), format_decimal(sp.sqrt(2), 3, "ceiling")) == ("1.41", "1.42")
+    assert format_decimal(-sp.sqrt(2), 3, "floor") == "-1.42"
+    root = RealAlgebraic.from_number(sp.sqrt(3))
+    assert (format_decimal(root, 4, "floor"), format_decimal(root, 4, "ceiling"), format_decimal(root, 4)) == (
+        "1.732",
+        "1.733",
+        "1.732",
+    )
+    one = (sp.sqrt(2) + 1) * (sp.sqrt(2) - 1)  # exactly 1, though not written so
+    assert format_decimal(one, 3, "floor") == format_decimal(one, 3, "ceiling") == "1"

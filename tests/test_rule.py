@@ -204,11 +204,100 @@ def test_interval_raises_precision_when_a_sign_is_undecided():
 
 
 def test_interval_gives_up_with_a_clear_error_on_an_undecidable_zero():
+    # exactly 0, but tan(3/10) is not algebraic: no exact check exists, and the zero is no
+    # structural one (no impulse made it), so intervals cannot decide it: say why, not "bad input"
     from verify.backends import IntervalBackend
 
     s = System([[1, 0], [0, 1]], [[1, -1]], [1], backend=IntervalBackend(20, max_dps=80))
-    with pytest.raises(NoConvergence, match="use the exact backend"):
-        solve(s, ["1/3", "sqrt(1/9)"])  # exactly 0, but not as intervals
+    with pytest.raises(NoConvergence, match=r"tan\(3/10\) is not algebraic.*limit of the interval backend"):
+        solve(s, ["tan(3/10)", "tan(3/10)"])
+
+
+# -- exact zeros on intervals: by the structure of the impulses, or by an exact check ---------------
+
+
+def _interval(dps=20):
+    from verify.backends import IntervalBackend
+
+    return IntervalBackend(dps, max_dps=4 * dps)
+
+
+def _same_as_exact(system, velocity):
+    """The interval run of ``system`` equals the exact one: branches, stop, every exact value
+    of the exit velocity inside its enclosure; and no sign was chased in precision."""
+    exact = solve(system, velocity)
+    r = solve(system.convert_to(_interval()), velocity)
+    assert (r.impact_sets, r.stop) == (exact.impact_sets, exact.stop)
+    for x, y in zip(r.exit_velocity, exact.exit_velocity, strict=True):
+        assert r.backend.contains(x, exact.backend.to_number(y))
+    assert r.notes == () and r.backend.dps == 20
+    return r
+
+
+@pytest.mark.parametrize("velocity", [["1/3", "1/3"], ["sqrt(2)/3", "sqrt(2)/3"]])
+def test_interval_decides_an_exactly_zero_rate_of_exact_inputs(velocity):
+    # a grazing input, p(F) = 0 exactly, is an interval around 0 here (1/3 and sqrt(2)/3 are not
+    # binary): the inputs are rational or algebraic, so the rate is checked exactly
+    s = System([[1, 0], [0, 1]], [[1, -1]], [1])
+    r = _same_as_exact(s, velocity)
+    assert r.stop == "exit" and r.iterations == 0
+
+
+def test_interval_checks_exactly_a_zero_that_an_impulse_makes_by_coincidence():
+    # corner of slope 1/2, CORs 1/2 and 2/3, velocity (0, 1): the impact on S2 leaves the rate
+    # of S1 at p(F_1) - (1 + e_2) p(F_2) G_12 / G_22 = 1 - (5/3)(-1)(-3/5) = 0: no structure
+    # gives it, the exact check does
+    from verify.corner import corner_system
+
+    s = corner_system("1/2", "1/2", "2/3")
+    r = _same_as_exact(s, ["0", "1", "0"])
+    assert r.impact_sets == [(1,)]
+
+
+@pytest.mark.parametrize(
+    ("masses", "cors", "velocity"),
+    [
+        (["1", "3", "1"], ["0", "1/3"], ["100", "0", "0"]),  # COR 0 on the first contact, then the second is hit
+        (["1", "1", "1"], ["1/3", "0"], ["100", "0", "0"]),
+        (["1", "3", "1"], ["0", "9/10"], ["100", "0", "0"]),
+        (["1", "1", "1"], ["0", "0"], ["100", "0", "0"]),  # never exits: the certificate on intervals too
+    ],
+)
+def test_interval_cradle_with_a_cor_of_0_equals_the_exact_run(masses, cors, velocity):
+    from verify.cradle import cradle_system
+
+    _same_as_exact(cradle_system(cors, masses=masses), velocity)
+
+
+def test_a_cor_of_0_makes_an_exact_zero_on_intervals_by_structure():
+    # tan(3/10) is not algebraic: no exact check exists, so the zeros must come from the
+    # structure. Five balls, CORs 0, 1/2, 1/3, 1/2: the double impact on S1 and S4 (G_14 = 0,
+    # so beta = 1) leaves S1 at -0 * p(F_1) = 0; the impact on S3 (G_13 = 0) leaves S1 alone.
+    from verify.cradle import cradle_system
+
+    velocity = ["tan(3/10)", "0", "tan(3/10)", "1", "0"]
+    system = cradle_system(["0", "1/2", "1/3", "1/2"], balls=5)
+    r = solve(system.convert_to(_interval()), velocity)
+    mp = solve(system.convert_to("mp", dps=60), velocity)
+    assert (r.impact_sets, r.stop) == (mp.impact_sets, mp.stop) == ([(0, 3), (2,)], "exit")
+    assert r.notes == ()
+    K = r.backend
+    assert [K.sign(b) for b in r.steps[1].rates] == [0, 1, -1, 1]  # the point 0: known, not an enclosure
+    for x, y in zip(r.exit_velocity, mp.exit_velocity, strict=True):  # mp at 60 digits: within 1e-38 of it
+        lo, hi = (F(bound) for bound in K.enclosure(x, 40))
+        assert lo - F(1, 10**38) <= F(mp.backend.to_decimal(y, 40)) <= hi + F(1, 10**38)
+
+
+def test_the_corner_with_a_cor_of_0_runs_on_intervals():
+    # issue 14: this case stopped with "contains 0 at 3200 digits"
+    from verify.corner import run_corner
+
+    exact = run_corner(slope="1/2", phi="0", eps1="0", eps2="1", v0="2")
+    iv = run_corner(slope="1/2", phi="0", eps1="0", eps2="1", v0="2", backend=_interval())
+    assert iv.zones == exact.zones == ["Z12", "Z1", "Z0"]
+    assert iv.result.notes == ()
+    for x, y in zip(iv.result.exit_velocity, exact.result.exit_velocity, strict=True):
+        assert iv.result.backend.contains(x, exact.result.backend.to_number(y))
 
 
 # -- invalid systems --------------------------------------------------------------------------

@@ -9,8 +9,9 @@ A backend ``K`` owns the numbers the rule computes with. The rule uses only
   :class:`~verify.errors.Undecided` when the backend cannot decide (an interval that
   contains 0); rigorous backends never guess.
 
-and reports through ``K.to_decimal(x, digits)``, ``K.to_number(x)`` (exact backends: the
-exact value back) and ``K.enclosure(x)`` (interval backends). Flags ``is_exact`` and
+and reports through ``K.to_decimal(x, digits)`` (on interval backends only the digits
+that the enclosure certifies), ``K.to_number(x)`` (exact backends: the exact value back)
+and ``K.enclosure(x)`` (interval backends). Flags ``is_exact`` and
 ``is_rigorous`` say what a result can claim; ``refined()`` returns the same backend at
 higher precision (or None), which :func:`verify.rule.solve` uses to retry after an
 undecided sign.
@@ -31,12 +32,13 @@ their ``sign`` decides exactly or raises.
 from __future__ import annotations
 
 import functools
+import math
 import os
 from fractions import Fraction
 from typing import Any
 
 from verify.errors import BadNumber, InvalidInput, Undecided
-from verify.numbers import Number, format_decimal, format_exact
+from verify.numbers import Number, certified_decimal, format_decimal, format_exact
 
 BACKENDS = ("exact", "mp", "interval", "float")
 DEFAULT_DPS = 50
@@ -157,7 +159,7 @@ class RationalBackend(Backend):
             return self._q(value.numerator, value.denominator)
         raise BadNumber(
             f"{value} is irrational: the exact backend computes over the rationals; "
-            "use --backend interval (certified) or mp"
+            'use backend="interval" (certified) or backend="mp"'
         )
 
     def sign(self, x: Any) -> int:
@@ -272,7 +274,7 @@ def exact_for(values: Any) -> Backend:
         bad = next(v for v in values if not isinstance(v, Fraction) and v.is_algebraic is not True)
         raise BadNumber(
             f"{bad} is not an algebraic number, so the exact backend cannot hold it: "
-            "use --backend interval (certified) or mp"
+            'use backend="interval" (certified) or backend="mp"'
         )
     if not gens:
         return RationalBackend()
@@ -367,8 +369,20 @@ class IntervalBackend(_ContextBackend):
         return _mpf_to_fraction(x.a), _mpf_to_fraction(x.b)
 
     def to_decimal(self, x: Any, digits: int = 30) -> str:
+        """Only the digits that the enclosure certifies (at most ``digits``; see
+        :func:`~verify.numbers.certified_decimal`): ``"4.7625000000000000"`` when the
+        bounds agree to 17 digits, the value itself for a point, ``"0e-19"`` for an
+        enclosure of 0. The midpoint's further digits would be noise.
+
+        >>> K = IntervalBackend(20)
+        >>> third = K.one / K.convert(Fraction(3))
+        >>> K.to_decimal(third, 30), K.to_decimal(K.convert(Fraction(1, 4)), 30)
+        ('0.333333333333333333333', '0.25')
+        >>> K.to_decimal(third * K.convert(Fraction(3)) - K.one)
+        '0e-20'
+        """
         lo, hi = self._bounds(x)
-        return format_decimal((lo + hi) / 2, digits)
+        return certified_decimal(lo, hi, digits)
 
     def enclosure(self, x: Any, digits: int = 30) -> tuple[str, str]:
         lo, hi = self._bounds(x)
@@ -396,13 +410,25 @@ class FloatBackend(Backend):
         self.dps = 15
 
     def convert(self, value: Number) -> float:
-        if isinstance(value, Fraction):
-            return value.numerator / value.denominator  # correctly rounded
-        from mpmath import fp
+        """The nearest float; a value beyond the float range is bad input (InvalidInput).
 
-        from verify.numeric import evaluate
+        >>> FloatBackend().convert(Fraction(1, 3))
+        0.3333333333333333
+        """
+        try:
+            if isinstance(value, Fraction):
+                return value.numerator / value.denominator  # correctly rounded
+            from mpmath import fp
 
-        return float(evaluate(value, fp))
+            from verify.numeric import evaluate
+
+            result = float(evaluate(value, fp))
+        except OverflowError:
+            result = float("inf")
+        if not math.isfinite(result):
+            shown = format_decimal(value, 6) if isinstance(value, Fraction) else str(value)
+            raise InvalidInput(f"{shown} is beyond the range of binary64 floats: use another backend")
+        return result
 
     def sign(self, x: float) -> int:
         return (x > 0) - (x < 0)

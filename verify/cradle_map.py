@@ -96,7 +96,10 @@ class CradleMap:
         return [(b.piece.lower, a, b) for a, b in zip(self.parts, self.parts[1:])]
 
 
-def _validate(lower: Fraction, upper: Fraction, balls: int) -> None:
+def _validate(lower: Fraction, upper: Fraction, balls: int, given: tuple[Any, Any] | None = None) -> None:
+    if lower > upper:
+        shown = given if given is not None else (format_exact(lower), format_exact(upper))
+        raise InvalidInput(f"the eps interval is reversed: lower = {shown[0]} > upper = {shown[1]}")
     if not (0 <= lower <= upper <= 1):
         raise InvalidInput(f"the eps interval [{format_exact(lower)}, {format_exact(upper)}] must lie in [0, 1]")
     if not isinstance(balls, int) or balls < 2:
@@ -116,12 +119,19 @@ def cradle_map(
     """The cradle for every eps in [lower, upper] (one COR for all contacts).
 
     ``max_impulses`` bounds the exploration: a part still impacting after that many
-    impulses, and not proved never to exit, is reported as unexplored.
+    impulses, and not proved never to exit, is reported as unexplored. The interval must
+    lie in [0, 1] with ``lower <= upper``; otherwise :class:`~verify.errors.InvalidInput`
+    names the values.
+
+    >>> cradle_map(lower="0.5", upper="0.2")
+    Traceback (most recent call last):
+    ...
+    verify.errors.InvalidInput: the eps interval is reversed: lower = 0.5 > upper = 0.2
     """
     lo, hi = to_number(lower, where="lower"), to_number(upper, where="upper")
     if not (isinstance(lo, Fraction) and isinstance(hi, Fraction)):
         raise InvalidInput("the ends of the eps interval must be rational")
-    _validate(lo, hi, balls)
+    _validate(lo, hi, balls, (lower, upper))
     if not isinstance(max_impulses, int) or max_impulses < 0:
         raise InvalidInput(f"max_impulses must be a non-negative integer, got {max_impulses!r}")
     v = cradle_velocity(balls, v0, velocity)
@@ -214,27 +224,65 @@ def verdict(cmap: CradleMap, eps: Any) -> str:
     return f"unexplored: {part.reason}"
 
 
-def approach_counts(boundary: RealAlgebraic, exponents: Sequence[int] = range(2, 8)) -> list[tuple[Fraction, int]]:
-    """Exact runs at eps just above a termination boundary: (eps - boundary bound, impulses).
+APPROACH_MAX_IMPULSES = 10**6
 
+
+def approach_counts(
+    boundary: RealAlgebraic,
+    exponents: Sequence[int] = range(2, 8),
+    cmap: CradleMap | None = None,
+    *,
+    max_impulses: int = APPROACH_MAX_IMPULSES,
+) -> list[tuple[Fraction, int | str]]:
+    """Runs at eps just above a termination boundary: (eps, impulses until exit).
+
+    The runs are of the cradle of ``cmap`` (its balls, masses and left velocity; without a
+    map, three unit balls with ball 1 at v0 = 1), so pass the map the boundary was read off.
     For each k, eps is the rational with k + 4 decimals just above boundary + 10^-k. The
     run is on certified intervals (every branch decided with proof; exact rationals would
     grow too large), and the count grows like a constant times (eps - boundary)^(-1/2).
-    Past k = 7 the rates shrink below 10^-3000 of the velocities before the exit, beyond
-    the interval backend's precision limit: the run then says so (NoConvergence).
+
+    A run that does not exit gives, instead of a count, what happened in words: ``"> N
+    (budget)"`` after ``max_impulses`` impulses, ``"never exits (proved)"``, or
+    ``"undecided at the precision limit"`` when the rates shrink below what the interval
+    backend resolves at its largest precision (unit balls: past k = 7, below 10^-3000 of
+    the velocities before the exit).
+
+    >>> m = cradle_map(masses=["1", "2", "3"], max_impulses=4)
+    >>> approach_counts(termination_boundaries(m)[0], [2, 3], m)
+    [(Fraction(65729, 1000000), 8), (Fraction(567281, 10000000), 24)]
+    >>> approach_counts(termination_boundaries(m)[0], [3], m, max_impulses=10)
+    [(Fraction(567281, 10000000), '> 10 (budget)')]
     """
     from verify.backends import get_backend
     from verify.cradle import run_cradle
+    from verify.errors import NoConvergence
 
-    out = []
+    if not isinstance(max_impulses, int) or max_impulses < 0:
+        raise InvalidInput(f"max_impulses must be a non-negative integer, got {max_impulses!r}")
+    system: dict[str, Any] = {"v0": "1"}
+    if cmap is not None:
+        system = {"balls": cmap.balls, "masses": cmap.masses, "velocity": cmap.velocity}
+    out: list[tuple[Fraction, int | str]] = []
     for k in exponents:
         while boundary.hi - boundary.lo > Fraction(1, 10 ** (k + 6)):
             boundary.refine()
         target = boundary.hi + Fraction(1, 10**k)
         scale = 10 ** (k + 4)
         eps = Fraction(-((-target.numerator * scale) // target.denominator), scale)  # rounded up
-        r = run_cradle(eps, v0="1", trace=False, max_iterations=10**6, backend=get_backend("interval", dps=40))
-        out.append((eps, r.iterations if r.stop == "exit" else -1))
+        try:
+            r = run_cradle(
+                eps, **system, trace=False, max_iterations=max_impulses, backend=get_backend("interval", dps=40)
+            )
+        except NoConvergence:
+            out.append((eps, "undecided at the precision limit"))
+            continue
+        if r.stop == "exit":
+            out.append((eps, r.iterations))
+        elif r.stop == "non_terminating":
+            out.append((eps, "never exits (proved)"))
+        else:
+            out.append((eps, f"> {r.iterations} (budget)"))
     return out
 
 

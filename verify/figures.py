@@ -27,10 +27,76 @@ def _x(a: Any) -> float:
     return float(a.decimal(17))
 
 
+def _unexplored_kind(part: Any) -> str:
+    """``"exits_later"`` when every eps of an unexplored part is proved to exit after the bound, else
+    ``"undecided"``."""
+    return "exits_later" if part.exits_beyond_bound else "undecided"
+
+
+#: how each kind of part is drawn (the staircase's legend shows the same styles)
+_UNEXPLORED_STYLE = {
+    "exits_later": {"facecolor": "0.6", "alpha": 0.3, "hatch": "//"},
+    "undecided": {"facecolor": "0.85", "alpha": 0.6, "hatch": "xx"},
+}
+
+
+def staircase_legend(cmap: Any) -> list[tuple[str, str]]:
+    """The legend of :func:`cradle_staircase`: ``(kind, label)`` for each kind of thing drawn, and only those.
+
+    Kinds: ``exit`` (the pieces), ``non_terminating`` (proved never to exit), ``exits_later``
+    (unexplored, every eps proved to exit after the bound), ``undecided`` (unexplored, not
+    decided: the label gives the map's reason), ``boundary`` and ``threshold_3_4``.
+
+    >>> from verify.cradle_map import cradle_map
+    >>> staircase_legend(cradle_map(upper="1/20", max_impulses=2))
+    [('non_terminating', 'never exits (proved)')]
+    >>> staircase_legend(cradle_map(balls=4, max_impulses=3))[1]
+    ('undecided', 'undecided: still impacting after 3 impulses\\n(termination not decided for more than two contacts)')
+    """
+    from verify.cradle_map import termination_boundaries, threshold_between
+
+    out = []
+    if cmap.pieces:
+        out.append(("exit", "exits after n impulses (exact pieces)"))
+    if cmap.non_terminating:
+        out.append(("non_terminating", "never exits (proved)"))
+    kinds = [_unexplored_kind(p) for p in cmap.unexplored]
+    if "exits_later" in kinds:
+        out.append(("exits_later", f"exits after more than {cmap.max_impulses} impulses"))
+    if "undecided" in kinds:
+        reasons = []
+        for part in cmap.unexplored:
+            why = part.reason.split("; ", 1)[-1]  # the map's reason: "still impacting after N impulses; WHY"
+            if _unexplored_kind(part) == "undecided" and why != "not decided" and why not in reasons:
+                reasons.append(why)
+        label = f"undecided: still impacting after {cmap.max_impulses} impulses"
+        out.append(("undecided", label + "".join(f"\n({why})" for why in reasons)))
+    boundaries = termination_boundaries(cmap)
+    if boundaries:
+        out.append(("boundary", f"termination boundary {boundaries[0]}"))
+    t34 = threshold_between(cmap, 4, 3)
+    if t34 is not None:
+        out.append(("threshold_3_4", f"3 -> 4 impulses at {t34}"))
+    return out
+
+
 def cradle_staircase(cmap: Any, path: str | Path) -> Path:
     """Iteration count against eps for a cradle map: the staircase, the thresholds and the
     termination boundary. Left: the whole range. Right (when there is a termination
-    boundary): the same steps against the distance to the boundary, on a log scale."""
+    boundary): the same steps against the distance to the boundary, on a log scale.
+    The legend (:func:`staircase_legend`) names only what is drawn; unexplored parts are
+    marked as proved to exit later or as undecided, with the map's reason."""
+    plt = _pyplot()
+    fig = staircase_figure(cmap)
+    path = Path(path)
+    path.parent.mkdir(parents=True, exist_ok=True)
+    fig.savefig(path, dpi=120, metadata=METADATA)
+    plt.close(fig)
+    return path
+
+
+def staircase_figure(cmap: Any) -> Any:
+    """The matplotlib figure of :func:`cradle_staircase`, not saved (close it with ``plt.close``)."""
     plt = _pyplot()
     from matplotlib.lines import Line2D
     from matplotlib.patches import Patch
@@ -53,7 +119,7 @@ def cradle_staircase(cmap: Any, path: str | Path) -> Path:
         elif part.stop == "non_terminating":
             ax.axvspan(a, b, color="C3", alpha=0.18, lw=0)
         else:
-            ax.axvspan(a, b, facecolor="0.6", alpha=0.3, lw=0, hatch="//")
+            ax.axvspan(a, b, lw=0, **_UNEXPLORED_STYLE[_unexplored_kind(part)])
     for x in boundaries:
         ax.axvline(_x(x), color="C3", ls="--", lw=1)
     if t34 is not None:
@@ -62,25 +128,22 @@ def cradle_staircase(cmap: Any, path: str | Path) -> Path:
     ax.set_ylim(0, cmap.max_impulses + 2)
     ax.set_xlabel("coefficient of restitution eps")
     ax.set_ylabel("impulses until exit")
-    ax.set_title(f"Newton's cradle, {cmap.balls} balls, eps in [{cmap.domain.lower}, {cmap.domain.upper}]")
+    masses = "" if all(m == 1 for m in cmap.masses) else f" (masses {', '.join(str(m) for m in cmap.masses)})"
+    ax.set_title(f"Newton's cradle, {cmap.balls} balls{masses}, eps in [{cmap.domain.lower}, {cmap.domain.upper}]")
     ax.grid(alpha=0.3)
-    handles = [
-        Line2D([], [], color="C0", lw=1.6, label="exits after n impulses (exact pieces)"),
-        Patch(color="C3", alpha=0.18, label="never exits (proved)"),
-        Patch(facecolor="0.6", alpha=0.3, hatch="//", label=f"exits after more than {cmap.max_impulses} impulses"),
-    ]
-    if boundaries:
-        handles.append(Line2D([], [], color="C3", ls="--", label=f"termination boundary {boundaries[0]}"))
-    if t34 is not None:
-        handles.append(Line2D([], [], color="C2", ls=":", label=f"3 -> 4 impulses at {t34}"))
+    style = {
+        "exit": lambda label: Line2D([], [], color="C0", lw=1.6, label=label),
+        "non_terminating": lambda label: Patch(color="C3", alpha=0.18, label=label),
+        "exits_later": lambda label: Patch(**_UNEXPLORED_STYLE["exits_later"], label=label),
+        "undecided": lambda label: Patch(**_UNEXPLORED_STYLE["undecided"], label=label),
+        "boundary": lambda label: Line2D([], [], color="C3", ls="--", label=label),
+        "threshold_3_4": lambda label: Line2D([], [], color="C2", ls=":", label=label),
+    }
+    handles = [style[kind](label) for kind, label in staircase_legend(cmap)]
     ax.legend(handles=handles, loc="upper right", fontsize=8)
     if boundaries:
         _distance_panel(axes[0][1], cmap, boundaries[0])
-    path = Path(path)
-    path.parent.mkdir(parents=True, exist_ok=True)
-    fig.savefig(path, dpi=120, metadata=METADATA)
-    plt.close(fig)
-    return path
+    return fig
 
 
 def _distance_panel(ax: Any, cmap: Any, boundary: Any) -> None:
@@ -95,7 +158,7 @@ def _distance_panel(ax: Any, cmap: Any, boundary: Any) -> None:
             ax.hlines(part.iterations, lo, hi, color="C0", lw=1.6)
             smallest = lo if smallest is None else min(smallest, lo)
         elif part.stop == "max_iterations":
-            ax.axvspan(max(lo, 1e-12), hi, facecolor="0.6", alpha=0.3, lw=0, hatch="//")
+            ax.axvspan(max(lo, 1e-12), hi, lw=0, **_UNEXPLORED_STYLE[_unexplored_kind(part)])
     left = (smallest or 1e-3) / 5
     ax.set_xscale("log")
     ax.set_xlim(left, _x(cmap.domain.upper) - b)

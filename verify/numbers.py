@@ -4,7 +4,8 @@ Every number that enters :mod:`verify` as text goes through :func:`parse_number`
 reads integers (``"7"``), rationals (``"-3/8"``), decimals (``"0.0743"``, read exactly as
 743/10000, never through a binary float), scientific decimals (``"1e-9"``) and closed
 forms built from the names ``sqrt pi sin cos tan CRootOf x`` and the operators
-``+ - * / ** ( ) ,`` (SymPy syntax, see ``shared/docs/contracts.md``).
+``+ - * / ** ( ) ,`` (SymPy syntax; ``docs/numbers.md`` in the source repository
+describes it for users).
 
 The parser is a small recursive-descent parser written here: it never calls ``eval``,
 ``exec`` or ``sympify``, so a string such as ``"__import__('os').system('id')"`` is
@@ -26,6 +27,7 @@ from __future__ import annotations
 
 import json
 import math
+import operator
 import re
 from fractions import Fraction
 from typing import Any
@@ -486,22 +488,34 @@ def _ilog10(num: int, den: int) -> int:
         e = e - 1 if not lo_ok else e + 1
 
 
-def format_decimal(value: Number, digits: int = 30, rounding: str = "half_even") -> str:
-    """A decimal string with ``digits`` significant digits, rounded exactly.
+def _exact_rational(value: Any) -> Fraction | None:
+    """``value`` as a Fraction when it is an exact rational of a known kind, else None.
 
-    ``rounding`` is ``"half_even"`` (default), ``"floor"`` or ``"ceiling"`` (for printing
-    the bounds of an enclosure outward). Trailing zeros are dropped, so exact decimals read
-    naturally (``"34.316164"``); magnitudes outside [1e-7, 1e30) use an exponent (``"1e-9"``).
-
-    >>> format_decimal(Fraction(2, 3), 5), format_decimal(Fraction(857766, 25000))
-    ('0.66667', '34.31064')
-    >>> format_decimal(Fraction(2, 3), 3, "floor"), format_decimal(Fraction(-2, 3), 3, "floor")
-    ('0.666', '-0.667')
+    Fractions and ints, and any type with integer ``numerator`` and ``denominator``
+    (gmpy2's ``mpq``, python-flint's ``fmpq``): read through those integers, never through
+    a float. Floats are refused (``TypeError``): they are not the exact values they print as.
     """
-    if not isinstance(value, Fraction):
-        return _format_closed_form_decimal(value, digits)
-    if value == 0:
-        return "0"
+    if isinstance(value, Fraction):
+        return value
+    if isinstance(value, (bool, float)):
+        raise TypeError(
+            f"format_decimal needs an exact number, got {type(value).__name__} {value!r}: "
+            'pass a Fraction or a string such as "0.1" (read exactly)'
+        )
+    if isinstance(value, int):
+        return Fraction(value)
+    if hasattr(value, "free_symbols"):  # SymPy: rationals here, closed forms by the caller
+        return Fraction(int(value.p), int(value.q)) if getattr(value, "is_Rational", False) else None
+    try:
+        num, den = value.numerator, value.denominator
+        return Fraction(operator.index(num), operator.index(den))  # index(): integers only, never a float
+    except (AttributeError, TypeError):
+        return None
+
+
+def _decimal_digits(value: Fraction, digits: int, rounding: str) -> tuple[str, str, int]:
+    """``value`` rounded to ``digits`` significant digits: (sign, the digit string, exponent of
+    its first digit); ``value`` is not 0."""
     sign = "-" if value < 0 else ""
     num, den = abs(value.numerator), value.denominator
     e = _ilog10(num, den)
@@ -517,8 +531,86 @@ def format_decimal(value: Number, digits: int = 30, rounding: str = "half_even")
     if q == 10**digits:  # rounding carried into a new digit
         q //= 10
         e += 1
-    mantissa = int_to_str(q).rstrip("0") or "0"
-    return sign + _place_point(mantissa, e)
+    return sign, int_to_str(q), e
+
+
+def format_decimal(value: Any, digits: int = 30, rounding: str = "half_even") -> str:
+    """A decimal string with ``digits`` significant digits, rounded exactly.
+
+    ``rounding`` is ``"half_even"`` (default), ``"floor"`` or ``"ceiling"`` (for printing
+    the bounds of an enclosure outward). Trailing zeros are dropped, so exact decimals read
+    naturally (``"34.316164"``); magnitudes outside [1e-7, 1e30) use an exponent (``"1e-9"``).
+
+    ``value`` is any exact number: a Fraction or int, an exact rational of another library
+    (gmpy2's ``mpq``, python-flint's ``fmpq``, as the exact backend returns them: read
+    through their integer numerator and denominator), a closed form (SymPy) or a
+    :class:`~verify.algebraic.RealAlgebraic` (digits certified by enclosures). Floats and
+    unknown types raise ``TypeError``; so do number-field elements, which need their field:
+    use ``K.to_decimal(x)`` of the backend that made them.
+
+    >>> format_decimal(Fraction(2, 3), 5), format_decimal(Fraction(857766, 25000))
+    ('0.66667', '34.31064')
+    >>> format_decimal(Fraction(2, 3), 3, "floor"), format_decimal(Fraction(-2, 3), 3, "floor")
+    ('0.666', '-0.667')
+    >>> from verify.backends import RationalBackend
+    >>> x = RationalBackend().convert(Fraction(2, 3))  # gmpy2's mpq when installed
+    >>> format_decimal(x, 5), format_decimal(7)
+    ('0.66667', '7')
+    >>> format_decimal(0.5)
+    Traceback (most recent call last):
+    ...
+    TypeError: format_decimal needs an exact number, got float 0.5: pass a Fraction or a string such as "0.1" ...
+    """
+    if rounding not in ("half_even", "floor", "ceiling"):
+        raise ValueError(f"rounding must be 'half_even', 'floor' or 'ceiling', got {rounding!r}")
+    exact = _exact_rational(value)
+    if exact is None:
+        return _format_algebraic_decimal(value, digits, rounding)
+    if exact == 0:
+        return "0"
+    sign, mantissa, e = _decimal_digits(exact, digits, rounding)
+    return sign + _place_point(mantissa.rstrip("0") or "0", e)
+
+
+def certified_decimal(lo: Fraction, hi: Fraction, digits: int = 30) -> str:
+    """The digits of every number in ``[lo, hi]``: the longest rounding (half to even, at most
+    ``digits`` significant digits) on which both ends agree, trailing zeros kept (they are
+    certified too).
+
+    Rounding is monotone, so every number between ``lo`` and ``hi`` rounds to the same
+    string: it is the correctly rounded value of the unknown number, with as many digits as
+    the enclosure certifies. A point (``lo == hi``) is exact and prints as
+    :func:`format_decimal` does. An enclosure of 0 that certifies no digit prints as
+    ``"0e-N"``: the number rounds to 0 at N decimal places (|x| < 10^-N / 2). An enclosure
+    too wide for even one digit prints as itself, ``"[lo, hi]"`` (two digits, outward).
+
+    >>> certified_decimal(Fraction(476241, 100000), Fraction(476249, 100000), 30)
+    '4.762'
+    >>> certified_decimal(Fraction(90499, 1000), Fraction(90501, 1000), 30)
+    '90.50'
+    >>> certified_decimal(Fraction(10**25, 3) - 1, Fraction(10**25, 3) + 1, 30)
+    '3.33333333333333333333333e+24'
+    >>> certified_decimal(Fraction(-3, 10**20), Fraction(1, 10**20), 30)
+    '0e-19'
+    >>> certified_decimal(Fraction(1, 4), Fraction(1, 4))
+    '0.25'
+    """
+    if lo > hi:
+        raise ValueError(f"an empty enclosure: {lo} > {hi}")
+    if lo == hi:
+        return format_decimal(lo, digits)
+    if lo <= 0 <= hi:  # no significant digit is certain; how many decimal places round to 0 is
+        m = 2 * max(-lo, hi)  # every |x| <= m/2 rounds to 0 at 10^q once m < 10^q
+        q = _ilog10(m.numerator, m.denominator) + 1
+        return f"0e{q:+d}" if q > 0 else f"0e{q}"
+    for d in range(digits, 0, -1):
+        low, high = _decimal_digits(lo, d, "half_even"), _decimal_digits(hi, d, "half_even")
+        if low == high:
+            sign, mantissa, e = low
+            if e >= len(mantissa):  # zeros padding the integer part would look certified: an exponent
+                return f"{sign}{mantissa[0]}{'.' if mantissa[1:] else ''}{mantissa[1:]}e{e:+d}"
+            return sign + _place_point(mantissa, e)
+    return f"[{format_decimal(lo, 2, 'floor')}, {format_decimal(hi, 2, 'ceiling')}]"  # not one digit agrees
 
 
 def _place_point(mantissa: str, e: int) -> str:
@@ -533,8 +625,57 @@ def _place_point(mantissa: str, e: int) -> str:
     return mantissa[0] + ("." + frac if frac else "") + f"e{e:+d}"
 
 
-def _format_closed_form_decimal(value: Any, digits: int) -> str:
-    """Decimal digits of a closed form, from a certified enclosure (see :mod:`verify.numeric`)."""
-    from verify.numeric import certified_digits
+def _format_algebraic_decimal(value: Any, digits: int, rounding: str) -> str:
+    """Decimal digits of a closed form or a real algebraic number, from certified enclosures."""
+    if hasattr(value, "free_symbols") and hasattr(value, "is_number"):  # a SymPy closed form
+        if value.free_symbols:
+            names = sorted(map(str, value.free_symbols))
+            raise TypeError(f"format_decimal needs a number, got an expression in {', '.join(names)}")
+        if rounding == "half_even":
+            from verify.numeric import certified_digits
 
-    return certified_digits(value, digits)
+            return certified_digits(value, digits)
+        return _directed_closed_form(value, digits, rounding)
+    from verify.algebraic import RealAlgebraic
+
+    if not isinstance(value, RealAlgebraic):
+        raise TypeError(
+            f"format_decimal cannot read a {type(value).__module__}.{type(value).__name__}: "
+            "pass a Fraction, int, an exact rational (mpq, fmpq), a SymPy closed form or a RealAlgebraic "
+            "(a backend's own values: K.to_decimal(x))"
+        )
+    return value.decimal(digits) if rounding == "half_even" else _directed_algebraic(value, digits, rounding)
+
+
+def _directed_closed_form(value: Any, digits: int, rounding: str) -> str:
+    """Floor or ceiling digits of a closed form: from interval enclosures at rising precision,
+    until both ends round alike; an algebraic value that keeps straddling a rounding boundary
+    may be a decimal exactly, and is then settled by its minimal polynomial."""
+    from verify.errors import NoConvergence
+    from verify.numeric import MAX_PREC, _interval_context, _mpf_to_fraction, evaluate
+
+    prec = max(64, digits * 4 + 32)
+    for attempt in range(64):
+        if prec > MAX_PREC:
+            break
+        x = evaluate(value, _interval_context(prec))
+        lo, hi = (format_decimal(_mpf_to_fraction(b), digits, rounding) for b in (x.a, x.b))
+        if lo == hi:
+            return lo
+        if attempt == 3 and value.is_algebraic:
+            from verify.algebraic import RealAlgebraic
+
+            return _directed_algebraic(RealAlgebraic.from_number(value), digits, rounding)
+        prec *= 2
+    raise NoConvergence(f"cannot certify {digits} digits of {value} rounded towards {rounding}")
+
+
+def _directed_algebraic(value: Any, digits: int, rounding: str) -> str:
+    """Floor or ceiling digits of a RealAlgebraic (exact when it is rational)."""
+    if value.is_rational:
+        return format_decimal(value.rational_value(), digits, rounding)
+    while True:  # irrational: no rounding boundary is hit, so the isolating interval shrinks past it
+        lo, hi = format_decimal(value.lo, digits, rounding), format_decimal(value.hi, digits, rounding)
+        if lo == hi:
+            return lo
+        value.refine()

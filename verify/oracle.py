@@ -17,9 +17,12 @@ the stop reason, the iteration count, the impact sets, and the exit velocity wit
 
 from __future__ import annotations
 
+import contextlib
+import functools
 import json
 import os
 import random
+from collections.abc import Callable
 from dataclasses import dataclass, field
 from fractions import Fraction
 from typing import Any
@@ -165,17 +168,34 @@ def golden_cases() -> list[dict]:
     return golden_dataset()[0]
 
 
-def golden_results(cases: list[dict]) -> list[dict]:
-    """The exact result records of the cases (the default exact engine, with certificates)."""
+def golden_results(
+    cases: list[dict], *, budget: Any = None, progress: Callable[[int, str, int], None] | None = None
+) -> list[dict]:
+    """The exact result records of the cases (the default exact engine, with certificates).
+
+    ``budget`` (a :class:`verify.rule.Budget`) bounds each run, which then stops with stop
+    ``"budget"``; ``progress(k, case_id, impulses)`` is called with impulses 0 when case k
+    (from 1) starts and after each of its impulses.
+
+    >>> from verify.rule import Budget
+    >>> [r["iterations"] for r in golden_results(golden_cases()[:2])]
+    [2, 3]
+    >>> [(r["stop"], r["iterations"]) for r in golden_results(golden_cases()[:2], budget=Budget(bits=8))]
+    [('exit', 2), ('budget', 1)]
+    """
     from verify.records import case_from_record, result_record
     from verify.rule import solve
 
     out = []
-    for record in cases:
+    for k, record in enumerate(cases, 1):
         c = case_from_record(record, f"case {record['id']}")
-        out.append(
-            result_record(solve(c.system, c.velocity_source, max_iterations=c.max_iterations, trace=False), c.id)
-        )
+        hook = None
+        if progress is not None:
+            progress(k, c.id, 0)
+            hook = functools.partial(progress, k, c.id)
+        r = solve(c.system, c.velocity_source, max_iterations=c.max_iterations, trace=False, budget=budget,
+                  progress=hook)  # fmt: skip
+        out.append(result_record(r, c.id))
     return out
 
 
@@ -227,12 +247,19 @@ def export(folder: str) -> list[str]:
         "README.md": _summary(cases, results, skipped),
     }
     os.makedirs(folder, exist_ok=True)
-    paths = []
-    for name, text in texts.items():
-        path = os.path.join(folder, name)
-        with open(path + ".tmp", "w", encoding="utf-8", newline="\n") as fh:
-            fh.write(text)
-        paths.append(path)
+    paths, written = [], []
+    try:
+        for name, text in texts.items():
+            path = os.path.join(folder, name)
+            paths.append(path)
+            with open(path + ".tmp", "w", encoding="utf-8", newline="\n") as fh:
+                written.append(path + ".tmp")
+                fh.write(text)
+    except BaseException:  # a failed or interrupted write leaves no temporary file of its own
+        for tmp in written:
+            with contextlib.suppress(OSError):
+                os.remove(tmp)
+        raise
     for path in paths:
         os.replace(path + ".tmp", path)
     return paths
@@ -257,6 +284,8 @@ class Comparison:
     checked: int = 0
     agreeing: int = 0
     mismatches: list[Mismatch] = field(default_factory=list)
+    #: cases whose exact run reached its budget (stop "budget"): checked only on the impulses it made
+    limited: list[str] = field(default_factory=list)
 
     @property
     def ok(self) -> bool:
@@ -303,7 +332,18 @@ def compare(cases: list[dict], expected: list[dict], got: list[dict], *, rtol: F
         found = _compare_one(case, exact, mine, rtol, atol)
         out.mismatches += found
         out.agreeing += not found
+        if exact["stop"] == "budget":
+            out.limited.append(case["id"])
     return out
+
+
+def _prefix_mismatch(cid: str, sets_e: list, sets_m: list) -> list[Mismatch]:
+    """The first impulse at which two impact-set sequences differ, over their common length."""
+    m = min(len(sets_e), len(sets_m))
+    if sets_e[:m] == sets_m[:m]:
+        return []
+    w = next(k for k in range(m) if sets_e[k] != sets_m[k])
+    return [Mismatch(cid, "impact_sets", f"from impulse {w + 1}: expected {sets_e[w]}, got {sets_m[w]}")]
 
 
 def _compare_one(case: dict, exact: dict, mine: dict, rtol: Fraction, atol: Fraction) -> list[Mismatch]:
@@ -319,11 +359,19 @@ def _compare_one(case: dict, exact: dict, mine: dict, rtol: Fraction, atol: Frac
                     f"got {mine['stop']} after {mine['iterations']} impulses",
                 )
             )
-        m = min(len(sets_e), len(sets_m))
-        if sets_e[:m] != sets_m[:m]:
-            w = next(k for k in range(m) if sets_e[k] != sets_m[k])
-            found.append(Mismatch(cid, "impact_sets", f"from impulse {w + 1}: expected {sets_e[w]}, got {sets_m[w]}"))
-        return found
+        return found + _prefix_mismatch(cid, sets_e, sets_m)
+    if exact["stop"] == "budget":  # the exact run reached the budget: only its first impulses are known
+        n = exact["iterations"]
+        if mine["stop"] in ("exit", "max_iterations", "aeev") and mine["iterations"] <= n:
+            found.append(
+                Mismatch(
+                    cid,
+                    "stop",
+                    f"expected more than {n} impulses (the exact run was still impacting when it reached "
+                    f"the budget), got {mine['stop']} after {mine['iterations']} impulses",
+                )
+            )
+        return found + _prefix_mismatch(cid, sets_e, sets_m)
     if mine["stop"] != exact["stop"]:
         found.append(Mismatch(cid, "stop", f"expected {exact['stop']}, got {mine['stop']}"))
     if mine["iterations"] != exact["iterations"]:
@@ -405,8 +453,11 @@ def run_implementation(command: str, case_text: str, timeout: float) -> str:
 
 def comparison_json(comparison: Comparison) -> dict[str, Any]:
     """The comparison as JSON: counts and every mismatch."""
-    return {
+    out: dict[str, Any] = {
         "checked": comparison.checked,
         "agreeing": comparison.agreeing,
         "mismatches": [{"id": m.case_id, "field": m.field, "detail": m.detail} for m in comparison.mismatches],
     }
+    if comparison.limited:  # only when a budget was given (verify oracle check --max-bits, --case-timeout)
+        out["limited_by_budget"] = comparison.limited
+    return out

@@ -1,4 +1,4 @@
-"""Result records: the JSON shape of ``shared/docs/contracts.md``.
+"""Result records: the JSON shape described in ``docs/records.md`` (in the source repository).
 
 A result record carries the exit velocity (exact strings on exact backends, decimals
 otherwise), its decimals with 30 significant digits, the iteration count, the impact sets

@@ -7,6 +7,7 @@ Newton's cradle: 3 balls (masses 1, 1, 1), eps = 1 for every contact
 
 from __future__ import annotations
 
+from collections.abc import Sequence
 from fractions import Fraction
 from typing import Any
 
@@ -60,7 +61,7 @@ def cradle_text(result: Result, *, eps: list[str], mode: str, full_trace: bool =
     label = "exit velocity" if result.stop == "exit" else "velocity at the stop"
     if K.is_exact:
         lines.append(f"{label} (exact): {_join([_short_exact(K, x) for x in result.exit_velocity])}")
-    lines.append(f"{label} (decimal): {_join([K.to_decimal(x, 30) for x in result.exit_velocity])}")
+    lines.append(f"{label} ({_decimal_label(K)}): {_join([K.to_decimal(x, 30) for x in result.exit_velocity])}")
     stop = {
         "exit": "exit (no constraint is hit any more)",
         "aeev": "aeev (the paper's almost-equal-exit-velocities stop)",
@@ -88,7 +89,7 @@ def solve_text(case_id: str, result: Result) -> str:
     ]
     if K.is_exact:
         lines.append(f"  exit velocity: {_join([_short_exact(K, x) for x in result.exit_velocity])}")
-    lines.append(f"  decimal: {_join([K.to_decimal(x, 20) for x in result.exit_velocity])}")
+    lines.append(f"  {_decimal_label(K)}: {_join([K.to_decimal(x, 20) for x in result.exit_velocity])}")
     lines.append(
         f"  kinetic energy: {K.to_decimal(result.kinetic_energy_in, 12)} -> "
         f"{K.to_decimal(result.kinetic_energy_out, 12)}"
@@ -96,6 +97,12 @@ def solve_text(case_id: str, result: Result) -> str:
     )
     lines += [f"  note: {n}" for n in result.notes]
     return "\n".join(lines) + "\n"
+
+
+def _decimal_label(K: Any) -> str:
+    """What the decimals are: interval backends print only the digits their enclosures certify
+    (:meth:`verify.backends.IntervalBackend.to_decimal`), so fewer than asked for."""
+    return "decimal" if K.enclosure(K.one) is None else "decimal, certified digits only"
 
 
 def _short_exact(K: Any, x: Any, limit: int = 60) -> str:
@@ -256,7 +263,48 @@ def table1_summary(table: Table1) -> str:
     return "\n".join(lines) + "\n"
 
 
-def cradle_map_text(cmap: Any, *, aeev_rows: list[dict[str, Any]], approach: list[tuple[Any, int]]) -> str:
+def approach_table(rows: Sequence[tuple[Fraction, int | str]]) -> list[str]:
+    """The lines of the table of :func:`approach_counts` (a blank line first; none for no rows).
+
+    A count is shown only for a run that exits; any other row says what happened in words,
+    and a ratio is shown only between two consecutive rows that both exit.
+
+    >>> rows = [(Fraction(1, 10), 8), (Fraction(1, 100), 24), (Fraction(1, 1000), "> 30 (budget)")]
+    >>> print("\\n".join(approach_table(rows)))
+    <BLANKLINE>
+    Impulses until exit just above the boundary (certified interval runs):
+                         eps  impulses   ratio to the row above
+                         0.1         8
+                        0.01        24                        3
+                       0.001  > 30 (budget)
+      (each row is about ten times closer to the boundary; ...)
+    """
+    if not rows:
+        return []
+    lines = [
+        "",
+        "Impulses until exit just above the boundary (certified interval runs):",
+        f"  {'eps':>22}  {'impulses':>8}  {'ratio to the row above':>23}",
+    ]
+    previous = None
+    for eps, n in rows:
+        if isinstance(n, int):
+            ratio = "" if previous is None else format_decimal(Fraction(n, previous), 4)
+            lines.append(f"  {format_decimal(eps, 16):>22}  {n:>8}  {ratio:>23}")
+            previous = n
+        else:  # no count: no ratio from this row, nor to the next one
+            lines.append(f"  {format_decimal(eps, 16):>22}  {n}")
+            previous = None
+    lines.append(
+        "  (each row is about ten times closer to the boundary; a ratio near sqrt(10) means a count "
+        "growing like (eps - boundary)^(-1/2))"
+    )
+    return lines
+
+
+def cradle_map_text(
+    cmap: Any, *, aeev_rows: list[dict[str, Any]], approach: Sequence[tuple[Fraction, int | str]]
+) -> str:
     """The cradle map in words and tables."""
     from verify.cradle_map import termination_boundaries, threshold_between
 
@@ -303,21 +351,7 @@ def cradle_map_text(cmap: Any, *, aeev_rows: list[dict[str, Any]], approach: lis
         lines.append(f"Termination boundary: eps = {b} = {b.decimal(20)}")
     for part in cmap.unexplored:
         lines += ["", f"Unexplored {part.piece}: {part.reason}"]
-    if approach:
-        lines += [
-            "",
-            "Impulses until exit just above the boundary (certified interval runs):",
-            f"  {'eps':>22}  {'impulses':>8}  {'ratio to the row above':>23}",
-        ]
-        previous = None
-        for eps, n in approach:
-            ratio = "" if previous is None else format_decimal(Fraction(n, previous), 4)
-            lines.append(f"  {format_decimal(eps, 16):>22}  {n:>8}  {ratio:>23}")
-            previous = n
-        lines.append(
-            "  (each row is about ten times closer to the boundary; a ratio near sqrt(10) means a count "
-            "growing like (eps - boundary)^(-1/2))"
-        )
+    lines += approach_table(approach)
     if aeev_rows:
         lines += ["", "The paper's AEEV rows (Table 1), read off the map:"]
         for row in aeev_rows:
@@ -380,7 +414,7 @@ def corner_text(run: Any, args: Any) -> str:
     label = "exit velocity" if r.stop == "exit" else "velocity at the stop"
     if K.is_exact:
         lines.append(f"{label} (exact): {', '.join(_short_exact(K, x, 120) for x in r.exit_velocity[:2])}")
-    lines.append(f"{label} (decimal): {', '.join(K.to_decimal(x, 30) for x in r.exit_velocity[:2])}")
+    lines.append(f"{label} ({_decimal_label(K)}): {', '.join(K.to_decimal(x, 30) for x in r.exit_velocity[:2])}")
     if K.enclosure(K.one) is not None:
         for name, x in zip(("xd", "yd"), r.exit_velocity[:2]):
             lo, hi = K.enclosure(x, 20)

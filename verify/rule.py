@@ -35,6 +35,7 @@ from __future__ import annotations
 import time
 from collections.abc import Callable, Sequence
 from dataclasses import dataclass, field
+from fractions import Fraction
 from functools import cached_property
 from typing import Any
 
@@ -51,7 +52,9 @@ DEFAULT_MAX_ITERATIONS = 10_000
 
 #: A stop test: called with (system, velocity) before each impulse, once an impact is
 #: known to remain; returns a stop reason (such as ``"aeev"``), or a pair (reason,
-#: certificate) such as ``("non_terminating", {...})``, or None to go on.
+#: certificate) such as ``("non_terminating", {...})``, or None to go on. The system it is
+#: given answers ``rates(velocity)`` with the rates the rule holds (zeros known exactly
+#: included, see :func:`_rates_after`), so a stop test decides the same signs as the rule.
 Halt = Callable[[System, tuple], Any]
 
 
@@ -267,11 +270,195 @@ def _exact_backend_for_velocity(system: System, velocity: Sequence[Any]) -> tupl
     try:
         return system, system.velocity(values)
     except InvalidInput:  # not in this field (BadNumber): build the field of every input
-        src = system.source
-        everything = [x for row in src["mass_matrix"] for x in row] + [x for row in src["normals"] for x in row]
-        everything += list(src["time_terms"]) + list(src["restitution"]) + values
-        system = system.convert_to(exact_for(everything))
+        system = system.convert_to(exact_for(_source_numbers(system) + values))
         return system, system.velocity(values)
+
+
+def _source_numbers(system: System) -> list:
+    """Every number the system was built from (mass matrix, normals, time terms, CORs), exactly."""
+    src = system.source
+    everything = [x for row in src["mass_matrix"] for x in row] + [x for row in src["normals"] for x in row]
+    return everything + list(src["time_terms"]) + list(src["restitution"])
+
+
+# -- signs that intervals cannot decide: zeros known by structure, or checked exactly ---------------
+#
+# A rate that is exactly 0 is an interval around 0 on the interval backend, at any precision.
+# Two things decide it instead of a chase in precision:
+#
+# - the structure of the impulse. An impulse ``sum_k c_k U_k`` on J changes the rates by
+#   ``p'(F_i) = p(F_i) + sum_k G_ik c_k``. So a single impact on j leaves
+#   ``p'(F_j) = -e_j p(F_j)`` (eq. 4: ``c_j = -(1 + e_j) p(F_j) / G_jj``), exactly 0 for a COR
+#   of 0; a constraint with ``G_ik = 0`` for every k in J keeps its rate; and a multiple
+#   impact whose G_JJ is diagonal has beta = 1, so each j in J gets ``-e_j p(F_j)`` as after a
+#   single impact. Beyond that a multiple impact fixes no single rate: with equal CORs e on
+#   J only the weighted sum ``sum_j lambda_j p'(F_j) = -e sum_j lambda_j p(F_j)`` (lambda_j =
+#   p(F_j) / G_jj) is known, so its rates are left to the arithmetic. These identities are
+#   exact, so the rule uses them on every backend (exact ones get the same values).
+# - an exact check. When the inputs are rational (at once) or algebraic (only at the precision
+#   limit: number-field arithmetic can cost far more than any precision), a rate that stays undecided is
+#   recomputed exactly (:class:`_ExactRates`: the run's impact sets replayed on the exact
+#   backend, only when asked); an exact 0 then becomes the point 0. A non-zero rate is left
+#   to more precision, which separates it from 0. Transcendental inputs (tan(3/10)) have no
+#   exact check: a zero that the structure does not explain stays undecided there.
+
+
+def _known_zero(K: Any, x: Any) -> bool:
+    """Whether ``x`` is known to be exactly 0 (an undecidable sign counts as non-zero)."""
+    try:
+        return K.sign(x) == 0
+    except Undecided:
+        return False
+
+
+def _couplings(system: System) -> tuple[frozenset[int], ...]:
+    """For each constraint i, the k with ``G_ik`` not known to be 0 (i itself included)."""
+    K, G, r = system.backend, system.gram, system.r
+    return tuple(frozenset(k for k in range(r) if k == i or not _known_zero(K, G[i][k])) for i in range(r))
+
+
+def _structure(couplings: Sequence[frozenset[int]], J: tuple[int, ...]) -> tuple[bool, tuple[int, ...]]:
+    """What an impulse on J fixes exactly: (each j in J ends at ``-e_j p(F_j)``, the constraints
+    whose rate it leaves unchanged)."""
+    hit = frozenset(J)
+    diagonal = all(couplings[j] & hit == {j} for j in J)  # G_JJ diagonal: beta = 1 (always for |J| = 1)
+    untouched = tuple(i for i, c in enumerate(couplings) if i not in hit and not c & hit)
+    return diagonal, untouched
+
+
+def _rates_after(
+    system: System, v: tuple, b: Sequence[Any], J: tuple[int, ...], *, structure: tuple, minus_e: tuple
+) -> tuple:
+    """The rates of the velocity ``v`` after an impulse on J from rates ``b``: those of
+    ``system.rates(v)``, except where the structure of the impulse gives them exactly."""
+    fresh = system.rates(v)
+    diagonal, untouched = structure
+    if not diagonal and not untouched:
+        return fresh
+    out = list(fresh)
+    if diagonal:
+        for j in J:
+            out[j] = minus_e[j] * b[j]
+    for i in untouched:
+        out[i] = b[i]
+    return tuple(out)
+
+
+#: impulses up to which an undecided rate of algebraic inputs is checked exactly at once
+EAGER_EXACT_IMPULSES = 16
+
+
+class _ExactRates:
+    """The exact rates of the states of a run, for signs that its backend leaves undecided.
+
+    Built only when first asked: the system and the velocity on the exact backend (the
+    rationals, or the number field of the inputs). A state is reached by replaying the run's
+    impact sets (known, since every earlier sign was decided) from the last one asked.
+    """
+
+    def __init__(self, system: System, velocity: Sequence[Any]):
+        self._source = (system, velocity)
+        self._exact: tuple[System, tuple] | None = None
+        self.unavailable: str | None = None  #: why no exact check exists (an input that is not algebraic)
+        self._state: tuple[int, tuple] | None = None
+        self.limit = False  #: whether the backend is at its precision limit (set by :meth:`at`)
+
+    def at(self, *, limit: bool) -> _ExactRates:
+        """Itself, told whether the backend is at its precision limit (see :meth:`eager`)."""
+        self.limit = limit
+        return self
+
+    def eager(self, impulses: int) -> bool:
+        """Whether to check exactly now rather than raise the precision first: when every input
+        is rational, when the run is short (at most :data:`EAGER_EXACT_IMPULSES` impulses), or at
+        the precision limit. Otherwise (a long run in a number field, whose arithmetic can cost
+        far more than any precision) a tiny non-zero rate is left to more precision first."""
+        return self.rational or self.limit or impulses <= EAGER_EXACT_IMPULSES
+
+    @cached_property
+    def rational(self) -> bool:
+        """Whether every input is rational (the exact replay is then over the rationals)."""
+        system, velocity = self._source
+        values = [to_number(x, where=f"velocity[{i}]") for i, x in enumerate(velocity)]
+        return all(isinstance(x, Fraction) for x in _source_numbers(system) + values)
+
+    def available(self) -> bool:
+        """Whether an exact check exists (every input rational or algebraic); builds it."""
+        if self._exact is None and self.unavailable is None:
+            system, velocity = self._source
+            values = [to_number(x, where=f"velocity[{i}]") for i, x in enumerate(velocity)]
+            try:
+                exact = system.convert_to(exact_for(_source_numbers(system) + values))
+            except InvalidInput:  # BadNumber: an input that is not algebraic
+                numbers = _source_numbers(system) + values
+                bad = next(x for x in numbers if not isinstance(x, Fraction) and x.is_algebraic is not True)
+                self.unavailable = f"{bad} is not algebraic"
+                return False
+            self._exact = (exact, exact.velocity(values))
+        return self._exact is not None
+
+    def rates(self, impact_sets: Sequence[tuple[int, ...]]) -> tuple:
+        """The exact rates after the impulses on ``impact_sets`` (from the run's left velocity)."""
+        if not self.available():
+            raise Undecided(self.unavailable)
+        system, v0 = self._exact
+        done, v = self._state if self._state is not None and self._state[0] <= len(impact_sets) else (0, v0)
+        for J in impact_sets[done:]:
+            I, _ = _impulse_from_rates(system, system.rates(v), J)
+            v = tuple(x + y for x, y in zip(v, I))
+        self._state = (len(impact_sets), v)
+        return system.rates(v)
+
+    def __call__(self, system: System, impact_sets: Sequence[tuple[int, ...]], i: int, exc: Undecided) -> int:
+        """The sign of rate i when it is exactly 0, else Undecided (more precision decides it)."""
+        where = f"the rate of {system.names[i]} after {len(impact_sets)} impulses"
+        if not self.eager(len(impact_sets)):
+            raise Undecided(f"{where}: {exc}") from None
+        if not self.available():
+            raise Undecided(f"{where}: {exc}") from None
+        exact_system = self._exact[0]
+        if exact_system.backend.sign(self.rates(impact_sets)[i]) == 0:
+            return 0
+        raise Undecided(f"{where}: {exc}; exact arithmetic finds it non-zero: more precision separates it from 0")
+
+
+def _impact_set_of(
+    system: System, b: tuple, impact_sets: Sequence[tuple[int, ...]], exact: _ExactRates | None
+) -> tuple[tuple[int, ...], tuple]:
+    """Step b) on the rates ``b``: (J, the rates, with any zero found exactly made the point 0)."""
+    K = system.backend
+    try:
+        return tuple(i for i, bi in enumerate(b) if K.sign(bi) < 0), b
+    except Undecided:
+        if exact is None:
+            raise
+    out, J = list(b), []
+    for i, bi in enumerate(b):
+        try:
+            s = K.sign(bi)
+        except Undecided as exc:
+            s = exact(system, impact_sets, i, exc)  # 0, or raises
+            out[i] = K.zero  # proved 0: the point 0 encloses it
+        if s < 0:
+            J.append(i)
+    return tuple(J), tuple(out)
+
+
+class _KnownRates:
+    """The system as the stop tests see it: ``rates(v)`` of the current velocity returns the
+    rates the rule holds (zeros known exactly included), so a stop test asks the signs the
+    rule decided; everything else is the system's own."""
+
+    __slots__ = ("_b", "_system", "_v")
+
+    def __init__(self, system: System, v: tuple, b: tuple):
+        self._system, self._v, self._b = system, v, b
+
+    def rates(self, v: Sequence[Any]) -> tuple:
+        return self._b if v is self._v else self._system.rates(v)
+
+    def __getattr__(self, name: str) -> Any:
+        return getattr(self._system, name)
 
 
 def _over_budget(K: Any, v: tuple, budget: Budget | None, deadline: float | None) -> bool:
@@ -283,7 +470,15 @@ def _over_budget(K: Any, v: tuple, budget: Budget | None, deadline: float | None
 
 
 def _iterate(
-    system: System, v: tuple, max_iterations: int, halts: list[Halt], trace: bool, *, budget: Budget | None = None
+    system: System,
+    v: tuple,
+    max_iterations: int,
+    halts: list[Halt],
+    trace: bool,
+    *,
+    budget: Budget | None = None,
+    progress: Callable[[int], None] | None = None,
+    exact: _ExactRates | None = None,
 ) -> dict:
     K = system.backend
     deadline = time.monotonic() + budget.seconds if budget is not None and budget.seconds is not None else None
@@ -291,13 +486,17 @@ def _iterate(
     impact_sets: list[tuple[int, ...]] = []
     betas: list[Any] = []
     certificate = None
+    couplings = _couplings(system)
+    minus_e = tuple(K.zero - e for e in system.restitution)
+    structures: dict[tuple[int, ...], tuple] = {}
+    b = system.rates(v)
     while True:
-        b = system.rates(v)
-        J = tuple(i for i, bi in enumerate(b) if K.sign(bi) < 0)
+        J, b = _impact_set_of(system, b, impact_sets, exact)
         if not J:
             stop = "exit"
             break
-        reason = next((r for r in (h(system, v) for h in halts) if r), None)
+        view = _KnownRates(system, v, b) if halts else system
+        reason = next((r for r in (h(view, v) for h in halts) if r), None)
         if reason:
             stop, certificate = reason if isinstance(reason, tuple) else (reason, None)
             break
@@ -313,6 +512,11 @@ def _iterate(
         betas.append(bt)
         if trace:
             steps.append(Step(J, b, bt, I, v, system))
+        if progress is not None:
+            progress(len(impact_sets))
+        if J not in structures:
+            structures[J] = _structure(couplings, J)
+        b = _rates_after(system, v, b, J, structure=structures[J], minus_e=minus_e)
     return {
         "v": v,
         "stop": stop,
@@ -361,6 +565,7 @@ def solve(
     trace: bool = True,
     certify: bool = True,
     budget: Budget | None = None,
+    progress: Callable[[int], None] | None = None,
 ) -> Result:
     """Run the rule from the left velocity ``velocity`` until it exits (or a stop test fires).
 
@@ -371,11 +576,17 @@ def solve(
     With ``certify`` (the default) a two-constraint run also stops, with stop
     ``"non_terminating"`` and a certificate, as soon as it is proved never to exit
     (:mod:`verify.termination`). ``budget`` (a :class:`Budget`) ends a run whose numbers
-    grow too large or which takes too long with stop ``"budget"``.
+    grow too large or which takes too long with stop ``"budget"``. ``progress``, if given,
+    is called with the number of impulses so far after every impulse (it should be cheap:
+    a progress display throttles itself); a run repeated at higher precision counts again
+    from 1.
     On a backend whose signs can be undecided (intervals) the run is repeated at higher
     precision, and the result's ``notes`` say so; :class:`~verify.errors.NoConvergence` is
-    raised when the precision limit is reached. ``trace=False`` keeps only impact sets
-    and betas (for long runs).
+    raised when the precision limit is reached. A rate that is exactly 0 is not chased in
+    precision: the rule knows the zeros that the impulses make by their structure (a COR of 0
+    at a single impact), and, when every input is rational or algebraic, checks any other
+    undecided rate exactly (replaying the impact sets on the exact backend).
+    ``trace=False`` keeps only impact sets and betas (for long runs).
 
     >>> from verify.system import System
     >>> s = System([[1, 0, 0], [0, 1, 0], [0, 0, 1]], [[-1, 1, 0], [0, -1, 1]], ["1/2", "1/2"])
@@ -387,6 +598,7 @@ def solve(
         raise InvalidSystem(f"max_iterations must be a non-negative integer, got {max_iterations!r}")
     system = _system_for_rule(system, rule)
     notes: list[str] = []
+    exact = _ExactRates(system, velocity)  # exact checks of undecided rates: built only if one is asked
     while True:
         K = system.backend
         try:
@@ -396,19 +608,35 @@ def solve(
             else:
                 v0 = system.velocity(velocity)
             halts = [h for h in (halt, non_termination_halt(system) if certify else None) if h is not None]
-            if K.fraction_free and not trace and not halts:
+            if K.fraction_free and not trace and not halts and progress is None:
                 out = _iterate_untraced(system, v0, max_iterations, budget)
             else:
-                out = _iterate(system, v0, max_iterations, halts, trace, budget=budget)
+                out = _iterate(
+                    system,
+                    v0,
+                    max_iterations,
+                    halts,
+                    trace,
+                    budget=budget,
+                    progress=progress,
+                    exact=exact.at(limit=K.refined() is None) if K.refinable else None,
+                )
             break
         except Undecided as exc:
             if not K.refinable:
                 raise
             finer = K.refined()
             if finer is None:
+                why = (
+                    "the inputs are exact: use the exact backend, which decides every sign"
+                    if exact.available()
+                    else f"the inputs cannot be computed exactly ({exact.unavailable}), so a value that is exactly "
+                    "0 cannot be told from a tiny one: only the zeros that the structure of the impulses gives "
+                    "(such as a COR of 0 at a single impact) are known on intervals. The input is valid: this is "
+                    "a limit of the interval backend"
+                )
                 raise NoConvergence(
-                    f"{K.describe()}: a sign stayed undecided at the precision limit ({exc}); "
-                    "the value may be exactly 0: use the exact backend"
+                    f"{K.describe()}: a sign stayed undecided at the precision limit ({exc}); {why}"
                 ) from None
             notes.append(f"precision raised from {K.dps} to {finer.dps} digits after an undecided sign")
             system = system.convert_to(finer)

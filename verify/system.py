@@ -29,7 +29,7 @@ from fractions import Fraction
 from typing import Any
 
 from verify.backends import Backend, RationalBackend, exact_for, get_backend
-from verify.errors import InvalidSystem, Undecided
+from verify.errors import BadNumber, InvalidSystem, Undecided
 from verify.linalg import NotPositiveDefinite, dot, ldl, matvec, solve_spd
 from verify.numbers import Number, format_exact, to_number
 from verify.numeric import certified_sign
@@ -63,6 +63,73 @@ def _equal(a: Number, b: Number) -> bool:
     from verify.numbers import _to_sympy
 
     return certified_sign(_to_sympy(a) - _to_sympy(b)) == 0
+
+
+def _exact_backend(g: list[list], a: list[list], e: list, c: list) -> Backend:
+    """The exact backend for a system's parsed numbers (:func:`verify.backends.exact_for`); an
+    entry it cannot hold is named by its field, with the ``backend`` parameter that can."""
+    try:
+        return exact_for([x for row in (*g, *a) for x in row] + e + c)
+    except BadNumber:
+        pass  # name the entry (field names are made only here, off the common path)
+    entries = [(f"mass_matrix[{i}][{j}]", x) for i, row in enumerate(g) for j, x in enumerate(row)]
+    entries += [(f"normals[{i}][{k}]", x) for i, row in enumerate(a) for k, x in enumerate(row)]
+    entries += [(f"restitution[{i}]", x) for i, x in enumerate(e)] + [(f"time_terms[{i}]", x) for i, x in enumerate(c)]
+    for field, x in entries:
+        if type(x) is Fraction:
+            continue
+        symbols = getattr(x, "free_symbols", None)
+        if symbols:
+            raise InvalidSystem(
+                f"{field} = {x} is not a number: it depends on {', '.join(sorted(str(s) for s in symbols))}"
+            )
+        if not isinstance(x, Fraction) and getattr(x, "is_algebraic", None) is not True:
+            raise BadNumber(
+                f"{field} = {x} is not an algebraic number, so the exact backend cannot hold it: "
+                'pass backend="interval" (certified) or backend="mp"'
+            )
+    return exact_for([x for _, x in entries])  # refused for another reason: its own message
+
+
+def _sympy_entries(matrix: Any) -> list[tuple[str, Any]]:
+    """``(mass_matrix[i][j], entry)`` for the SymPy entries of a matrix given as rows (others skipped)."""
+    import sympy as sp
+
+    if isinstance(matrix, (str, bytes)) or not isinstance(matrix, Sequence):
+        return []
+    return [
+        (f"mass_matrix[{i}][{j}]", x)
+        for i, row in enumerate(matrix)
+        if not isinstance(row, (str, bytes)) and isinstance(row, Sequence)
+        for j, x in enumerate(row)
+        if isinstance(x, sp.Basic)
+    ]
+
+
+def _at_configuration(matrix: Any, subs: dict[Any, Any]) -> Any:
+    """A mass matrix with its SymPy entries evaluated exactly at a configuration ``subs``.
+
+    Anything that is not a matrix of rows is returned as it is (the constructor names the
+    problem); an entry that still has free symbols after the substitution is an error.
+    """
+    import sympy as sp
+
+    entries = dict(_sympy_entries(matrix))
+    if not entries:
+        return matrix
+    values = {}
+    for where, x in entries.items():
+        value = x.subs(subs)
+        if value.free_symbols:
+            names = ", ".join(sorted(str(s) for s in value.free_symbols))
+            raise InvalidSystem(f"{where} = {x} depends on {names}, which has no value in the configuration")
+        values[where] = sp.simplify(value)
+    return [
+        [values.get(f"mass_matrix[{i}][{j}]", x) for j, x in enumerate(row)]
+        if not isinstance(row, (str, bytes)) and isinstance(row, Sequence)
+        else row
+        for i, row in enumerate(matrix)
+    ]
 
 
 def _check_vector(values: Any, length: int | None, field: str) -> list:
@@ -160,7 +227,7 @@ class System:
             "restitution": tuple(e),
         }
         if backend == "exact" and isinstance(K, RationalBackend):
-            K = exact_for([x for row in (*g, *a) for x in row] + e + c)  # algebraic inputs: exact too
+            K = _exact_backend(g, a, e, c)  # algebraic inputs: exact too
         self.backend, self.n, self.r = K, n, r
         self._derive()
         for i, ei in enumerate(e):
@@ -325,12 +392,30 @@ class System:
         ``restitution`` gives one COR per function. The kept constraints are named by
         ``names`` (default ``F1, F2, ...``), so ``system.names`` tells which are in contact.
 
+        ``configuration`` maps every coordinate to its value (and may give values to other
+        symbols of the functions, such as a radius). The time: when some function or the
+        mass matrix depends on the symbol ``time``, the configuration must give its value
+        (the instant of the impact), else :class:`~verify.errors.InvalidSystem` says that the
+        time is missing; the contact, the gradients and ``dF_i/dt`` are evaluated at that
+        instant. When nothing depends on it, no value is needed (every ``dF_i/dt`` is 0). A
+        symbol that is neither a coordinate, nor ``time``, nor given a value is an error
+        naming it (a time-dependent function passed without ``time=t`` is such an error).
+
+        ``mass_matrix`` may depend on the configuration (SymPy expressions in the
+        coordinates, and the time): it is evaluated exactly there, like the gradients; an
+        entry that still has free symbols is an error naming it.
+
         >>> import sympy as sp
         >>> x1, x2 = sp.symbols("x1 x2")
         >>> s = System.from_functions([(x2 - x1)**2 - 4, x2 - 10], [x1, x2], {x1: 0, x2: 2},
         ...                           [[1, 0], [0, 1]], [1, 1])
         >>> s.names, [format_exact(x) for x in s.source["normals"][0]]
         (('F1',), ['-4', '4'])
+        >>> t = sp.Symbol("t")
+        >>> s = System.from_functions([x2 - x1 - t], [x1, x2], {x1: 0, x2: 1, t: 1},
+        ...                           [[1 + x2**2, 0], [0, 1]], [1], time=t)
+        >>> [format_exact(x) for x in s.source["mass_matrix"][0]], [format_exact(c) for c in s.time_terms]
+        (['2', '0'], ['-1'])
         """
         import sympy as sp
 
@@ -342,10 +427,28 @@ class System:
         missing = [str(q) for q in coords if q not in subs]
         if missing:
             raise InvalidSystem(f"configuration: no value for {', '.join(missing)}")
-        kept, normals, time_terms, cors = [], [], [], []
         for i, F in enumerate(functions):
             if not isinstance(F, sp.Basic):  # never sympify text: it would be evaluated
                 raise InvalidSystem(f"functions[{i}]: expected a SymPy expression, got {type(F).__name__}")
+        known = set(coords) | set(subs) | ({time} if time is not None else set())
+        for i, F in enumerate(functions):
+            unknown = sorted(str(s) for s in F.free_symbols - known)
+            if unknown:
+                raise InvalidSystem(
+                    f"functions[{i}] = {F} depends on {', '.join(unknown)}, which is not a coordinate, not the "
+                    "time (pass time=...) and has no value in the configuration"
+                )
+        if time is not None and time not in subs:
+            users = [f"functions[{i}]" for i, F in enumerate(functions) if time in F.free_symbols]
+            users += [w for w, x in _sympy_entries(mass_matrix) if time in x.free_symbols]
+            if users:
+                raise InvalidSystem(
+                    f"configuration: no value for the time {time}, on which {', '.join(users)} depends "
+                    f"(give the instant of the impact, e.g. {{{time}: 0}})"
+                )
+        g = _at_configuration(mass_matrix, subs)
+        kept, normals, time_terms, cors = [], [], [], []
+        for i, F in enumerate(functions):
             at_contact = sp.simplify(F.subs(subs))
             if at_contact != 0:
                 continue
@@ -358,7 +461,7 @@ class System:
         if not kept:
             raise InvalidSystem("from_functions: no constraint is in contact at this configuration")
         return cls(
-            mass_matrix,
+            g,
             normals,
             cors,
             time_terms,

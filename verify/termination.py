@@ -84,11 +84,17 @@ def _lambda(system: System, cc: Any) -> Any:
     source = system.source["restitution"]
     if source[0] == source[1]:  # the same COR (compared exactly, before conversion)
         return half
-    if not K.is_exact or not hasattr(K, "impl"):
+    # lam in [sqrt(e_1/cc), 1 - sqrt(e_0/cc)] (for phase 0) found by bisection, from rationals:
+    if K.is_exact and hasattr(K, "impl"):  # exact rationals
+        c = K.to_number(cc)
+        e0, e1 = K.to_number(e[0]), K.to_number(e[1])
+    elif K.enclosure(K.one) is not None and all(isinstance(x, Fraction) for x in source):
+        # certified intervals with rational CORs: a lower bound of cc (lam^2 lo >= t then holds
+        # for cc too); the cone conditions are verified afterwards, so lam cannot make them unsound
+        lo, _ = (Fraction(x) for x in K.enclosure(cc, 40))
+        c, (e0, e1) = lo, source
+    else:
         return half  # a parameter or approximate backend: try the symmetric weight only
-    # exact rationals: lam in [sqrt(e_1/cc), 1 - sqrt(e_0/cc)] (for phase 0) found by bisection
-    c = K.to_number(cc)
-    e0, e1 = K.to_number(e[0]), K.to_number(e[1])
     if c <= 0:
         return half
 

@@ -1,0 +1,451 @@
+"""Every numeric and output-path option of the command line, found by walking the parser itself.
+
+A new option with one of the checked types (verify.cli.BoundedInt, Seconds, NonNegativeRational,
+ExactNumber, OutputDir, OutputFile) is covered here without editing this file; an option typed
+with a bare ``int`` or ``float`` (whose range nothing checks) fails the walk. Then: the budget
+options of ``verify solve`` and ``verify oracle check`` (--max-iterations, --max-bits,
+--case-timeout), the status line on a terminal, and a failing case named in the error.
+"""
+
+from __future__ import annotations
+
+import argparse
+import io
+import json
+import os
+import sys
+from pathlib import Path
+
+import pytest
+
+from verify import cli
+from verify.cli import BoundedInt, ExactNumber, NonNegativeRational, OutputDir, OutputFile, Seconds, build_parser, main
+
+ROOT = Path(__file__).resolve().parent.parent
+
+#: arguments that make each (sub)command otherwise valid at parse time
+REQUIRED = {
+    ("cradle",): {"--eps": "0.5"},
+    ("solve",): {"CASES.json": "cases.json"},
+    ("corner",): {"--alpha": "pi/6", "--phi": "0", "--eps1": "0.5", "--eps2": "0.5"},
+    ("oracle", "check"): {"CASES.json": "cases.json", "RESULTS.json": "results.json"},
+    ("oracle", "export"): {"DIR": "golden-out"},
+}
+NUMERIC = (BoundedInt, Seconds, NonNegativeRational, ExactNumber)
+PATHS = (OutputDir, OutputFile)
+
+
+def commands(parser: argparse.ArgumentParser, prefix: tuple[str, ...] = ()):
+    """Every leaf (sub)command as (its words, its parser)."""
+    subs = [a for a in parser._actions if isinstance(a, argparse._SubParsersAction)]
+    if not subs:
+        yield prefix, parser
+    for sub in subs:
+        for name, p in sub.choices.items():
+            yield from commands(p, (*prefix, name))
+
+
+def options(kinds: tuple[type, ...]):
+    """(command words, parser, action, the option's name) for every action whose type is one of ``kinds``."""
+    out = []
+    for words, p in commands(build_parser()):
+        for action in p._actions:
+            if isinstance(action.type, kinds):
+                out.append((words, p, action, key(action)))
+    return out
+
+
+def key(action: argparse.Action) -> str:
+    return action.option_strings[0] if action.option_strings else action.metavar
+
+
+def argv_for(words, parser, action, value) -> list[str]:
+    """A command line that is valid but for ``value`` given to ``action``."""
+    given = dict(REQUIRED.get(words, {}))
+    for group in parser._mutually_exclusive_groups:  # --slope replaces --alpha
+        if action in group._group_actions:
+            for other in group._group_actions:
+                given.pop(key(other), None)
+    given[key(action)] = value
+    argv = list(words)
+    for a in parser._actions:  # positionals in their order
+        if key(a) in given:
+            # the = form: a value such as -inf is not taken for an option
+            argv.append(f"{key(a)}={given[key(a)]}" if a.option_strings else given[key(a)])
+    return argv
+
+
+NUMERIC_OPTIONS = [(w, n) for w, _, _, n in options(NUMERIC)]
+PATH_OPTIONS = [(w, n) for w, _, _, n in options(PATHS)]
+
+
+def bad_values(kind) -> list[str]:
+    if isinstance(kind, BoundedInt):
+        values = ["abc", "nan", "inf", "1e400", "1.5", "0x10", "", str(kind.lo - 1), str(kind.hi + 1), "9" * 100,
+                  "-" + "9" * 100, "-1"]  # fmt: skip
+        return values + (["0"] if kind.lo > 0 else [])
+    if isinstance(kind, Seconds):
+        return ["abc", "nan", "inf", "-inf", "1e400", "0", "-1", str(kind.hi + 1), "pi", "1/0", ""]
+    if isinstance(kind, NonNegativeRational):
+        return ["abc", "nan", "inf", "-1", "-1e-9", "pi", "1/0", ""]
+    assert isinstance(kind, ExactNumber)
+    return ["abc", "nan", "inf", "1/0", "", "__import__('os')", "2**100000"]
+
+
+@pytest.fixture
+def no_command_runs(monkeypatch, tmp_path):
+    """Parse only: a command that would run fails the test (a bad value slipped through)."""
+    for name in dir(cli):
+        if name.startswith("_cmd_"):
+            monkeypatch.setattr(cli, name, lambda args, name=name: pytest.fail(f"{name} ran: {args}"))
+    monkeypatch.chdir(tmp_path)  # default output folders (reports) are checked here
+
+
+def test_no_option_is_a_bare_int_or_float():
+    for words, p in commands(build_parser()):
+        for action in p._actions:
+            assert action.type not in (int, float), f"verify {' '.join(words)} {action.option_strings}: use BoundedInt"
+
+
+def test_the_walk_finds_the_options():
+    names = {(" ".join(w), n) for w, _, _, n in options(NUMERIC + PATHS)}
+    expected = [
+        ("cradle", "--dps"), ("solve", "--max-iterations"), ("solve", "--max-bits"), ("solve", "--case-timeout"),
+        ("oracle check", "--timeout"), ("oracle check", "--case-timeout"), ("cradle-map", "--approach"),
+        ("sweep", "--seed"), ("bench", "--size"), ("table1", "--exact-cap"), ("properties", "--workers"),
+        ("cradle", "--v0"), ("oracle check", "--rtol"), ("report", "--out"), ("oracle export", "DIR"),
+        ("bench", "--save"), ("cradle-map", "--figure"), ("corner-claims", "--figures"),
+        ("properties", "--counterexamples"), ("all", "--out"),
+    ]  # fmt: skip
+    assert set(expected) <= names, set(expected) - names
+
+
+@pytest.mark.parametrize(("words", "name"), NUMERIC_OPTIONS, ids=[f"{' '.join(w)} {n}" for w, n in NUMERIC_OPTIONS])
+def test_every_numeric_option_rejects_bad_values(words, name, no_command_runs, capsys):
+    (found,) = [(p, a) for w, p, a, n in options(NUMERIC) if w == words and n == name]
+    parser, action = found
+    for value in bad_values(action.type):
+        code = main(argv_for(words, parser, action, value))
+        out, err = capsys.readouterr()
+        assert code == 2, (name, value)
+        assert out == "" and err.count("\n") == 1 and err.startswith("verify: error: "), (name, value, err)
+        assert name in err and value in err, (name, value, err)
+        assert "Traceback" not in err
+
+
+@pytest.mark.parametrize(("words", "name"), NUMERIC_OPTIONS, ids=[f"{' '.join(w)} {n}" for w, n in NUMERIC_OPTIONS])
+def test_every_numeric_option_accepts_its_range(words, name, tmp_path, monkeypatch):
+    monkeypatch.chdir(tmp_path)
+    (found,) = [(p, a) for w, p, a, n in options(NUMERIC) if w == words and n == name]
+    parser, action = found
+    kind = action.type
+    good = {BoundedInt: [str(kind.lo), str(kind.hi)] if isinstance(kind, BoundedInt) else [],
+            Seconds: ["1", "0.5", "1/4", str(getattr(kind, "hi", 1))], NonNegativeRational: ["0", "1e-9"],
+            ExactNumber: ["1/2", "pi/6"]}[type(kind)]  # fmt: skip
+    for value in good:
+        args = build_parser().parse_args(argv_for(words, parser, action, value))
+        assert getattr(args, action.dest) == kind(value)
+
+
+def test_dps_zero_is_an_error_not_50(capsys):
+    assert main(["cradle", "--eps", "0.5", "--backend", "mp", "--dps", "0"]) == 2
+    err = capsys.readouterr().err
+    assert err == "verify: error: verify cradle: --dps must be an integer >= 5, got '0'\n"
+
+
+# -- output paths ---------------------------------------------------------------------------------
+
+
+def impossible_paths(tmp_path: Path, kind) -> list[str]:
+    a_file = tmp_path / "a-file"
+    a_file.write_text("x")
+    name = "x.png" if isinstance(kind, OutputFile) and kind.suffixes else "x"
+    paths = [str(a_file / "sub" / name)]  # under a file
+    if sys.platform.startswith("linux") and os.path.isdir("/proc/self"):
+        paths.append(f"/proc/verify-no-such-{os.getpid()}/{name}")  # a folder nobody can create, root included
+    folder = tmp_path / ("a-folder" + (kind.suffixes[0] if isinstance(kind, OutputFile) and kind.suffixes else ""))
+    folder.mkdir(exist_ok=True)
+    paths.append(str(folder) if isinstance(kind, OutputFile) else str(a_file))  # the wrong kind
+    return paths
+
+
+def tree(root: Path) -> list[str]:
+    return sorted(str(p.relative_to(root)) for p in root.rglob("*"))
+
+
+@pytest.mark.parametrize(("words", "name"), PATH_OPTIONS, ids=[f"{' '.join(w)} {n}" for w, n in PATH_OPTIONS])
+def test_every_output_path_option_rejects_an_impossible_path(words, name, tmp_path, no_command_runs, capsys):
+    (found,) = [(p, a) for w, p, a, n in options(PATHS) if w == words and n == name]
+    parser, action = found
+    work = tmp_path / "work"
+    work.mkdir()
+    for value in impossible_paths(work, action.type):
+        before = tree(tmp_path)
+        code = main(argv_for(words, parser, action, value))
+        out, err = capsys.readouterr()
+        assert code == 2, (name, value)
+        assert out == "" and err.count("\n") == 1 and name in err and value in err, err
+        assert "Traceback" not in err
+        assert tree(tmp_path) == before  # nothing written, not even a probe file
+    assert not os.path.exists(f"/proc/verify-no-such-{os.getpid()}")
+
+
+def test_output_paths_are_checked_without_creating_anything(tmp_path):
+    target = tmp_path / "new" / "deeper"
+    assert OutputDir()(str(target)) == str(target)
+    assert OutputFile((".png",))(str(target / "map.png")) == str(target / "map.png")
+    assert tree(tmp_path) == []
+
+
+def test_a_failed_export_leaves_no_temporary_file(tmp_path, monkeypatch, capsys):
+    from verify import oracle
+
+    case = {"id": "c", "mass_matrix": [["1", "0"], ["0", "1"]], "normals": [["-1", "1"]], "time_terms": ["0"],
+            "restitution": ["1/2"], "velocity": ["1", "0"], "max_iterations": 10}  # fmt: skip
+    monkeypatch.setattr(oracle, "golden_dataset", lambda: ([case], 0))
+    folder = tmp_path / "golden"
+    (folder / "results.json.tmp").mkdir(parents=True)  # the second file cannot be written
+    assert main(["oracle", "export", str(folder)]) == 2
+    out, err = capsys.readouterr()
+    assert out == "" and err.count("\n") == 1 and "results.json.tmp" in err and "DIR" in err
+    assert sorted(os.listdir(folder)) == ["results.json.tmp"]  # cases.json.tmp was removed, nothing renamed
+
+
+def test_a_failed_report_leaves_no_temporary_file(tmp_path, monkeypatch, capsys):
+    from verify import report
+
+    monkeypatch.setattr(report, "PAGES", [("table1.md", lambda out, ctx: "# page\n")])
+    out_dir = tmp_path / "reports"
+    (out_dir / "README.md.tmp").mkdir(parents=True)
+    assert main(["report", "--out", str(out_dir)]) == 2
+    out, err = capsys.readouterr()
+    *progress, last = err.splitlines()
+    assert out == "" and progress == ["[report 1/1] Table 1: printed, exact and paper mode, every entry checked ..."]
+    assert last.startswith("verify: error: --out ") and "README.md.tmp" in last
+    assert sorted(os.listdir(out_dir)) == ["README.md.tmp"]  # table1.md.tmp was removed, nothing renamed
+
+
+def test_write_file_leaves_nothing_on_failure(tmp_path):
+    (tmp_path / "bench.json.tmp").mkdir()
+    with pytest.raises(cli.UsageError, match=r"--save .*bench\.json\.tmp"):
+        cli._write_file(str(tmp_path / "bench.json"), "{}\n", "--save")
+    assert tree(tmp_path) == ["bench.json.tmp"]
+
+
+# -- budgets, progress, failing cases ---------------------------------------------------------------
+
+CRADLE_4 = {  # the newcomer's case: a 4-ball cradle, masses 1..4, small CORs; exact numbers grow ~17 bits per impulse
+    "id": "cradle-4-masses-1234",
+    "mass_matrix": [[str(int(i == j) * (i + 1)) for j in range(4)] for i in range(4)],
+    "normals": [[str(-1 if k == i else 1 if k == i + 1 else 0) for k in range(4)] for i in range(3)],
+    "restitution": ["0.01", "0.02", "0.03"],
+    "velocity": ["1", "0", "0", "0"],
+}
+SMALL = {
+    "id": "small",
+    "mass_matrix": [["1", "0", "0"], ["0", "1", "0"], ["0", "0", "1"]],
+    "normals": [["-1", "1", "0"], ["0", "-1", "1"]],
+    "restitution": ["1/3", "1/7"],
+    "velocity": ["100", "0", "0"],
+}
+
+
+def case_file(tmp_path: Path, *cases: dict, name: str = "cases.json") -> str:
+    path = tmp_path / name
+    path.write_text(json.dumps({"cases": list(cases)}))
+    return str(path)
+
+
+def solve_json(argv, capsys) -> list[dict]:
+    assert main(argv) == 0
+    return json.loads(capsys.readouterr().out)["results"]
+
+
+def test_solve_progress_hook_counts_every_impulse():
+    from verify.records import case_from_record
+    from verify.rule import solve
+
+    c = case_from_record(SMALL)
+    calls: list[int] = []
+    r = solve(c.system, c.velocity_source, trace=False, certify=False, progress=calls.append)
+    assert calls == list(range(1, r.iterations + 1)) and r.iterations > 2
+
+
+def test_solve_max_iterations_overrides_the_cases_cap(tmp_path, capsys):
+    path = case_file(tmp_path, dict(SMALL, max_iterations=50), SMALL)
+    (a, b) = solve_json(["solve", path, "--json", "--max-iterations", "1"], capsys)
+    assert (a["stop"], a["iterations"]) == (b["stop"], b["iterations"]) == ("max_iterations", 1)
+    (a, b) = solve_json(["solve", path, "--json"], capsys)
+    assert a["stop"] == b["stop"] == "exit"
+
+
+def test_solve_max_bits_ends_a_long_run_with_stop_budget(tmp_path, capsys):
+    (r,) = solve_json(["solve", case_file(tmp_path, CRADLE_4), "--json", "--max-bits", "3000"], capsys)
+    assert r["stop"] == "budget" and 100 < r["iterations"] < 400  # the default cap would take minutes
+    (r,) = solve_json(["solve", case_file(tmp_path, SMALL), "--json", "--max-bits", "10"], capsys)
+    assert (r["stop"], r["iterations"]) == ("budget", 2)  # as verify.rule.Budget's doctest
+
+
+def test_solve_case_timeout_ends_a_long_run_with_stop_budget(tmp_path, capsys):
+    (r,) = solve_json(["solve", case_file(tmp_path, CRADLE_4), "--json", "--case-timeout", "1/100"], capsys)
+    assert r["stop"] == "budget" and r["iterations"] < 10_000
+
+
+class FakeTerminal(io.StringIO):
+    def isatty(self) -> bool:
+        return True
+
+
+def test_status_line_on_a_terminal_only(tmp_path, monkeypatch, capsys):
+    path = case_file(tmp_path, SMALL, dict(SMALL, id="second"))
+    assert main(["solve", path]) == 0
+    assert capsys.readouterr().err == ""  # not a terminal: nothing
+    terminal = FakeTerminal()
+    monkeypatch.setattr(sys, "stderr", terminal)
+    monkeypatch.delenv("TERM", raising=False)
+    assert main(["solve", path]) == 0
+    shown = terminal.getvalue()
+    assert "\r\x1b[Kverify solve: case 1/2 small: starting" in shown
+    assert "\r\x1b[Kverify solve: case 2/2 second: starting" in shown
+    assert shown.endswith("\r\x1b[K")  # cleared at the end
+    assert "small: exit after" in capsys.readouterr().out  # the results are unchanged
+    terminal.seek(0)
+    terminal.truncate()
+    assert main(["solve", path, "--quiet"]) == 0
+    assert terminal.getvalue() == ""
+
+
+def test_status_line_counts_impulses(tmp_path, monkeypatch):
+    terminal = FakeTerminal()
+    monkeypatch.setattr(sys, "stderr", terminal)
+    monkeypatch.delenv("TERM", raising=False)
+    clock = iter(range(0, 10**6))  # each reading of the clock one second later: every update is shown
+    monkeypatch.setattr("time.monotonic", lambda: float(next(clock)))
+    assert main(["solve", case_file(tmp_path, SMALL), "--max-iterations", "2"]) == 0
+    assert "case 1/1 small: 1 impulses" in terminal.getvalue()
+    assert "case 1/1 small: 2 impulses" in terminal.getvalue()
+
+
+def test_a_failing_case_is_named(tmp_path, monkeypatch, capsys):
+    from verify import rule
+    from verify.errors import NoConvergence
+
+    real = rule.solve
+
+    def solve(system, velocity, **kw):
+        if system.n == 4:
+            raise NoConvergence("interval, 3200 digits: a sign stayed undecided at the precision limit")
+        return real(system, velocity, **kw)
+
+    monkeypatch.setattr(rule, "solve", solve)
+    path = case_file(tmp_path, SMALL, CRADLE_4)
+    assert main(["solve", path, "--backend", "interval"]) == 2
+    out, err = capsys.readouterr()
+    assert out == "" and err.count("\n") == 1
+    assert "case 'cradle-4-masses-1234' (cases[1]): interval, 3200 digits: a sign stayed undecided" in err
+
+
+def test_a_rule_that_does_not_apply_names_the_case(tmp_path, capsys):
+    path = case_file(tmp_path, SMALL, dict(SMALL, id="unequal"))
+    assert main(["solve", path, "--rule", "symmetric"]) == 2
+    out, err = capsys.readouterr()
+    assert out == "" and err.count("\n") == 1 and "case 'small' (cases[0]): the symmetric rule (6)" in err
+
+
+def test_ctrl_c_is_one_line(monkeypatch, capsys):
+    def interrupted(args):
+        raise KeyboardInterrupt
+
+    monkeypatch.setattr(cli, "_cmd_table1", interrupted)
+    assert main(["table1"]) == 130
+    assert capsys.readouterr().err == "verify: interrupted\n"
+
+
+# -- oracle check with a budget -----------------------------------------------------------------------
+
+
+def their_results(tmp_path: Path, records: list[dict], edit) -> str:
+    from verify.oracle import golden_results
+
+    results = golden_results(records)
+    for r in results:
+        edit(r)
+    path = tmp_path / "theirs.json"
+    path.write_text(json.dumps({"results": results}))
+    return str(path)
+
+
+def test_oracle_check_with_a_budget_checks_the_impulses_it_made(tmp_path, capsys):
+    from verify.oracle import golden_results
+    from verify.rule import Budget
+
+    records = [dict(CRADLE_4, max_iterations=400)]
+    cases = case_file(tmp_path, dict(CRADLE_4))
+    made = golden_results(records, budget=Budget(bits=3000))[0]["iterations"]
+    assert 100 < made < 400
+
+    def exits_after(n):
+        def edit(r):
+            r.update(stop="exit", iterations=n, impact_sets=r["impact_sets"][:n], betas=r["betas"][:n])
+
+        return edit
+
+    agrees = their_results(tmp_path, records, exits_after(400))  # goes on past the budget: not refuted
+    assert main(["oracle", "check", cases, agrees, "--max-bits", "3000"]) == 0
+    out = capsys.readouterr().out
+    assert "OK: every case agrees" in out and "note: 1 cases checked only on the impulses" in out
+    assert main(["oracle", "check", cases, agrees, "--max-bits", "3000", "--json"]) == 0
+    assert json.loads(capsys.readouterr().out)["limited_by_budget"] == ["cradle-4-masses-1234"]
+
+    early = their_results(tmp_path, records, exits_after(100))  # exits while the exact run still impacts
+    assert main(["oracle", "check", cases, early, "--max-bits", "3000"]) == 1
+    assert f"expected more than {made} impulses" in capsys.readouterr().out
+
+    def wrong_set(r):
+        exits_after(400)(r)
+        r["impact_sets"][4] = [3] if r["impact_sets"][4] != [3] else [0]
+
+    wrong = their_results(tmp_path, records, wrong_set)
+    assert main(["oracle", "check", cases, wrong, "--max-bits", "3000"]) == 1
+    assert "impact_sets: from impulse 5" in capsys.readouterr().out
+
+
+def test_oracle_check_status_line_on_a_terminal(tmp_path, monkeypatch, capsys):
+    cases = case_file(tmp_path, SMALL)
+    theirs = their_results(tmp_path, [SMALL], lambda r: None)
+    terminal = FakeTerminal()
+    monkeypatch.setattr(sys, "stderr", terminal)
+    monkeypatch.delenv("TERM", raising=False)
+    assert main(["oracle", "check", cases, theirs]) == 0
+    assert "\r\x1b[Kverify oracle check: exact results, case 1/1 small: 0 impulses" in terminal.getvalue()
+    assert terminal.getvalue().endswith("\r\x1b[K")
+    assert "OK: every case agrees" in capsys.readouterr().out
+    terminal.seek(0)
+    terminal.truncate()
+    assert main(["oracle", "check", cases, theirs, "--quiet"]) == 0
+    assert terminal.getvalue() == ""
+
+
+def test_oracle_check_max_iterations_reaches_the_implementation(tmp_path, capsys):
+    cases = case_file(tmp_path, SMALL)
+    command = f"{sys.executable} {ROOT / 'examples' / 'float_impl.py'}"
+    assert main(["oracle", "check", cases, "--impl", command]) == 0  # exits after 3 impulses, both
+    capsys.readouterr()
+    assert main(["oracle", "check", cases, "--impl", command, "--max-iterations", "1", "--json"]) == 0
+    assert json.loads(capsys.readouterr().out)["mismatches"] == []  # both stop at the cap of 1
+
+
+# -- help --------------------------------------------------------------------------------------------
+
+
+def test_help_of_every_command_works_and_names_the_docs(capsys):
+    for words in [(), ("oracle",), *(w for w, _ in commands(build_parser()))]:
+        with pytest.raises(SystemExit) as done:
+            main([*words, "--help"])
+        assert done.value.code == 0, words
+        text = capsys.readouterr().out
+        assert "usage: verify" in text and "example" in text and "shared/" not in text, words
+    top = build_parser().format_help()
+    assert "Formats and commands: docs/ in the source repository (docs/README.md)." in top
+    solve_help = " ".join(dict(commands(build_parser()))[("solve",)].format_help().split())
+    assert "docs/records.md in the source repository" in solve_help and "--case-timeout" in solve_help
