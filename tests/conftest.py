@@ -48,6 +48,6 @@ PROPERTY_PROFILE = {"dev": "dev", "ci": "ci", "thorough": "ci"}.get(PROFILE, "ci
 @pytest.fixture(scope="session")
 def property_verdicts():
     """The verdict table at the test profile, computed once (properties and reports share it)."""
-    from verify.verdicts import verdicts
+    from verify.checks.properties.verdicts import verdicts
 
     return verdicts(PROPERTY_PROFILE, workers=2)

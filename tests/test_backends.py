@@ -7,9 +7,9 @@ from fractions import Fraction
 import pytest
 import sympy as sp
 
-from verify.backends import BACKENDS, IntervalBackend, RationalBackend, _rational_impls, get_backend
+from verify.core.backends import BACKENDS, IntervalBackend, RationalBackend, _rational_impls, get_backend
+from verify.core.numbers import format_decimal
 from verify.errors import BadNumber, InvalidInput, Undecided
-from verify.numbers import format_decimal
 
 # (name, operation on (K, a, b), exact expected value) with a = 1/3 and b = -5/7
 CONTRACT = [
@@ -52,7 +52,7 @@ def test_flags(backend):
 
 @pytest.mark.parametrize("impl", list(_rational_impls()))
 def test_every_rational_implementation_gives_the_same_results(impl):
-    from verify.cradle import run_cradle
+    from verify.models.cradle import run_cradle
 
     K = RationalBackend(impl)
     result = run_cradle("0.1715", backend=K)

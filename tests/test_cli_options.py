@@ -198,7 +198,7 @@ def test_output_paths_are_checked_without_creating_anything(tmp_path):
 
 
 def test_a_failed_export_leaves_no_temporary_file(tmp_path, monkeypatch, capsys):
-    from verify import oracle
+    from verify.checks import oracle
 
     case = {"id": "c", "mass_matrix": [["1", "0"], ["0", "1"]], "normals": [["-1", "1"]], "time_terms": ["0"],
             "restitution": ["1/2"], "velocity": ["1", "0"], "max_iterations": 10}  # fmt: skip
@@ -212,7 +212,7 @@ def test_a_failed_export_leaves_no_temporary_file(tmp_path, monkeypatch, capsys)
 
 
 def test_a_failed_report_leaves_no_temporary_file(tmp_path, monkeypatch, capsys):
-    from verify import report
+    from verify.views import pages as report
 
     monkeypatch.setattr(report, "PAGES", [("table1.md", lambda out, ctx: "# page\n")])
     out_dir = tmp_path / "reports"
@@ -262,8 +262,8 @@ def solve_json(argv, capsys) -> list[dict]:
 
 
 def test_solve_progress_hook_counts_every_impulse():
-    from verify.records import case_from_record
-    from verify.rule import solve
+    from verify.core.rule import solve
+    from verify.records.results import case_from_record
 
     c = case_from_record(SMALL)
     calls: list[int] = []
@@ -283,7 +283,7 @@ def test_solve_max_bits_ends_a_long_run_with_stop_budget(tmp_path, capsys):
     (r,) = solve_json(["solve", case_file(tmp_path, CRADLE_4), "--json", "--max-bits", "3000"], capsys)
     assert r["stop"] == "budget" and 100 < r["iterations"] < 400  # the default cap would take minutes
     (r,) = solve_json(["solve", case_file(tmp_path, SMALL), "--json", "--max-bits", "10"], capsys)
-    assert (r["stop"], r["iterations"]) == ("budget", 2)  # as verify.rule.Budget's doctest
+    assert (r["stop"], r["iterations"]) == ("budget", 2)  # as verify.core.rule.Budget's doctest
 
 
 def test_solve_case_timeout_ends_a_long_run_with_stop_budget(tmp_path, capsys):
@@ -327,7 +327,7 @@ def test_status_line_counts_impulses(tmp_path, monkeypatch):
 
 
 def test_a_failing_case_is_named(tmp_path, monkeypatch, capsys):
-    from verify import rule
+    from verify.core import rule
     from verify.errors import NoConvergence
 
     real = rule.solve
@@ -365,7 +365,7 @@ def test_ctrl_c_is_one_line(monkeypatch, capsys):
 
 
 def their_results(tmp_path: Path, records: list[dict], edit) -> str:
-    from verify.oracle import golden_results
+    from verify.checks.oracle import golden_results
 
     results = golden_results(records)
     for r in results:
@@ -376,8 +376,8 @@ def their_results(tmp_path: Path, records: list[dict], edit) -> str:
 
 
 def test_oracle_check_with_a_budget_checks_the_impulses_it_made(tmp_path, capsys):
-    from verify.oracle import golden_results
-    from verify.rule import Budget
+    from verify.checks.oracle import golden_results
+    from verify.core.rule import Budget
 
     records = [dict(CRADLE_4, max_iterations=400)]
     cases = case_file(tmp_path, dict(CRADLE_4))

@@ -12,10 +12,7 @@ from hypothesis import given, settings
 from hypothesis import strategies as st
 
 from tests import certificate_check
-from verify.algebraic import RealAlgebraic
-from verify.cli import main
-from verify.cradle import run_cradle
-from verify.cradle_map import (
+from verify.checks.paper.cradle_map import (
     aeev_rows_explained,
     approach_counts,
     cradle_map,
@@ -23,8 +20,11 @@ from verify.cradle_map import (
     termination_boundaries,
     threshold_between,
 )
+from verify.cli import main
+from verify.core.algebraic import RealAlgebraic
+from verify.core.symbolic import EPS
 from verify.errors import InvalidInput, InvalidSystem
-from verify.symbolic import EPS
+from verify.models.cradle import run_cradle
 
 BOUND = 40
 

@@ -6,10 +6,10 @@ from fractions import Fraction as F
 
 import pytest
 
+from verify.checks.paper.cradle_map import approach_counts, cradle_map, termination_boundaries
 from verify.cli import main
-from verify.cradle import run_cradle
-from verify.cradle_map import approach_counts, cradle_map, termination_boundaries
 from verify.errors import InvalidInput, NoConvergence
+from verify.models.cradle import run_cradle
 
 MASSES = ["1", "2", "3"]
 
@@ -64,7 +64,7 @@ def test_a_run_beyond_the_budget_is_said_in_words_with_no_ratio(map123):
     assert [r.stop for r in direct] == ["exit", "max_iterations"]
     assert rows[0][1] == direct[0].iterations
     assert rows[1][1] == f"> {direct[1].iterations} (budget)"
-    from verify.render import approach_table
+    from verify.views.text import approach_table
 
     lines = approach_table(rows)
     eps, *words = lines[-2].split()  # the last row, before the footnote
@@ -73,7 +73,7 @@ def test_a_run_beyond_the_budget_is_said_in_words_with_no_ratio(map123):
 
 
 def test_no_ratio_to_or_from_a_row_without_a_count():
-    from verify.render import approach_table
+    from verify.views.text import approach_table
 
     lines = approach_table([(F(1, 10), 8), (F(1, 100), "> 10 (budget)"), (F(1, 1000), 78)])
     row = {line.split()[0]: line.split()[1:] for line in lines[3:-1]}
@@ -86,7 +86,7 @@ def test_precision_running_out_is_said_in_words(map123, monkeypatch):
     def out_of_precision(*args, **kwargs):
         raise NoConvergence("a sign stayed undecided at the largest precision")
 
-    monkeypatch.setattr("verify.cradle.run_cradle", out_of_precision)
+    monkeypatch.setattr("verify.models.cradle.run_cradle", out_of_precision)
     assert approach_counts(b, [2], map123)[0][1] == "undecided at the precision limit"
 
 
@@ -94,7 +94,7 @@ def test_staircase_legend_shows_only_what_is_drawn():
     pytest.importorskip("matplotlib")
     import matplotlib.pyplot as plt
 
-    from verify.figures import staircase_figure, staircase_legend
+    from verify.views.figures import staircase_figure, staircase_legend
 
     for m in (cradle_map(4, ["1", "2", "3", "4"], max_impulses=6), cradle_map(max_impulses=2)):
         labels = [label for _, label in staircase_legend(m)]
@@ -118,7 +118,7 @@ def test_four_balls_staircase_does_not_claim_an_exit_or_a_proof(tmp_path, monkey
     pytest.importorskip("matplotlib")
     from matplotlib.figure import Figure
 
-    from verify.figures import cradle_staircase
+    from verify.views.figures import cradle_staircase
 
     saved = []
     real_savefig = Figure.savefig

@@ -6,10 +6,10 @@ from __future__ import annotations
 import pytest
 import sympy as sp
 
-from verify.backends import RationalBackend, exact_for
-from verify.cradle import run_cradle
+from verify.core.backends import RationalBackend, exact_for
+from verify.core.system import System
 from verify.errors import BadNumber, InvalidInput, InvalidSystem
-from verify.system import System
+from verify.models.cradle import run_cradle
 
 t, x1, x2, R = sp.symbols("t x1 x2 R")
 UNIT = [[1, 0], [0, 1]]

@@ -10,8 +10,8 @@ import sympy as sp
 from hypothesis import example, given
 from hypothesis import strategies as st
 
+from verify.core.numbers import format_decimal, format_exact, int_to_str, parse_number, split_list, to_number
 from verify.errors import BadNumber
-from verify.numbers import format_decimal, format_exact, int_to_str, parse_number, split_list, to_number
 
 GOOD = [
     ("7", Fraction(7)),
@@ -208,9 +208,9 @@ def test_format_decimal_reads_exact_rationals_through_their_integers():
 
 @pytest.mark.parametrize("impl", ["gmpy2", "flint", "python"])
 def test_format_decimal_reads_the_values_of_every_rational_backend(impl):
-    from verify.backends import RationalBackend, _rational_impls
-    from verify.rule import solve
-    from verify.system import System
+    from verify.core.backends import RationalBackend, _rational_impls
+    from verify.core.rule import solve
+    from verify.core.system import System
 
     if impl not in _rational_impls():
         pytest.skip(f"{impl} is not installed")
@@ -240,7 +240,7 @@ def test_format_decimal_refuses_floats_and_unknown_types_by_name(value, name):
 
 
 def test_format_decimal_refuses_number_field_elements_and_points_to_the_backend():
-    from verify.backends import NumberFieldBackend
+    from verify.core.backends import NumberFieldBackend
 
     K = NumberFieldBackend([sp.sqrt(2)])
     x = K.convert(3 - 2 * sp.sqrt(2))
@@ -250,7 +250,7 @@ def test_format_decimal_refuses_number_field_elements_and_points_to_the_backend(
 
 
 def test_format_decimal_rounds_algebraic_values_in_the_direction_asked():
-    from verify.algebraic import RealAlgebraic
+    from verify.core.algebraic import RealAlgebraic
 
     assert (format_decimal(sp.sqrt(2), 3, "floor"), format_decimal(sp.sqrt(2), 3, "ceiling")) == ("1.41", "1.42")
     assert format_decimal(-sp.sqrt(2), 3, "floor") == "-1.42"

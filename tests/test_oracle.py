@@ -13,10 +13,11 @@ import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
-from verify import formulas, oracle
+from verify.checks import oracle
+from verify.checks.properties import formulas
 from verify.cli import main
 from verify.errors import InvalidInput
-from verify.records import load_cases
+from verify.records.results import load_cases
 
 GOLDEN = Path(__file__).resolve().parent.parent / "golden"
 FLOAT_IMPL = Path(__file__).resolve().parent.parent / "examples" / "float_impl.py"
@@ -49,7 +50,7 @@ def _rate(a, t, v):
     """p(F) of a case's constraint, or None when an entry is irrational."""
     from fractions import Fraction
 
-    from verify.numbers import parse_number, to_number
+    from verify.core.numbers import parse_number, to_number
 
     values = [to_number(parse_number(x)) for x in (*a, t, *v)]
     if not all(isinstance(x, Fraction) for x in values):
@@ -247,8 +248,8 @@ def test_the_readme_shows_what_the_worked_example_prints(capsys) -> None:
 
 
 def test_oversized_result_files_are_refused(monkeypatch) -> None:
-    import verify.records
+    import verify.records.results
 
-    monkeypatch.setattr(verify.records, "MAX_FILE_BYTES", 100)
+    monkeypatch.setattr(verify.records.results, "MAX_FILE_BYTES", 100)
     with pytest.raises(InvalidInput, match="larger than 100 bytes"):
         oracle.load_results(" " * 101, "big.json")

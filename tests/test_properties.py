@@ -17,14 +17,14 @@ from fractions import Fraction
 import pytest
 from hypothesis import example, given
 
-import verify.rule as rule_module
-from verify import formulas
+import verify.core.rule as rule_module
+from verify.checks.properties import formulas
+from verify.checks.properties.catalogue import PROPERTIES, SKIP, energy_does_not_increase, property_named
+from verify.checks.properties.strategies import Drawn, cases
+from verify.checks.properties.verdicts import Runner, search
 from verify.cli import main
-from verify.properties import PROPERTIES, SKIP, energy_does_not_increase, property_named
-from verify.records import case_from_record
-from verify.strategies import Drawn, cases
-from verify.system import System
-from verify.verdicts import Runner, search
+from verify.core.system import System
+from verify.records.results import case_from_record
 
 #: Properties that are theorems of the rule (or of its implementation's contract): never refuted.
 THEOREMS = {p.name for p in PROPERTIES} - {"kinetic energy does not increase", "the rule exits (termination)"}
@@ -74,7 +74,7 @@ def test_refutations_reproduce_from_the_record_alone(table) -> None:
 
 
 def _independent_energy_rises(d: Drawn, impulses: int) -> tuple[bool, list]:
-    """Iterate eq. (8) as printed (:mod:`verify.formulas`) and watch the energy in the rest frame."""
+    """Iterate eq. (8) as printed (:mod:`verify.checks.properties.formulas`) and watch the energy in the rest frame."""
     g, a, t, e = (d.values(k) for k in ("mass_matrix", "normals", "time_terms", "restitution"))
     if d.rule == "ideal":
         e = [Fraction(1)] * len(e)
@@ -395,7 +395,7 @@ def test_cli_rejects_an_unknown_property(capsys: pytest.CaptureFixture[str]) -> 
 
 
 def test_cli_profile_names_are_the_verdict_profiles() -> None:
+    from verify.checks.properties.verdicts import PROFILES
     from verify.cli import PROFILE_NAMES
-    from verify.verdicts import PROFILES
 
     assert tuple(PROFILES) == PROFILE_NAMES

@@ -15,10 +15,10 @@ from pathlib import Path
 
 import pytest
 
-import verify.verdicts
+import verify.checks.properties.verdicts
 from tests.conftest import PROPERTY_PROFILE
 from verify.cli import main
-from verify.report import PAGES
+from verify.views.pages import PAGES
 
 ROOT = Path(__file__).resolve().parent.parent
 REPORTS = ROOT / "reports"
@@ -43,7 +43,7 @@ def written(tmp_path_factory, property_verdicts):
     out = tmp_path_factory.mktemp("reports")
     text = io.StringIO()
     with pytest.MonkeyPatch.context() as patch, contextlib.redirect_stdout(text):
-        patch.setattr(verify.verdicts, "verdicts", lambda profile, **kw: property_verdicts)
+        patch.setattr(verify.checks.properties.verdicts, "verdicts", lambda profile, **kw: property_verdicts)
         code = main(["all", "--out", str(out), "--workers", "2"])
     return out, code, text.getvalue()
 

@@ -12,10 +12,10 @@ from hypothesis import given
 from hypothesis import strategies as st
 
 from tests.helpers import Poison, assert_exact, assert_exact_vector, exact_value
+from verify.core.rule import solve
+from verify.core.system import System
 from verify.errors import InvalidSystem, NoConvergence
-from verify.paper import aeev_halt
-from verify.rule import solve
-from verify.system import System
+from verify.models.paper import aeev_halt
 
 I3 = [[1, 0, 0], [0, 1, 0], [0, 0, 1]]
 CRADLE_NORMALS = [[-1, 1, 0], [0, -1, 1]]
@@ -176,7 +176,7 @@ def floats_seen(run) -> list[str]:
 
 
 def test_an_exact_run_never_creates_a_float():
-    from verify.cradle import run_cradle
+    from verify.models.cradle import run_cradle
 
     def run():
         run_cradle("0.0743", mode="paper")
@@ -206,7 +206,7 @@ def test_interval_raises_precision_when_a_sign_is_undecided():
 def test_interval_gives_up_with_a_clear_error_on_an_undecidable_zero():
     # exactly 0, but tan(3/10) is not algebraic: no exact check exists, and the zero is no
     # structural one (no impulse made it), so intervals cannot decide it: say why, not "bad input"
-    from verify.backends import IntervalBackend
+    from verify.core.backends import IntervalBackend
 
     s = System([[1, 0], [0, 1]], [[1, -1]], [1], backend=IntervalBackend(20, max_dps=80))
     with pytest.raises(NoConvergence, match=r"tan\(3/10\) is not algebraic.*limit of the interval backend"):
@@ -217,7 +217,7 @@ def test_interval_gives_up_with_a_clear_error_on_an_undecidable_zero():
 
 
 def _interval(dps=20):
-    from verify.backends import IntervalBackend
+    from verify.core.backends import IntervalBackend
 
     return IntervalBackend(dps, max_dps=4 * dps)
 
@@ -247,7 +247,7 @@ def test_interval_checks_exactly_a_zero_that_an_impulse_makes_by_coincidence():
     # corner of slope 1/2, CORs 1/2 and 2/3, velocity (0, 1): the impact on S2 leaves the rate
     # of S1 at p(F_1) - (1 + e_2) p(F_2) G_12 / G_22 = 1 - (5/3)(-1)(-3/5) = 0: no structure
     # gives it, the exact check does
-    from verify.corner import corner_system
+    from verify.models.corner import corner_system
 
     s = corner_system("1/2", "1/2", "2/3")
     r = _same_as_exact(s, ["0", "1", "0"])
@@ -264,7 +264,7 @@ def test_interval_checks_exactly_a_zero_that_an_impulse_makes_by_coincidence():
     ],
 )
 def test_interval_cradle_with_a_cor_of_0_equals_the_exact_run(masses, cors, velocity):
-    from verify.cradle import cradle_system
+    from verify.models.cradle import cradle_system
 
     _same_as_exact(cradle_system(cors, masses=masses), velocity)
 
@@ -273,7 +273,7 @@ def test_a_cor_of_0_makes_an_exact_zero_on_intervals_by_structure():
     # tan(3/10) is not algebraic: no exact check exists, so the zeros must come from the
     # structure. Five balls, CORs 0, 1/2, 1/3, 1/2: the double impact on S1 and S4 (G_14 = 0,
     # so beta = 1) leaves S1 at -0 * p(F_1) = 0; the impact on S3 (G_13 = 0) leaves S1 alone.
-    from verify.cradle import cradle_system
+    from verify.models.cradle import cradle_system
 
     velocity = ["tan(3/10)", "0", "tan(3/10)", "1", "0"]
     system = cradle_system(["0", "1/2", "1/3", "1/2"], balls=5)
@@ -290,7 +290,7 @@ def test_a_cor_of_0_makes_an_exact_zero_on_intervals_by_structure():
 
 def test_the_corner_with_a_cor_of_0_runs_on_intervals():
     # issue 14: this case stopped with "contains 0 at 3200 digits"
-    from verify.corner import run_corner
+    from verify.models.corner import run_corner
 
     exact = run_corner(slope="1/2", phi="0", eps1="0", eps2="1", v0="2")
     iv = run_corner(slope="1/2", phi="0", eps1="0", eps2="1", v0="2", backend=_interval())

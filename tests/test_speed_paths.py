@@ -11,14 +11,14 @@ from fractions import Fraction
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
-import verify.rule as rule_module
-from verify import fraction_free
-from verify.bench import batch, corner_loop
+import verify.core.rule as rule_module
+from verify.checks.bench import batch, corner_loop
+from verify.checks.properties.strategies import cases
 from verify.cli import main
-from verify.float_batch import corner_batch, solve_batch, systems_batch
-from verify.rule import Budget, solve
-from verify.strategies import cases
-from verify.system import System
+from verify.core.engines import integer as fraction_free
+from verify.core.engines.floats import corner_batch, solve_batch, systems_batch
+from verify.core.rule import Budget, solve
+from verify.core.system import System
 
 
 def _system(record: dict) -> System:

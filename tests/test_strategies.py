@@ -7,11 +7,11 @@ from fractions import Fraction
 import pytest
 from hypothesis import HealthCheck, Phase, find, given, settings
 
-from verify import formulas
-from verify.backends import RationalBackend
-from verify.linalg import ldl
-from verify.records import case_from_record
-from verify.strategies import FAMILIES, RULES, cases, rates
+from verify.checks.properties import formulas
+from verify.checks.properties.strategies import FAMILIES, RULES, cases, rates
+from verify.core.backends import RationalBackend
+from verify.core.linalg import ldl
+from verify.records.results import case_from_record
 
 Q = RationalBackend("python")
 

@@ -6,10 +6,10 @@ from fractions import Fraction as F
 
 import pytest
 
-from verify.backends import IntervalBackend, get_backend
-from verify.cradle import run_cradle
-from verify.paper import PAPER_SIGMA_RELATIVE, PAPER_SIGMA_STATED
-from verify.table1 import check_entry, load_table1, parse_printed_iterations, round_to, table1
+from verify.checks.paper.table1 import check_entry, load_table1, parse_printed_iterations, round_to, table1
+from verify.core.backends import IntervalBackend, get_backend
+from verify.models.cradle import run_cradle
+from verify.models.paper import PAPER_SIGMA_RELATIVE, PAPER_SIGMA_STATED
 
 DATA = load_table1()
 ROWS = DATA["rows"]
@@ -68,7 +68,7 @@ def test_the_window_is_tight_at_both_ends():
     # sigma at either end of the window changes one printed count: the window is exact
     ident = table1().identification["measures"]["all"]
     lo, hi = ident["lower_sq"], ident["upper_sq"]
-    from verify.table1 import sqrt_decimal
+    from verify.checks.paper.table1 import sqrt_decimal
 
     just_below = F(sqrt_decimal(lo, 12))  # < sqrt(lo): outside the window
     just_above = F(sqrt_decimal(hi, 12, up=True))  # > sqrt(hi): outside the window

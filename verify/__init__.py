@@ -10,18 +10,9 @@ CORs) on a backend, and :func:`solve` it from a left velocity.
 (3, 'exit', ['325/16', '375/16', '225/4'])
 """
 
-from verify.backends import BACKENDS, Backend, get_backend
-from verify.cradle import cradle_system, cradle_system_full, run_cradle
-from verify.errors import (
-    BadNumber,
-    InvalidInput,
-    InvalidSystem,
-    NoConvergence,
-    Undecided,
-    VerifyError,
-)
-from verify.numbers import format_decimal, format_exact, parse_number
-from verify.rule import (
+from verify.core.backends import BACKENDS, Backend, get_backend
+from verify.core.numbers import format_decimal, format_exact, parse_number
+from verify.core.rule import (
     RULES,
     Result,
     Step,
@@ -32,7 +23,16 @@ from verify.rule import (
     orthogonal_component,
     solve,
 )
-from verify.system import System
+from verify.core.system import System
+from verify.errors import (
+    BadNumber,
+    InvalidInput,
+    InvalidSystem,
+    NoConvergence,
+    Undecided,
+    VerifyError,
+)
+from verify.models.cradle import cradle_system, cradle_system_full, run_cradle
 
 __version__ = "0.1.0"
 

@@ -1,0 +1,463 @@
+"""The reference oracle: a golden dataset, and a checker for other implementations.
+
+:func:`golden_cases` builds the dataset deterministically (no randomness but a seeded
+``random.Random``): the paper's cases, cradles with several balls and unequal masses,
+corners at rational and algebraic angles, random general systems with multiple impacts,
+r >= 3 constraints, moving constraints, grazing velocities (p(F_i) = 0), CORs of 0 and 1,
+and cases proved never to exit. :func:`export` writes it with its exact results
+(``verify oracle export DIR``); regenerating gives the same bytes.
+
+:func:`compare` checks another implementation's result file against the exact results:
+the stop reason, the iteration count, the impact sets, and the exit velocity within
+``atol + rtol * |v_in|`` (max norm of the entrance velocity); every mismatch is listed.
+
+>>> [c["id"] for c in golden_cases()][:2]
+['paper-table1-eps-1', 'paper-table1-eps-0.99']
+"""
+
+from __future__ import annotations
+
+import contextlib
+import functools
+import json
+import os
+import random
+from collections.abc import Callable
+from dataclasses import dataclass, field
+from fractions import Fraction
+from typing import Any
+
+from verify.checks.properties.strategies import velocity_with_rates
+from verify.core.numbers import format_exact
+
+GOLDEN_VERSION = "1"
+DEFAULT_RTOL = Fraction(1, 10**9)
+SEED = 2021
+
+
+def _s(x: Any) -> str:
+    return format_exact(x)
+
+
+def _case(case_id: str, g: Any, normals: Any, eps: Any, v: Any, *, time_terms: Any = None) -> dict:
+    r = len(normals)
+    return {
+        "id": case_id,
+        "mass_matrix": [[_s(x) for x in row] for row in g],
+        "normals": [[_s(x) for x in row] for row in normals],
+        "time_terms": [_s(x) for x in (time_terms or [0] * r)],
+        "restitution": [_s(x) for x in eps],
+        "velocity": [_s(x) for x in v],
+        "max_iterations": 10_000,
+    }
+
+
+def _diag(masses: list[Any]) -> list[list[Any]]:
+    return [[m if i == j else 0 for j in range(len(masses))] for i, m in enumerate(masses)]
+
+
+def _cradle(case_id: str, eps: list[Any], velocity: list[Any], masses: list[Any] | None = None) -> dict:
+    n = len(velocity)
+    normals = [[-1 if k == i else 1 if k == i + 1 else 0 for k in range(n)] for i in range(n - 1)]
+    return _case(case_id, _diag(masses or [1] * n), normals, eps, velocity)
+
+
+def _corner(case_id: str, slope: Any, eps: list[Any], velocity: list[Any]) -> dict:
+    return _case(case_id, _diag([1, 1, 1]), [[-slope, 1, 0], [-slope, -1, 0]], eps, velocity)
+
+
+def _paper_cases() -> list[dict]:
+    from verify.checks.paper.table1 import load_table1
+    from verify.models.corner import slope_of, velocity_of
+
+    data = load_table1()
+    out = [_cradle(f"paper-table1-eps-{row[0]}", [row[0], row[0]], [data["v0"], 0, 0]) for row in data["rows"]]
+    out.append(_corner("paper-corner-pi6-pi12", slope_of(alpha="pi/6"), ["0.999", "0.001"], velocity_of("pi/12")))
+    return out
+
+
+def _family_cases() -> list[dict]:
+    from verify.models.corner import slope_of, velocity_of
+
+    return [
+        _cradle("cradle-4-balls-eps-1/2", ["1/2"] * 3, [1, 0, 0, 0]),
+        _cradle("cradle-5-balls-masses-12321", ["9/10"] * 4, [2, 0, 0, 0, -1], [1, 2, 3, 2, 1]),
+        _cradle("cradle-masses-121-both-contacts", ["1/2", "1"], [1, 0, -1], [1, 2, 1]),
+        _cradle("cradle-cors-0-1-energy-rises", [0, 1], [0, -1, -3]),
+        _cradle("cradle-3-balls-eps-0-01-never-exits", ["0.01", "0.01"], [100, 0, 0]),
+        _cradle("cradle-4-balls-cors-0-repeats", [0, 0, 0], ["3/4", "-1/4", "-1/4", "-1/4"]),
+        _corner("corner-slope-1/2-cors-0-1", Fraction(1, 2), [0, 1], [1, Fraction(1, 10), 0]),
+        _corner("corner-slope-2-cors-1/3-2/3", Fraction(2), ["1/3", "2/3"], [1, Fraction(-1, 5), 0]),
+        _corner("corner-right-angle-cors-1/2-1/5", Fraction(1), ["1/2", "1/5"], [3, 1, 0]),
+        _corner("corner-pi8-cors-1-0", slope_of(alpha="pi/8"), [1, 0], [1, Fraction(1, 10), 0]),
+        _corner("corner-pi12-ideal", slope_of(alpha="pi/12"), [1, 1], [1, 0, 0]),
+        _corner("corner-pi3-cors-0-1/2", slope_of(alpha="pi/3"), [0, "1/2"], velocity_of("pi/6")),
+        _corner("corner-pi6-cors-1-0-repeats", slope_of(alpha="pi/6"), [1, 0], velocity_of("pi/12")),
+        _corner("corner-slope-1/10-never-exits", Fraction(1, 10), ["1/10", "1/50"], [1, Fraction(1, 20), 0]),
+        _corner("corner-grazing-wall-2", Fraction(1, 2), ["1/2", "1/2"], [1, Fraction(-1, 2), 0]),
+    ]
+
+
+def _random_cases(count: int = 16) -> tuple[list[dict], int]:
+    """General systems: SPD mass matrices, r = 2..4 independent normals, some moving,
+    velocities with exact target rates (several hit, some grazing), CORs with 0 and 1.
+
+    A drawn system whose exact run has not ended (exit or proved never to exit) before its
+    numbers reach :data:`GENERATION_BITS` bits is replaced by the next draw: the dataset
+    checks answers, and such a run has none yet. Returns the cases and how many draws were
+    replaced (the README of the export counts them).
+    """
+    rng = random.Random(SEED)
+    out: list[dict] = []
+    k = 0
+    while len(out) < count:
+        record = _random_case(rng, len(out), k)
+        k += 1
+        if _ends(record):
+            out.append(record)
+    return out, k - count
+
+
+GENERATION_BITS = 2048
+
+
+def _ends(record: dict) -> bool:
+    from verify.core.rule import Budget, solve
+    from verify.records.results import case_from_record
+
+    c = case_from_record(record)
+    r = solve(c.system, c.velocity_source, max_iterations=1000, trace=False, budget=Budget(bits=GENERATION_BITS))
+    return r.stop in ("exit", "non_terminating")
+
+
+def _random_case(rng: random.Random, index: int, k: int) -> dict:
+    def q(lo: int, hi: int, den: int = 4) -> Fraction:
+        return Fraction(rng.randint(lo * den, hi * den), rng.randint(1, den))
+
+    r = 2 + index % 3
+    n = r + 1 + k % 2
+    L = [[q(1, 2) if i == j else q(-1, 1) if j < i else Fraction(0) for j in range(n)] for i in range(n)]
+    g = [[sum(L[i][m] * L[j][m] for m in range(n)) for j in range(n)] for i in range(n)]
+    pivots = sorted(rng.sample(range(n), r))
+    normals = [
+        [Fraction(rng.choice([1, -1, 2])) if c == pivots[i] else Fraction(0) if c in pivots else q(-2, 2, 2)
+         for c in range(n)]
+        for i in range(r)
+    ]  # fmt: skip
+    moving = index % 4 == 3
+    time_terms = [q(-2, 2, 2) if moving else Fraction(0) for _ in range(r)]
+    eps = [min(max(rng.choice([Fraction(0), Fraction(1), q(0, 1, 10)]), Fraction(0)), Fraction(1)) for _ in range(r)]
+    targets = {j: -q(1, 3) for j in range(min(r, 2 + index % 2))}
+    if index % 5 == 0:
+        targets[r - 1] = Fraction(0)  # grazing
+    w = [q(-2, 2) for _ in range(n)]
+    v = velocity_with_rates((g, normals, time_terms), w, targets)
+    kind = "moving" if moving else "fixed"
+    return _case(f"general-{index:02d}-r{r}-n{n}-{kind}", g, normals, eps, v, time_terms=time_terms)
+
+
+def golden_dataset() -> tuple[list[dict], int]:
+    """The golden dataset's case records in a fixed order, and the number of random draws
+    replaced because their numbers grew past :data:`GENERATION_BITS`."""
+    randoms, skipped = _random_cases()
+    return _paper_cases() + _family_cases() + randoms, skipped
+
+
+def golden_cases() -> list[dict]:
+    """The golden dataset's case records, in a fixed order."""
+    return golden_dataset()[0]
+
+
+def golden_results(
+    cases: list[dict], *, budget: Any = None, progress: Callable[[int, str, int], None] | None = None
+) -> list[dict]:
+    """The exact result records of the cases (the default exact engine, with certificates).
+
+    ``budget`` (a :class:`verify.core.rule.Budget`) bounds each run, which then stops with stop
+    ``"budget"``; ``progress(k, case_id, impulses)`` is called with impulses 0 when case k
+    (from 1) starts and after each of its impulses.
+
+    >>> from verify.core.rule import Budget
+    >>> [r["iterations"] for r in golden_results(golden_cases()[:2])]
+    [2, 3]
+    >>> [(r["stop"], r["iterations"]) for r in golden_results(golden_cases()[:2], budget=Budget(bits=8))]
+    [('exit', 2), ('budget', 1)]
+    """
+    from verify.core.rule import solve
+    from verify.records.results import case_from_record, result_record
+
+    out = []
+    for k, record in enumerate(cases, 1):
+        c = case_from_record(record, f"case {record['id']}")
+        hook = None
+        if progress is not None:
+            progress(k, c.id, 0)
+            hook = functools.partial(progress, k, c.id)
+        r = solve(c.system, c.velocity_source, max_iterations=c.max_iterations, trace=False, budget=budget,
+                  progress=hook)  # fmt: skip
+        out.append(result_record(r, c.id))
+    return out
+
+
+def _summary(cases: list[dict], results: list[dict], skipped: int) -> str:
+    return f"# The golden dataset, version {GOLDEN_VERSION}\n\n" + dataset_description(cases, results, skipped)
+
+
+def dataset_description(cases: list[dict], results: list[dict], skipped: int) -> str:
+    """What the golden dataset holds: how it is made, one table row per case, the stops."""
+    lines = [
+        "Generated by `verify oracle export DIR` (`verify/checks/oracle.py`); do not edit by hand.",
+        "`cases.json` holds the case records, `results.json` the exact results of the general rule (eq. 8),",
+        "with decimals to 30 digits. Check an implementation with",
+        "`verify oracle check cases.json ITS_RESULTS.json` or `verify oracle check cases.json --impl COMMAND`.",
+        "",
+        "| id | r | n | stop | impulses | multiple impacts |",
+        "|---|---|---|---|---|---|",
+    ]
+    for c, r in zip(cases, results):
+        multiple = sum(len(J) > 1 for J in r["impact_sets"])
+        lines.append(
+            f"| {c['id']} | {len(c['normals'])} | {len(c['velocity'])} | {r['stop']} | {r['iterations']} | {multiple} |"
+        )
+    stops: dict[str, int] = {}
+    for r in results:
+        stops[r["stop"]] = stops.get(r["stop"], 0) + 1
+    lines += ["", f"{len(cases)} cases; stops: " + ", ".join(f"{k} {v}" for k, v in sorted(stops.items())) + "."]
+    lines += [
+        f"Random general systems drawn but left out because their exact numbers passed {GENERATION_BITS} bits "
+        f"before the run ended: {skipped}.",
+        "",
+    ]
+    return "\n".join(lines)
+
+
+def export(folder: str) -> list[str]:
+    """Write ``cases.json``, ``results.json`` and ``README.md`` into ``folder``.
+
+    Each file is written whole to a temporary name, then renamed: an interrupted export
+    leaves no partial file behind. Returns the paths written.
+    """
+    from verify.records.results import dumps
+
+    cases, skipped = golden_dataset()
+    results = golden_results(cases)
+    texts = {
+        "cases.json": dumps({"cases": cases}),
+        "results.json": dumps({"results": results}),
+        "README.md": _summary(cases, results, skipped),
+    }
+    os.makedirs(folder, exist_ok=True)
+    paths, written = [], []
+    try:
+        for name, text in texts.items():
+            path = os.path.join(folder, name)
+            paths.append(path)
+            with open(path + ".tmp", "w", encoding="utf-8", newline="\n") as fh:
+                written.append(path + ".tmp")
+                fh.write(text)
+    except BaseException:  # a failed or interrupted write leaves no temporary file of its own
+        for tmp in written:
+            with contextlib.suppress(OSError):
+                os.remove(tmp)
+        raise
+    for path in paths:
+        os.replace(path + ".tmp", path)
+    return paths
+
+
+# -- checking another implementation -------------------------------------------------------------
+
+
+@dataclass
+class Mismatch:
+    """One disagreement: the case id, what differs, and the two values."""
+
+    case_id: str
+    field: str
+    detail: str
+
+
+@dataclass
+class Comparison:
+    """The outcome of :func:`compare`."""
+
+    checked: int = 0
+    agreeing: int = 0
+    mismatches: list[Mismatch] = field(default_factory=list)
+    #: cases whose exact run reached its budget (stop "budget"): checked only on the impulses it made
+    limited: list[str] = field(default_factory=list)
+
+    @property
+    def ok(self) -> bool:
+        return not self.mismatches
+
+
+def _approx(text: str, where: str) -> Fraction:
+    """A number string of a result file as a Fraction (closed forms to 40 digits)."""
+    from verify.core.numbers import parse_number, to_number
+
+    value = to_number(parse_number(text, where=where), where=where)
+    if isinstance(value, Fraction):
+        return value
+    from verify.core.numeric import certified_digits
+
+    return Fraction(certified_digits(value, 40))
+
+
+def compare(cases: list[dict], expected: list[dict], got: list[dict], *, rtol: Fraction, atol: Fraction) -> Comparison:
+    """Every mismatch between ``got`` (another implementation) and ``expected`` (exact).
+
+    >>> cases = golden_cases()[:1]
+    >>> exact = golden_results(cases)
+    >>> wrong = [dict(exact[0], iterations=3)]
+    >>> [m.field for m in compare(cases, exact, wrong, rtol=Fraction(1, 10**9), atol=Fraction(0)).mismatches]
+    ['iterations']
+    """
+    out = Comparison()
+    by_id: dict[str, dict] = {}
+    for i, r in enumerate(got):
+        if r["id"] in by_id:
+            out.mismatches.append(Mismatch(r["id"], "id", f"results[{i}] repeats the id"))
+        by_id[r["id"]] = r
+    known = {c["id"] for c in cases}
+    for r in got:
+        if r["id"] not in known:
+            out.mismatches.append(Mismatch(r["id"], "id", "a result for a case that is not in the case file"))
+    for case, exact in zip(cases, expected):
+        out.checked += 1
+        mine = by_id.get(case["id"])
+        if mine is None:
+            out.mismatches.append(Mismatch(case["id"], "missing", "no result for this case"))
+            continue
+        found = _compare_one(case, exact, mine, rtol, atol)
+        out.mismatches += found
+        out.agreeing += not found
+        if exact["stop"] == "budget":
+            out.limited.append(case["id"])
+    return out
+
+
+def _prefix_mismatch(cid: str, sets_e: list, sets_m: list) -> list[Mismatch]:
+    """The first impulse at which two impact-set sequences differ, over their common length."""
+    m = min(len(sets_e), len(sets_m))
+    if sets_e[:m] == sets_m[:m]:
+        return []
+    w = next(k for k in range(m) if sets_e[k] != sets_m[k])
+    return [Mismatch(cid, "impact_sets", f"from impulse {w + 1}: expected {sets_e[w]}, got {sets_m[w]}")]
+
+
+def _compare_one(case: dict, exact: dict, mine: dict, rtol: Fraction, atol: Fraction) -> list[Mismatch]:
+    cid, found = case["id"], []
+    sets_e, sets_m = exact["impact_sets"], [sorted(J) for J in mine["impact_sets"]]
+    if exact["stop"] == "non_terminating":  # the exact trace is a prefix of an endless run
+        if mine["stop"] != "non_terminating":
+            found.append(
+                Mismatch(
+                    cid,
+                    "stop",
+                    f"expected non_terminating (proved, after {exact['iterations']} impulses, never to exit), "
+                    f"got {mine['stop']} after {mine['iterations']} impulses",
+                )
+            )
+        return found + _prefix_mismatch(cid, sets_e, sets_m)
+    if exact["stop"] == "budget":  # the exact run reached the budget: only its first impulses are known
+        n = exact["iterations"]
+        if mine["stop"] in ("exit", "max_iterations", "aeev") and mine["iterations"] <= n:
+            found.append(
+                Mismatch(
+                    cid,
+                    "stop",
+                    f"expected more than {n} impulses (the exact run was still impacting when it reached "
+                    f"the budget), got {mine['stop']} after {mine['iterations']} impulses",
+                )
+            )
+        return found + _prefix_mismatch(cid, sets_e, sets_m)
+    if mine["stop"] != exact["stop"]:
+        found.append(Mismatch(cid, "stop", f"expected {exact['stop']}, got {mine['stop']}"))
+    if mine["iterations"] != exact["iterations"]:
+        found.append(Mismatch(cid, "iterations", f"expected {exact['iterations']}, got {mine['iterations']}"))
+    if sets_m != sets_e:
+        w = next((k for k, (a, b) in enumerate(zip(sets_e, sets_m)) if a != b), min(len(sets_e), len(sets_m)))
+        a = sets_e[w] if w < len(sets_e) else "none (the run ends)"
+        b = sets_m[w] if w < len(sets_m) else "none (the run ends)"
+        found.append(Mismatch(cid, "impact_sets", f"from impulse {w + 1}: expected {a}, got {b}"))
+    if exact["stop"] == "exit" and mine["stop"] == "exit":
+        found += _compare_velocity(case, exact, mine, rtol, atol)
+    return found
+
+
+def _compare_velocity(case: dict, exact: dict, mine: dict, rtol: Fraction, atol: Fraction) -> list[Mismatch]:
+    cid = case["id"]
+    n = len(case["velocity"])
+    if len(mine["exit_velocity"]) != n:
+        return [Mismatch(cid, "exit_velocity", f"expected {n} components, got {len(mine['exit_velocity'])}")]
+    size = max(abs(_approx(x, f"{cid}.velocity[{i}]")) for i, x in enumerate(case["velocity"]))
+    tol = atol + rtol * size
+    out = []
+    for i, (e, m) in enumerate(zip(exact["exit_velocity"], mine["exit_velocity"])):
+        diff = abs(_approx(e, f"{cid}.exit_velocity[{i}]") - _approx(m, f"results[{cid}].exit_velocity[{i}]"))
+        if diff > tol:
+            from verify.core.numbers import format_decimal
+
+            out.append(
+                Mismatch(
+                    cid,
+                    f"exit_velocity[{i}]",
+                    f"expected {exact['exit_velocity_decimal'][i]}, got {m} "
+                    f"(off by {format_decimal(diff, 3)} > tolerance {format_decimal(tol, 3)})",
+                )
+            )
+    return out
+
+
+def load_results(text: str, source: str) -> list[dict]:
+    """Parse and validate a result file (schema of the contracts); errors name the field."""
+    from verify.errors import InvalidInput
+    from verify.records.results import MAX_FILE_BYTES, BareJSONNumber, _reject_constant
+    from verify.records.schema import validate
+
+    if len(text) > MAX_FILE_BYTES:
+        raise InvalidInput(f"{source}: larger than {MAX_FILE_BYTES} bytes")
+    try:
+        data = json.loads(text, parse_float=BareJSONNumber, parse_constant=_reject_constant)
+    except json.JSONDecodeError as exc:
+        raise InvalidInput(f"{source}: not valid JSON ({exc})") from None
+    except RecursionError:
+        raise InvalidInput(f"{source}: nested too deeply") from None
+    validate(data, "result", source)
+    return data["results"]
+
+
+def run_implementation(command: str, case_text: str, timeout: float) -> str:
+    """Run ``command`` (split like a shell would, not run by one) with the case file on
+    stdin; returns its stdout, the result file."""
+    import shlex
+    import subprocess
+
+    from verify.errors import InvalidInput
+
+    argv = shlex.split(command)
+    if not argv:
+        raise InvalidInput("--impl: empty command")
+    try:
+        done = subprocess.run(argv, input=case_text, capture_output=True, text=True, timeout=timeout, check=False)
+    except FileNotFoundError:
+        raise InvalidInput(f"--impl: command not found: {argv[0]!r}") from None
+    except subprocess.TimeoutExpired:
+        raise InvalidInput(f"--impl: {command!r} did not finish within {timeout} s") from None
+    if done.returncode != 0:
+        last = (done.stderr.strip().splitlines() or ["(no message)"])[-1]
+        raise InvalidInput(f"--impl: {command!r} exited with code {done.returncode}: {last}")
+    return done.stdout
+
+
+def comparison_json(comparison: Comparison) -> dict[str, Any]:
+    """The comparison as JSON: counts and every mismatch."""
+    out: dict[str, Any] = {
+        "checked": comparison.checked,
+        "agreeing": comparison.agreeing,
+        "mismatches": [{"id": m.case_id, "field": m.field, "detail": m.detail} for m in comparison.mismatches],
+    }
+    if comparison.limited:  # only when a budget was given (verify oracle check --max-bits, --case-timeout)
+        out["limited_by_budget"] = comparison.limited
+    return out

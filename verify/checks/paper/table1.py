@@ -1,0 +1,300 @@
+"""Table 1 of the paper, recomputed exactly and checked entry by entry.
+
+The printed table lives in ``verify/data/paper/table1.json`` (the strings as printed,
+with their source). For every row :func:`table1` computes
+
+- the exact result: the rule run over the rationals until the velocity exits, or until a
+  cap on the number of impulses (``exact_cap``) without exit;
+- the paper-mode result: the paper's own termination, 10^4 impulses at most and the
+  almost-equal-exit-velocities (AEEV) stop of :mod:`verify.models.paper`;
+
+and checks every printed entry against the paper-mode result to the digits printed. An
+entry that disagrees gets a reason computed here: whether truncation instead of rounding
+explains it, by how many units of the last printed digit it is off, whether another
+state of the run matches, and whether the printed row can be a state of the rule at all
+(every impulse of the cradle conserves total momentum exactly).
+
+:func:`identify_aeev` works out which stop tests reproduce the printed iteration counts
+and for which thresholds sigma: the paper's text leaves the test loosely described.
+
+>>> rows = table1().rows
+>>> rows[0].eps, rows[0].exact.iterations, rows[0].exact.stop
+('1', 2, 'exit')
+"""
+
+from __future__ import annotations
+
+import json
+from dataclasses import dataclass, field
+from fractions import Fraction
+from importlib import resources
+from typing import Any
+
+from verify.core.numbers import format_decimal, int_to_str, to_number
+from verify.core.rule import Result
+from verify.models.cradle import run_cradle
+from verify.models.paper import (
+    PAPER_SIGMA_RELATIVE,
+    PAPER_SIGMA_STATED,
+    max_difference_squared,
+)
+
+DEFAULT_EXACT_CAP = 10_000
+
+
+def load_table1() -> dict[str, Any]:
+    """The printed Table 1 (strings as printed) with its source."""
+    text = resources.files("verify").joinpath("data/paper/table1.json").read_text(encoding="utf-8")
+    return json.loads(text)
+
+
+def parse_printed_iterations(text: str) -> tuple[str, int]:
+    """``"3"`` -> ``("exit", 3)``; ``"AEEV / 17"`` -> ``("aeev", 17)``.
+
+    >>> parse_printed_iterations("AEEV / 30")
+    ('aeev', 30)
+    """
+    if "/" in text:
+        label, _, count = text.partition("/")
+        return label.strip().lower(), int(count)
+    return "exit", int(text)
+
+
+def decimals_of(printed: str) -> int:
+    """The number of digits after the decimal point in a printed entry."""
+    return len(printed.partition(".")[2])
+
+
+def round_to(value: Fraction, decimals: int, *, truncate: bool = False) -> Fraction:
+    """``value`` rounded half to even (or truncated toward zero) to ``decimals`` places."""
+    scale = 10**decimals
+    scaled = value * scale
+    if truncate:
+        q = scaled.numerator // scaled.denominator if scaled >= 0 else -((-scaled.numerator) // scaled.denominator)
+    else:
+        q = round(scaled)
+    return Fraction(q, scale)
+
+
+@dataclass
+class EntryCheck:
+    """One printed entry against the computation."""
+
+    column: str
+    printed: str
+    computed: str
+    agrees: bool
+    reason: str = ""
+
+
+@dataclass
+class Row:
+    """One row of Table 1: the printed strings, both runs, and the entry checks."""
+
+    eps: str
+    printed: list[str]
+    exact: Result
+    paper: Result
+    checks: list[EntryCheck] = field(default_factory=list)
+    row_notes: list[str] = field(default_factory=list)
+
+    @property
+    def agrees(self) -> bool:
+        return all(c.agrees for c in self.checks)
+
+
+@dataclass
+class Table1:
+    """The whole table: source, rows, and the identification of the AEEV test."""
+
+    source: str
+    v0: Fraction
+    exact_cap: int
+    rows: list[Row]
+    identification: dict[str, Any]
+
+
+def _velocities(result: Result) -> list[Fraction]:
+    K = result.backend
+    return [K.to_number(x) for x in result.exit_velocity]
+
+
+def _states(result: Result) -> list[list[Fraction]]:
+    K = result.backend
+    return [[K.to_number(x) for x in result.velocity_in]] + [[K.to_number(x) for x in s.velocity] for s in result.steps]
+
+
+def check_entry(column: str, printed: str, value: Fraction) -> EntryCheck:
+    """Whether ``value`` rounds to the printed string; if not, why not.
+
+    >>> check_entry("v", "0.4975125", Fraction(4975125, 10**7)).agrees
+    True
+    >>> check_entry("v", "33.3333334", Fraction(100, 3)).reason
+    'off by 1 unit of the 7th decimal (the computation rounds to 33.3333333)'
+    """
+    k = decimals_of(printed)
+    p = to_number(printed)
+    computed = format_decimal(value, 30)
+    if round_to(value, k) == p:
+        return EntryCheck(column, printed, computed, True)
+    if round_to(value, k, truncate=True) == p:
+        return EntryCheck(column, printed, computed, False, "agrees if the printed digits were truncated, not rounded")
+    units = (p - round_to(value, k)) * 10**k
+    unit_word = "unit" if abs(units) == 1 else "units"
+    place = f"{k}th decimal" if k > 3 else {0: "units digit", 1: "1st decimal", 2: "2nd decimal", 3: "3rd decimal"}[k]
+    return EntryCheck(
+        column,
+        printed,
+        computed,
+        False,
+        f"off by {int_to_str(abs(units.numerator))} {unit_word} of the {place} "
+        f"(the computation rounds to {_fixed(round_to(value, k), k)})",
+    )
+
+
+def _fixed(q: Fraction, decimals: int) -> str:
+    scaled = q * 10**decimals
+    n = scaled.numerator // scaled.denominator
+    s = int_to_str(abs(n)).rjust(decimals + 1, "0")
+    body = s[:-decimals] + "." + s[-decimals:] if decimals else s
+    return ("-" if n < 0 else "") + body
+
+
+def _row_diagnosis(printed: list[str], states: list[list[Fraction]], momentum: Fraction) -> list[str]:
+    """Row-level reasons for a row whose velocities disagree."""
+    notes = []
+    lows, highs = [], []
+    for s in printed:
+        k = decimals_of(s)
+        half = Fraction(1, 2 * 10**k)
+        lows.append(to_number(s) - half)
+        highs.append(to_number(s) + half)
+    if not sum(lows) <= momentum <= sum(highs):
+        notes.append(
+            f"the printed velocities cannot be a state of the rule: every impulse conserves total momentum "
+            f"{format_decimal(momentum)}, but any values that round to the printed ones sum to between "
+            f"{format_decimal(sum(lows))} and {format_decimal(sum(highs))}"
+        )
+    matches = [
+        w for w, v in enumerate(states) if all(round_to(x, decimals_of(s)) == to_number(s) for x, s in zip(v, printed))
+    ]
+    if matches:
+        notes.append(f"the printed velocities match the state after {', '.join(map(str, matches))} impulses")
+    else:
+        notes.append(f"no state of the run (after 0 to {len(states) - 1} impulses) rounds to the printed velocities")
+    return notes
+
+
+def table1(*, exact_cap: int = DEFAULT_EXACT_CAP, sigma_relative: Fraction = PAPER_SIGMA_RELATIVE) -> Table1:
+    """Recompute Table 1: exact and paper-mode results, and every printed entry checked."""
+    data = load_table1()
+    v0 = to_number(data["v0"])
+    rows = []
+    for eps, *vel, iters in data["rows"]:
+        exact = run_cradle(eps, v0=data["v0"], mode="exact", max_iterations=exact_cap, trace=False)
+        paper = run_cradle(eps, v0=data["v0"], mode="paper", sigma_relative=sigma_relative)
+        row = Row(eps, [*vel, iters], exact, paper)
+        computed = _velocities(paper)
+        for i, (printed, value) in enumerate(zip(vel, computed)):
+            row.checks.append(check_entry(f"v_D{i + 1}", printed, value))
+        stop, count = parse_printed_iterations(iters)
+        shown = f"{'AEEV / ' if paper.stop == 'aeev' else ''}{paper.iterations}"
+        agrees = (stop, count) == (paper.stop, paper.iterations)
+        why = "" if agrees else f"paper mode stops with {paper.stop} after {paper.iterations}"
+        row.checks.append(EntryCheck("iterations", iters, shown, agrees, why))
+        if not all(c.agrees for c in row.checks[:-1]):
+            follow = run_cradle(eps, v0=data["v0"], max_iterations=paper.iterations + 4, certify=False)
+            states = _states(follow)
+            row.row_notes = _row_diagnosis(vel, states, v0)
+        rows.append(row)
+    return Table1(data["source"], v0, exact_cap, rows, identify_aeev(data))
+
+
+def _check_measures(eps: str, v0: str, until: int, pairs: str) -> tuple[list[Fraction], int | None]:
+    """The squared AEEV measure at every state where an impact remains, and the exit state."""
+    run = run_cradle(eps, v0=v0, mode="exact", max_iterations=until, certify=False)
+    states = _states(run)
+    exit_state = run.iterations if run.stop == "exit" else None
+    checked = states if exit_state is None else states[:exit_state]
+    return [max_difference_squared(v, pairs) for v in checked], exit_state
+
+
+def identify_aeev(data: dict[str, Any] | None = None) -> dict[str, Any]:
+    """Which AEEV tests reproduce every printed iteration count, and for which sigma.
+
+    The test is made before an impulse, once an impact is known to remain (a row that
+    exits is printed with its plain count). For a measure M_w of the velocity after w
+    impulses, a row printed "AEEV / k" needs ``M_k < sigma <= M_w`` for every checked
+    w < k, and a row printed "k" needs ``sigma <= M_w`` for every w < k. The result gives,
+    per measure, the window of sigma (relative to ||v0||) that satisfies every row, exactly.
+    """
+    data = data or load_table1()
+    v0 = to_number(data["v0"])
+    out: dict[str, Any] = {"measures": {}}
+    for pairs in ("all", "adjacent"):
+        lower_sq, upper_sq = Fraction(0), None
+        for eps, *_, iters in data["rows"]:
+            stop, count = parse_printed_iterations(iters)
+            measures, _ = _check_measures(eps, data["v0"], count + 1, pairs)
+            before = measures[:count]
+            if before:
+                m = min(before)
+                upper_sq = m if upper_sq is None else min(upper_sq, m)
+            if stop == "aeev":
+                lower_sq = max(lower_sq, measures[count])
+        window = {
+            "lower_sq": lower_sq / (v0 * v0),
+            "upper_sq": upper_sq / (v0 * v0),
+        }
+        window["consistent"] = window["lower_sq"] < window["upper_sq"]
+        window["stated_inside"] = window["lower_sq"] < PAPER_SIGMA_STATED**2 <= window["upper_sq"]
+        out["measures"][pairs] = window
+    out["stated_counts"] = {
+        eps: _stop_label(run_cradle(eps, v0=data["v0"], mode="paper", sigma_relative=PAPER_SIGMA_STATED))
+        for eps, *_ in data["rows"]
+    }
+    return out
+
+
+def _stop_label(result: Result) -> str:
+    return f"AEEV / {result.iterations}" if result.stop == "aeev" else str(result.iterations)
+
+
+def below_three_minus_two_sqrt2(q: Fraction) -> bool:
+    """Whether ``q < 3 - 2*sqrt(2)``, decided exactly: for q < 3 it is ``(3 - q)^2 > 8``.
+
+    >>> below_three_minus_two_sqrt2(Fraction(1715, 10000)), below_three_minus_two_sqrt2(Fraction(1716, 10000))
+    (True, False)
+    """
+    return q < 3 and (3 - q) ** 2 > 8
+
+
+def threshold_brackets(table: Table1) -> list[tuple[str, str, bool]]:
+    """Neighbouring rows where the exact count goes from 3 to 4, and whether the paper's
+    threshold 3 - 2*sqrt(2) lies between their CORs (exactly)."""
+    out = []
+    for a, b in zip(table.rows, table.rows[1:]):
+        if a.exact.iterations == 3 and b.exact.iterations == 4:
+            hi, lo = to_number(a.eps), to_number(b.eps)
+            out.append((a.eps, b.eps, below_three_minus_two_sqrt2(lo) and not below_three_minus_two_sqrt2(hi)))
+    return out
+
+
+def sqrt_decimal(q: Fraction, digits: int = 4, *, up: bool = False) -> str:
+    """sqrt(q) to ``digits`` significant digits, rounded down (or up), exactly.
+
+    >>> sqrt_decimal(Fraction(2), 5), sqrt_decimal(Fraction(2), 5, up=True)
+    ('1.4142', '1.4143')
+    """
+    import math
+
+    from verify.core.numbers import _ilog10
+
+    if q <= 0:
+        return "0"
+    k = digits - 1 - _ilog10(q.numerator, q.denominator) // 2
+    s = q * Fraction(10) ** (2 * k)
+    r = math.isqrt(s.numerator // s.denominator)
+    if up and Fraction(r * r) != s:
+        r += 1
+    return format_decimal(Fraction(r) / Fraction(10) ** k, digits + 1)

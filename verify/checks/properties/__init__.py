@@ -1,0 +1,1 @@
+"""The property suite: strategies, the printed formulas, the properties, SymPy proofs, verdicts."""

@@ -1,0 +1,463 @@
+"""What the rule promises, as checks on one drawn case.
+
+A property is a check ``check(run, drawn, extra)``: ``drawn`` is a case of
+:mod:`verify.checks.properties.strategies`, ``extra`` what the property draws besides (a permutation, a
+scale, a change of coordinates, a frame velocity), ``run`` runs a case record on the
+engine (memoised by :mod:`verify.checks.properties.verdicts`). It returns ``None`` when the property holds on
+the case, :data:`SKIP` when it does not apply (say a comparison with a run that the budget
+stopped), or a sentence saying how it fails. Outcomes worth counting (stops, branches
+taken by float) go to ``run.count``.
+
+Every check compares exact values (Fractions) and computes its reference independently
+where it can: :mod:`verify.checks.properties.formulas` recomputes impulses from the raw inputs as printed in
+the paper. The search and the verdicts are in :mod:`verify.checks.properties.verdicts`, the SymPy proofs in
+:mod:`verify.checks.properties.proofs`.
+
+>>> [p.name for p in PROPERTIES][:2]
+['kinetic energy does not increase', 'the exit velocity is outgoing']
+"""
+
+from __future__ import annotations
+
+from collections.abc import Callable
+from dataclasses import dataclass
+from fractions import Fraction
+from typing import Any
+
+from hypothesis import strategies as st
+
+from verify.checks.properties import formulas
+from verify.checks.properties.strategies import FAMILIES, RULES, Drawn, small_rationals
+
+SKIP = "skip"  #: a check's answer when the property does not apply to the case
+DONE = ("exit", "non_terminating", "max_iterations")  #: stops that do not depend on number sizes
+
+
+def q(result: Any, xs: Any) -> list[Fraction]:
+    """Exact values of engine numbers (Fractions: every drawn input is rational)."""
+    return [Fraction(result.backend.to_number(x)) for x in xs]
+
+
+def _velocities_before(result: Any) -> list[list[Fraction]]:
+    vs = [q(result, result.velocity_in)]
+    vs += [q(result, s.velocity) for s in result.steps[:-1]]
+    return vs
+
+
+def _inputs(record: dict[str, Any]) -> tuple:
+    f = Drawn("", "", record).values
+    return f("mass_matrix"), f("normals"), f("time_terms"), f("restitution")
+
+
+def _show(xs: Any) -> str:
+    return "(" + ", ".join(str(x) for x in xs) + ")"
+
+
+# -- energy, admissibility, termination, momentum --------------------------------------------------
+
+
+def energy_does_not_increase(run: Any, d: Drawn, extra: Any) -> str | None:
+    """Per impulse, in the rest frame of the constraints; a failure also says whether the
+    exact criterion of :func:`verify.checks.properties.proofs.energy_increase_criterion` predicts it."""
+    r = run(d.record, d.rule)
+    K = r.backend
+    before = r.kinetic_energy_in
+    for w, step in enumerate(r.steps, 1):
+        after = step.kinetic_energy
+        if K.sign(after - before) > 0:
+            from verify.checks.properties.proofs import energy_increase_criterion
+
+            e = _inputs(d.record)[3]
+            v = q(r, r.velocity_in) if w == 1 else q(r, r.steps[w - 2].velocity)
+            lhs, rhs = energy_increase_criterion(_inputs(d.record), v, step.impact_set)
+            return (
+                f"impulse {w} (impact set {list(step.impact_set)}, CORs {[str(e[j]) for j in step.impact_set]}) "
+                f"raises the kinetic energy from {K.to_exact(before)} to {K.to_exact(after)}; as the criterion "
+                f"beta ||sum (1 + e_j) V_j||^2 > 2 sum (1 + e_j) p(F_j)^2 / G_jj predicts: {lhs} > {rhs}"
+            )
+        before = after
+    return None
+
+
+def exit_is_outgoing(run: Any, d: Drawn, extra: Any) -> str | None:
+    r = run(d.record, d.rule)
+    if r.stop != "exit":
+        return SKIP
+    _, a, t, _ = _inputs(d.record)
+    v = q(r, r.exit_velocity)
+    bad = [i for i in range(len(a)) if formulas.rate(a[i], t[i], v) < 0]
+    return f"the exit velocity {_show(v)} is incoming for constraints {bad}" if bad else None
+
+
+def terminates(run: Any, d: Drawn, extra: Any) -> str | None:
+    r = run(d.record, d.rule)
+    run.count(f"stop {r.stop}")
+    if r.stop == "non_terminating":
+        kind = (r.certificate or {}).get("kind", "certificate")
+        return f"proved never to exit after {r.iterations} impulses ({kind}; verify solve prints the certificate)"
+    return None
+
+
+def momentum_is_conserved(run: Any, d: Drawn, extra: Any) -> str | None:
+    r = run(d.record, d.rule)
+    g, a, _, _ = _inputs(d.record)
+    directions = formulas.kernel(a)
+    if not directions:
+        return SKIP
+    vs = [*_velocities_before(r), q(r, r.exit_velocity)]
+    for c in directions:
+        p0 = formulas.phi(g, c, vs[0])
+        for w, v in enumerate(vs[1:], 1):
+            if formulas.phi(g, c, v) != p0:
+                return f"the momentum along {_show(c)} changes at impulse {w}: {p0} -> {formulas.phi(g, c, v)}"
+    return None
+
+
+# -- the printed formulas -----------------------------------------------------------------------------
+
+
+def _compare_with_printed(run: Any, d: Drawn, pick: Callable[[tuple, list], str | None]) -> str | None:
+    """Compare every impulse of the run with eq. ``pick(J, eps)`` (None: not compared)."""
+    r = run(d.record, d.rule)
+    g, a, t, e = _inputs(d.record)
+    if d.rule == "ideal":
+        e = [Fraction(1)] * len(e)
+    compared = False
+    for w, (v, step) in enumerate(zip(_velocities_before(r), r.steps), 1):
+        eq = pick(step.impact_set, e)
+        if eq is None:
+            continue
+        compared = True
+        expected = formulas.printed_impulse(eq, (g, a, t, e), v, step.impact_set)
+        got = q(r, step.impulse)
+        if got != expected:
+            return (
+                f"impulse {w} (impact set {list(step.impact_set)}) is {_show(got)}, eq. ({eq}) gives {_show(expected)}"
+            )
+    return None if compared else SKIP
+
+
+def follows_eq8(run: Any, d: Drawn, extra: Any) -> str | None:
+    return _compare_with_printed(run, d, lambda J, e: "8")
+
+
+def single_impact_is_eq4(run: Any, d: Drawn, extra: Any) -> str | None:
+    return _compare_with_printed(run, d, lambda J, e: "4" if len(J) == 1 else None)
+
+
+def ideal_is_eq5(run: Any, d: Drawn, extra: Any) -> str | None:
+    return _compare_with_printed(run, d, lambda J, e: "5" if len(J) == 2 else "4" if len(J) == 1 else "8")
+
+
+def symmetric_is_eq6(run: Any, d: Drawn, extra: Any) -> str | None:
+    return _compare_with_printed(run, d, lambda J, e: "6" if len(J) == 2 else "4" if len(J) == 1 else "8")
+
+
+def asymmetric_is_eq7(run: Any, d: Drawn, extra: Any) -> str | None:
+    return _compare_with_printed(run, d, lambda J, e: "7" if len(J) == 2 else "4" if len(J) == 1 else None)
+
+
+def beta_is_one_for_one_constraint(run: Any, d: Drawn, extra: Any) -> str | None:
+    """beta of the engine for J = {j}, and for {j, k} when V_k = 0 (Prop. 1 i, Sect. 3.2)."""
+    from verify.core.rule import _beta_from_rates
+
+    r = run(d.record, d.rule)
+    s, K = r.system, r.backend
+    for w, step in enumerate(r.steps, 1):
+        zero = [k for k, b in enumerate(step.rates) if K.sign(b) == 0]
+        for j in step.impact_set:
+            for J in [(j,)] + [tuple(sorted((j, k))) for k in zero]:
+                beta = Fraction(K.to_number(_beta_from_rates(s, step.rates, J)))
+                if beta != 1:
+                    return f"before impulse {w}, beta for J = {list(J)} is {beta}, not 1"
+    return None
+
+
+def orthogonal_is_codimension_rule(run: Any, d: Drawn, extra: Any) -> str | None:
+    """Impulses on Phi-orthogonal impact sets: -sum (1 + e_j) V_j; -(1 + e) V_J for equal CORs."""
+    r = run(d.record, d.rule)
+    g, a, t, e = _inputs(d.record)
+    if d.rule == "ideal":
+        e = [Fraction(1)] * len(e)
+    K = r.backend
+    compared = False
+    for w, (v, step) in enumerate(zip(_velocities_before(r), r.steps), 1):
+        J = step.impact_set
+        if len(J) < 2 or any(K.sign(r.system.gram[j][k]) != 0 for j in J for k in J if j != k):
+            continue
+        compared = True
+        got = q(r, step.impulse)
+        parts = [formulas.orthogonal_velocity(g, a[j], t[j], v) for j in J]
+        expected = [-sum(((1 + e[j]) * p[i] for j, p in zip(J, parts)), Fraction(0)) for i in range(len(v))]
+        if got != expected:
+            return (
+                f"impulse {w} on the orthogonal set {list(J)} is {_show(got)}, "
+                f"not -sum (1 + e_j) V_j = {_show(expected)}"
+            )
+        if len({e[j] for j in J}) == 1:
+            VJ = formulas.global_orthogonal_velocity(g, a, t, v, J)
+            if got != [-(1 + e[J[0]]) * x for x in VJ]:
+                return f"impulse {w} on the orthogonal set {list(J)} is not -(1 + e) V_J"
+    return None if compared else SKIP
+
+
+# -- symmetries and invariances --------------------------------------------------------------------
+
+
+def _same_outcome(
+    a: Any, b: Any, label: str, map_velocity: Callable[[list], list], perm: list[int] | None = None
+) -> str | None:
+    """Whether run b is run a seen through a change (impact sets relabelled by ``perm``).
+
+    Two runs proved never to exit are compared on their common prefix: the proof may fire
+    a few impulses earlier or later, depending on which constraint it examines first.
+    """
+    if a.stop not in DONE or b.stop not in DONE:
+        return SKIP  # a size budget depends on how the numbers are written
+    sets_a = [tuple(sorted(perm[i] for i in J)) for J in a.impact_sets] if perm else list(a.impact_sets)
+    sets_b = list(b.impact_sets)
+    if a.stop != b.stop:
+        return f"{label}: the stop {a.stop} becomes {b.stop}"
+    if a.stop == "non_terminating":
+        m = min(len(sets_a), len(sets_b))
+        if sets_a[:m] != sets_b[:m]:
+            return f"{label}: the impact sets {sets_a[:m]} become {sets_b[:m]}"
+        return None
+    if sets_a != sets_b:
+        return f"{label}: the impact sets {sets_a} become {sets_b}"
+    va, vb = map_velocity(q(a, a.exit_velocity)), q(b, b.exit_velocity)
+    if va != vb:
+        return f"{label}: the right velocity should be {_show(va)}, it is {_show(vb)}"
+    return None
+
+
+def _transformed(
+    record: dict[str, Any],
+    *,
+    A: Any = None,
+    perm: list[int] | None = None,
+    mass: Fraction = Fraction(1),
+    scale: Fraction = Fraction(1),
+    frame: Any = None,
+) -> dict[str, Any]:
+    """The case seen after a change: x = A x', constraints relabelled (new i = perm[old i]),
+    masses times ``mass``, velocity and time terms times ``scale``, a frame velocity."""
+    from verify.core.numbers import format_exact
+
+    g, a, t, e = _inputs(record)
+    v = Drawn("", "", record).values("velocity")
+    n, r = len(v), len(a)
+    if A is not None:
+        g = [
+            [formulas.phi(g, [A[k][i] for k in range(n)], [A[k][j] for k in range(n)]) for j in range(n)]
+            for i in range(n)
+        ]
+        a = [[sum((row[k] * A[k][j] for k in range(n)), Fraction(0)) for j in range(n)] for row in a]
+        v = formulas.solve_linear(A, v)
+    if frame is not None:
+        t = [ti - sum((x * u for x, u in zip(row, frame)), Fraction(0)) for ti, row in zip(t, a)]
+        v = [x + u for x, u in zip(v, frame)]
+    g = [[mass * x for x in row] for row in g]
+    v = [scale * x for x in v]
+    t = [scale * x for x in t]
+    order = list(range(r))
+    if perm is not None:
+        order = [perm.index(i) for i in range(r)]  # new position i holds old constraint order[i]
+    out = dict(record)
+    out["mass_matrix"] = [[format_exact(x) for x in row] for row in g]
+    out["normals"] = [[format_exact(x) for x in a[i]] for i in order]
+    out["time_terms"] = [format_exact(t[i]) for i in order]
+    out["restitution"] = [format_exact(e[i]) for i in order]
+    out["velocity"] = [format_exact(x) for x in v]
+    return out
+
+
+def relabelling_changes_nothing(run: Any, d: Drawn, order: list[int]) -> str | None:
+    perm = [p for p in order if p < len(d.record["normals"])]  # a permutation of range(r)
+    other = _transformed(d.record, perm=perm)
+    return _same_outcome(run(d.record, d.rule), run(other, d.rule), f"relabelling by {perm}", lambda v: v, perm)
+
+
+def mirror_symmetry(run: Any, d: Drawn, extra: Any) -> str | None:
+    n, r = len(d.record["velocity"]), len(d.record["normals"])
+    if d.family == "corner":  # y -> -y, theta -> -theta: the walls swap
+        A = [[Fraction(1), 0, 0], [0, Fraction(-1), 0], [0, 0, Fraction(-1)]]
+        label = "the mirror image y -> -y"
+    elif d.family == "cradle":  # ball i -> ball N-1-i, x -> -x: contact i -> N-2-i
+        A = [[Fraction(-1) if i + j == n - 1 else Fraction(0) for j in range(n)] for i in range(n)]
+        label = "the cradle read backwards"
+    else:
+        return SKIP
+    perm = list(range(r))[::-1]
+    other = _transformed(d.record, A=A, perm=perm)
+
+    def mapped(v: list) -> list:
+        return formulas.solve_linear(A, v)
+
+    return _same_outcome(run(d.record, d.rule), run(other, d.rule), label, mapped, perm)
+
+
+def homogeneous(run: Any, d: Drawn, lam: Fraction) -> str | None:
+    other = _transformed(d.record, scale=lam)
+    label = f"scaling the velocity (and the time terms) by {lam}"
+    return _same_outcome(run(d.record, d.rule), run(other, d.rule), label, lambda v: [lam * x for x in v])
+
+
+def mass_scaling_changes_nothing(run: Any, d: Drawn, c: Fraction) -> str | None:
+    other = _transformed(d.record, mass=c)
+    return _same_outcome(run(d.record, d.rule), run(other, d.rule), f"scaling all masses by {c}", lambda v: v)
+
+
+def covariant(run: Any, d: Drawn, factors: tuple) -> str | None:
+    n = len(d.record["velocity"])
+    A = _matrix_from_factors(n, *factors)
+    other = _transformed(d.record, A=A)
+    label = f"the change of coordinates x = A x', A = {[[str(x) for x in row] for row in A]}"
+    return _same_outcome(run(d.record, d.rule), run(other, d.rule), label, lambda v: formulas.solve_linear(A, v))
+
+
+def frame_independent(run: Any, d: Drawn, u: list[Fraction]) -> str | None:
+    u = (list(u) + [Fraction(0)] * 6)[: len(d.record["velocity"])]
+    other = _transformed(d.record, frame=u)
+    label = f"constraints moving with uniform velocity u = {_show(u)}, seen from the co-moving frame"
+    return _same_outcome(run(d.record, d.rule), run(other, d.rule), label, lambda v: [x + y for x, y in zip(v, u)])
+
+
+def _matrix_from_factors(n: int, lower: list, diagonal: list, upper: list) -> list[list[Fraction]]:
+    """A = L D U with unit triangular L, U and a non-zero diagonal D: invertible by construction."""
+    L = [
+        [Fraction(1) if i == j else lower[(i * n + j) % len(lower)] if j < i else Fraction(0) for j in range(n)]
+        for i in range(n)
+    ]
+    U = [
+        [Fraction(1) if i == j else upper[(i * n + j) % len(upper)] if j > i else Fraction(0) for j in range(n)]
+        for i in range(n)
+    ]
+    D = [diagonal[i % len(diagonal)] for i in range(n)]
+    return [[sum((L[i][k] * D[k] * U[k][j] for k in range(n)), Fraction(0)) for j in range(n)] for i in range(n)]
+
+
+# -- backends -------------------------------------------------------------------------------------------
+
+
+def backends_agree(run: Any, d: Drawn, extra: Any) -> str | None:
+    """Exact inside the interval enclosure with the same branches; mp and float close where
+    they take the exact branches (counted where they do not)."""
+    from verify.core.numbers import format_decimal
+    from verify.errors import NoConvergence
+
+    exact = run(d.record, d.rule)
+    if exact.stop not in DONE:
+        return SKIP
+    ve = q(exact, exact.exit_velocity)
+    scale = max([abs(x) for x in q(exact, exact.velocity_in)] + [Fraction(1)])
+    try:
+        iv = run(d.record, d.rule, "interval")
+    except NoConvergence:
+        run.count("interval undecided (a rate exactly 0)")
+        iv = None
+    if iv is not None:
+        if (iv.stop, iv.impact_sets) != (exact.stop, exact.impact_sets):
+            return (
+                f"the interval backend takes the branches {iv.impact_sets} ({iv.stop}), "
+                f"exact {exact.impact_sets} ({exact.stop})"
+            )
+        outside = [i for i, (x, y) in enumerate(zip(iv.exit_velocity, ve)) if not iv.backend.contains(x, y)]
+        if outside:
+            return f"the exact right velocity is outside the interval enclosure in components {outside}"
+    for name, tol in (("mp", Fraction(1, 10**20)), ("float", Fraction(1, 10**9))):
+        other = run(d.record, d.rule, name)
+        if (other.stop, other.impact_sets) != (exact.stop, exact.impact_sets):
+            run.count(f"{name} takes another branch")
+            continue
+        approx = [
+            Fraction(other.backend.to_decimal(x, 40)) if name == "mp" else Fraction(x) for x in other.exit_velocity
+        ]
+        err = max(abs(x - y) for x, y in zip(approx, ve))
+        if err > tol * scale:
+            return (
+                f"{name} takes the exact branches but its right velocity is off by {format_decimal(err, 3)} "
+                f"(more than {format_decimal(tol, 1)} x |v|)"
+            )
+    return None
+
+
+# -- the registry -------------------------------------------------------------------------------------
+
+
+@dataclass(frozen=True)
+class Property:
+    """A property: its name (stable: it is the key of the JSON output), its check, what it
+    draws besides the case, the rules and families it is stated for, a SymPy proof."""
+
+    name: str
+    check: Callable[[Any, Drawn, Any], str | None]
+    extra: st.SearchStrategy[Any] | None = None
+    rules: tuple[str, ...] = RULES
+    families: tuple[str, ...] = FAMILIES
+    proof: str | None = None  #: name of the proof in :mod:`verify.checks.properties.proofs`
+    census: bool = False  #: count the outcomes of every case of a refuted row, not only up to the first failure
+    #: where the property fails: a proof's name in :mod:`verify.checks.properties.proofs`, or a sentence
+    explain: str | None = None
+
+
+_ENTRIES = st.lists(small_rationals(2, 2), min_size=1, max_size=6)
+_DIAGONAL = st.lists(st.sampled_from([Fraction(1), Fraction(-1), Fraction(2), Fraction(1, 2)]), min_size=1, max_size=6)
+_SCALES = st.sampled_from([Fraction(2), Fraction(1, 3), Fraction(7, 2), Fraction(10**6), Fraction(1, 10**6)])
+
+PROPERTIES: tuple[Property, ...] = (
+    Property("kinetic energy does not increase", energy_does_not_increase, proof="energy", explain="energy_change"),
+    Property("the exit velocity is outgoing", exit_is_outgoing),
+    Property("each impulse is eq. (8) as printed", follows_eq8),
+    Property("a single impact gives eq. (4)", single_impact_is_eq4, proof="single"),
+    Property("beta = 1 for one constraint", beta_is_one_for_one_constraint, proof="beta_one"),
+    Property("all CORs 1 give the ideal rule (5)", ideal_is_eq5, rules=("ideal",), proof="ideal"),
+    Property("equal CORs give the symmetric rule (6)", symmetric_is_eq6, rules=("symmetric",), proof="symmetric"),
+    Property(
+        "two constraints: eq. (8) is the asymmetric rule (7)",
+        asymmetric_is_eq7,
+        rules=("asymmetric",),
+        proof="asymmetric",
+    ),
+    Property(
+        "orthogonal constraints give the codimension > 1 rule (Prop. 1)",
+        orthogonal_is_codimension_rule,
+        proof="orthogonal",
+    ),
+    Property(
+        "relabelling the constraints changes nothing", relabelling_changes_nothing, extra=st.permutations(range(4))
+    ),
+    Property("mirror symmetry (corner y -> -y; cradle read backwards)", mirror_symmetry, families=("cradle", "corner")),
+    Property("homogeneity: scaling the velocity by lambda > 0 scales the result", homogeneous, extra=_SCALES),
+    Property("scaling all masses changes nothing", mass_scaling_changes_nothing, extra=_SCALES),
+    Property(
+        "covariance under a linear change of coordinates", covariant, extra=st.tuples(_ENTRIES, _DIAGONAL, _ENTRIES)
+    ),
+    Property(
+        "frame independence (constraints in uniform motion)",
+        frame_independent,
+        extra=st.lists(small_rationals(2, 3), min_size=6, max_size=6),
+    ),
+    Property(
+        "the rule exits (termination)",
+        terminates,
+        census=True,
+        explain=(
+            "for two constraints the rule never exits exactly when the run enters the invariant cones of "
+            "verify/core/termination.py; for three unit balls that is eps <= 7 - 4*sqrt(3) (verify cradle-map), for "
+            "the symmetric corner tan(alpha) <= (1 - sqrt(e))/(1 + sqrt(e)) (verify corner-claims)"
+        ),
+    ),
+    Property("momentum along directions free of constraints is conserved", momentum_is_conserved),
+    Property("backends agree (exact, interval, mp, float)", backends_agree),
+)
+
+
+def property_named(name: str) -> Property:
+    """The property with this name (or a unique prefix of it)."""
+    hits = [p for p in PROPERTIES if p.name == name] or [p for p in PROPERTIES if p.name.startswith(name)]
+    if len(hits) != 1:
+        from verify.errors import InvalidInput
+
+        raise InvalidInput(f"unknown property {name!r} (see verify properties --list)")
+    return hits[0]

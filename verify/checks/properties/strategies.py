@@ -1,0 +1,272 @@
+"""Hypothesis strategies that build valid impact problems directly (no filtering).
+
+A drawn case is a :class:`Drawn`: a case record of the contracts (strings only, so a
+failing case can be printed, saved and rerun with ``verify solve``), its family and the
+rule it is meant for. Every piece is valid by construction:
+
+- mass matrices ``L L^T`` with L lower triangular with a positive diagonal: symmetric
+  positive definite; they shrink towards diagonal matrices;
+- r independent normals: row i has a non-zero entry in its own pivot column and zeros
+  in the other rows' pivot columns; sometimes made Phi-orthogonal (Gram-Schmidt in the
+  metric ``g^-1``), so that Proposition 1 (ii) can be exercised;
+- CORs in [0, 1], 0 and 1 drawn often: one per constraint (``general``,
+  ``asymmetric``), one for all (``symmetric``), all 1 (``ideal``);
+- the velocity: a free part, then exact target rates on a chosen set of constraints
+  (negative for the hit ones, sometimes exactly 0: grazing), solved for with the Gram
+  matrix. At least one constraint is always hit.
+
+Families: ``general`` (r = 1..4 constraints in n = r+1..6 coordinates, the paper's
+2 <= r < n plus r = 1; fixed or moving constraints), ``cradle`` (N = 2..5 balls of
+rational masses) and ``corner`` (the disk of Sect. 4.2 with a rational slope). The
+asymmetric rule (7) is for two constraints: its cases have r = 2.
+
+>>> from hypothesis import find, settings
+>>> quiet = settings(database=None, derandomize=True)  # no example database: the same answer every run
+>>> d = find(cases("corner", "ideal"), lambda d: True, settings=quiet)  # the simplest corner case
+>>> d.record["normals"], d.record["restitution"], d.record["velocity"]
+([['-1', '1', '0'], ['-1', '-1', '0']], ['1', '1'], ['1/2', '-1/2', '0'])
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from fractions import Fraction
+from functools import cache
+from typing import Any
+
+from hypothesis import strategies as st
+
+from verify.core.backends import RationalBackend
+from verify.core.linalg import dot, ldl, matvec, solve_spd
+from verify.core.numbers import format_exact
+
+RULES = ("ideal", "symmetric", "asymmetric", "general")
+FAMILIES = ("general", "cradle", "corner")
+MAX_ITERATIONS = 200
+
+_Q = RationalBackend("python")  # plain Fractions: the strategies need no speed
+
+
+@dataclass(frozen=True)
+class Drawn:
+    """A drawn case: the case record (strings), its family and its rule."""
+
+    family: str
+    rule: str
+    record: dict[str, Any]
+
+    def values(self, key: str) -> Any:
+        """A field of the record as Fractions (every strategy draws rationals)."""
+        return _fractions(self.record[key])
+
+
+def _fractions(x: Any) -> Any:
+    return [_fractions(y) for y in x] if isinstance(x, (list, tuple)) else Fraction(x)
+
+
+@cache
+def small_rationals(max_denominator: int = 4, bound: int = 3) -> st.SearchStrategy[Fraction]:
+    """Rationals p/q with |p/q| <= bound and q <= max_denominator (shrinking to 0, then to integers).
+
+    Built from two integers rather than ``st.fractions``: several times faster to draw.
+    """
+    return st.builds(
+        lambda p, q: min(max(Fraction(p, q), Fraction(-bound)), Fraction(bound)),
+        st.integers(-bound * max_denominator, bound * max_denominator),
+        st.integers(1, max_denominator),
+    )
+
+
+@cache
+def positive_rationals(max_denominator: int = 4, bound: int = 3) -> st.SearchStrategy[Fraction]:
+    """Rationals p/q in [1/max_denominator, bound] with q <= max_denominator (shrinking to 1)."""
+    return st.builds(
+        lambda p, q: min(Fraction(p, q), Fraction(bound)),
+        st.integers(1, bound * max_denominator),
+        st.integers(1, max_denominator),
+    )
+
+
+@cache
+def cors(max_denominator: int = 10) -> st.SearchStrategy[Fraction]:
+    """Coefficients of restitution in [0, 1]; 0 and 1 come often (shrinking to 0)."""
+    return st.one_of(
+        st.just(Fraction(0)),
+        st.just(Fraction(1)),
+        st.builds(
+            lambda p, q: Fraction(min(p, q), q), st.integers(0, max_denominator), st.integers(1, max_denominator)
+        ),
+    )
+
+
+_SIGNS = st.sampled_from([Fraction(1), Fraction(-1), Fraction(2), Fraction(-2)])
+_ROLES = st.sampled_from(["hit", "graze", "free"])
+
+
+@st.composite
+def spd_matrices(draw: Any, n: int) -> list[list[Fraction]]:
+    """Symmetric positive definite n x n matrices ``L L^T``."""
+    L = [[Fraction(0)] * n for _ in range(n)]
+    for i in range(n):
+        L[i][i] = draw(positive_rationals(3, 2))
+        for j in range(i):
+            L[i][j] = draw(small_rationals(2, 1))
+    return [[sum((L[i][k] * L[j][k] for k in range(n)), Fraction(0)) for j in range(n)] for i in range(n)]
+
+
+_FACTORS: dict[str, Any] = {}
+
+
+def _metric_inverse_apply(g: list[list[Fraction]], a: list[Fraction]) -> tuple:
+    """``g^-1 a``; the factorisation of the last g is kept (a draw asks it several times)."""
+    key = repr(g)
+    if key not in _FACTORS:
+        _FACTORS.clear()
+        _FACTORS[key] = ldl(_Q, g)
+    return solve_spd(_Q, _FACTORS[key], a)
+
+
+@st.composite
+def independent_normals(draw: Any, g: list[list[Fraction]], r: int, orthogonal: bool) -> list[list[Fraction]]:
+    """r independent covectors in R^n (r <= n); Phi-orthogonal ones if ``orthogonal``."""
+    n = len(g)
+    pivots = sorted(draw(st.permutations(range(n)))[:r])
+    rows: list[list[Fraction]] = []
+    for i in range(r):
+        row = []
+        for col in range(n):
+            if col == pivots[i]:
+                row.append(draw(_SIGNS))
+            elif col in pivots:
+                row.append(Fraction(0))
+            else:
+                row.append(draw(small_rationals(2, 2)))
+        rows.append(row)
+    if orthogonal:  # Gram-Schmidt for <a, b> = a g^-1 b^T: keeps independence
+        U: list[tuple] = []
+        for i in range(r):
+            for k in range(i):
+                u_k = U[k]
+                c = dot(_Q, rows[i], u_k) / dot(_Q, rows[k], u_k)
+                rows[i] = [x - c * y for x, y in zip(rows[i], rows[k])]
+            U.append(_metric_inverse_apply(g, rows[i]))
+    return rows
+
+
+def _restitution(draw: Any, r: int, rule: str) -> list[Fraction]:
+    if rule == "ideal":
+        return [Fraction(1)] * r
+    if rule == "symmetric":
+        return [draw(cors())] * r
+    return [draw(cors()) for _ in range(r)]
+
+
+@st.composite
+def incoming_velocities(
+    draw: Any, g: list[list[Fraction]], normals: list[list[Fraction]], time_terms: list[Fraction]
+) -> list[Fraction]:
+    """A velocity that hits one or several constraints, maybe grazing others.
+
+    A free part w, then ``v = w + sum_k c_k U_k`` (``U_k = g^-1 a_k``) with the c_k
+    solved so that the rates ``p(F_j)`` take drawn values on a chosen set: negative on
+    the hit constraints (at least one), 0 on the grazed ones.
+    """
+    n, r = len(g), len(normals)
+    w = [draw(small_rationals(3, 3)) for _ in range(n)]
+    roles = [draw(_ROLES) for _ in range(r)]
+    if "hit" not in roles:
+        roles[draw(st.integers(0, r - 1))] = "hit"
+    chosen = [j for j in range(r) if roles[j] != "free"]
+    targets = {j: -draw(positive_rationals(3, 3)) if roles[j] == "hit" else Fraction(0) for j in chosen}
+    return velocity_with_rates((g, normals, time_terms), w, targets)
+
+
+def velocity_with_rates(system: tuple, w: list[Fraction], targets: dict[int, Fraction]) -> list[Fraction]:
+    """``v = w + sum_k c_k g^-1 a_k`` whose rates ``p(F_j)`` equal ``targets[j]`` exactly.
+
+    ``system`` is ``(g, normals, time_terms)``; the other rates are whatever follows.
+
+    >>> velocity_with_rates(([[1, 0], [0, 1]], [[1, 1]], [0]), [0, 0], {0: -2})
+    [Fraction(-1, 1), Fraction(-1, 1)]
+    """
+    g, normals, time_terms = (_fractions(x) for x in system)  # never ints: int / int is a float
+    w = _fractions(list(w))
+    targets = {j: Fraction(t) for j, t in targets.items()}
+    chosen = sorted(targets)
+    U = [_metric_inverse_apply(g, normals[k]) for k in chosen]
+    rates = [time_terms[j] + dot(_Q, normals[j], w) for j in chosen]
+    G = [[dot(_Q, normals[j], u) for u in U] for j in chosen]
+    c = solve_spd(_Q, ldl(_Q, G), [targets[j] - b for j, b in zip(chosen, rates)])
+    return [x + dot(_Q, c, [u[i] for u in U]) for i, x in enumerate(w)]
+
+
+@st.composite
+def general_cases(draw: Any, rule: str = "general") -> Drawn:
+    """A general system: r = 1..4 constraints in n = r+1..6 coordinates (r = 2 for rule (7))."""
+    r = 2 if rule == "asymmetric" else draw(st.integers(1, 4))
+    n = draw(st.integers(max(2, r + 1), 6))
+    g = draw(spd_matrices(n))
+    normals = draw(independent_normals(g, r, draw(st.booleans())))
+    moving = draw(st.booleans())
+    time_terms = [draw(small_rationals(2, 2)) if moving else Fraction(0) for _ in range(r)]
+    eps = _restitution(draw, r, rule)
+    v = draw(incoming_velocities(g, normals, time_terms))
+    return make_drawn("general", rule, (g, normals, time_terms, eps), v)
+
+
+@st.composite
+def cradle_cases(draw: Any, rule: str = "general") -> Drawn:
+    """Newton's cradle: N = 2..5 balls of rational masses, contacts S_(i,i+1) (N = 3 for rule (7))."""
+    balls = 3 if rule == "asymmetric" else draw(st.integers(2, 5))
+    masses = [draw(positive_rationals(3, 3)) for _ in range(balls)]
+    g = [[masses[i] if i == j else Fraction(0) for j in range(balls)] for i in range(balls)]
+    normals = [[Fraction(-1 if k == i else 1 if k == i + 1 else 0) for k in range(balls)] for i in range(balls - 1)]
+    time_terms = [Fraction(0)] * (balls - 1)
+    eps = _restitution(draw, balls - 1, rule)
+    v = draw(incoming_velocities(g, normals, time_terms))
+    return make_drawn("cradle", rule, (g, normals, time_terms, eps), v)
+
+
+@st.composite
+def corner_cases(draw: Any, rule: str = "general") -> Drawn:
+    """The disk in a corner (Sect. 4.2): walls ``kx - y = 0``, ``kx + y = 0``, rational k > 0."""
+    k = draw(st.one_of(st.just(Fraction(1)), positive_rationals(6, 6)))  # k = 1: a right angle, orthogonal walls
+    g = [[Fraction(int(i == j)) for j in range(3)] for i in range(3)]
+    normals = [[-k, Fraction(1), Fraction(0)], [-k, Fraction(-1), Fraction(0)]]
+    time_terms = [Fraction(0)] * 2
+    eps = _restitution(draw, 2, rule)
+    v = draw(incoming_velocities(g, normals, time_terms))
+    return make_drawn("corner", rule, (g, normals, time_terms, eps), v)
+
+
+_FAMILIES = {"general": general_cases, "cradle": cradle_cases, "corner": corner_cases}
+
+
+def cases(family: str, rule: str) -> st.SearchStrategy[Drawn]:
+    """The strategy for a family (``general``, ``cradle``, ``corner``) and a rule."""
+    if family not in _FAMILIES or rule not in RULES:
+        raise ValueError(f"unknown family or rule: {family!r}, {rule!r}")
+    return _FAMILIES[family](rule)
+
+
+def make_drawn(family: str, rule: str, inputs: tuple, v: Any) -> Drawn:
+    """Package exact inputs ``(g, normals, time_terms, restitution)`` and a velocity as a
+    :class:`Drawn` (the record holds exact strings)."""
+    g, normals, time_terms, eps = inputs
+    record = {
+        "id": f"{family}-{rule}",
+        "mass_matrix": [[format_exact(x) for x in row] for row in g],
+        "normals": [[format_exact(x) for x in row] for row in normals],
+        "time_terms": [format_exact(x) for x in time_terms],
+        "restitution": [format_exact(x) for x in eps],
+        "velocity": [format_exact(x) for x in v],
+        "max_iterations": MAX_ITERATIONS,
+    }
+    return Drawn(family, rule, record)
+
+
+def rates(d: Drawn, v: list[Fraction] | None = None) -> list[Fraction]:
+    """The rates ``p(F_i) = dF_i/dt + dF_i . v`` of a drawn case (default: its velocity)."""
+    v = d.values("velocity") if v is None else v
+    a = d.values("normals")
+    return [t + x for t, x in zip(d.values("time_terms"), matvec(_Q, a, v))]

@@ -1,0 +1,229 @@
+"""Sweeps of many corner cases: deterministic case generators and a parallel runner.
+
+:func:`sweep` runs a list of case dictionaries (strings only, so they travel to other
+processes or machines) with :func:`run_case`, in chunks, on any
+``concurrent.futures.Executor``: local processes by default, or a Dask cluster through
+``dask.distributed.Client(...).get_executor()``. On a terminal it draws a progress bar on
+stderr. Results come back in the order of the cases.
+
+>>> cases = random_corner_cases(3, seed=1)
+>>> [r["stop"] for r in sweep(cases, workers=1, progress=False)]
+['exit', 'exit', 'exit']
+"""
+
+from __future__ import annotations
+
+import os
+import random
+import sys
+from collections.abc import Callable, Iterable, Sequence
+from concurrent.futures import Executor, ProcessPoolExecutor
+from fractions import Fraction
+from typing import Any
+
+from verify.core.numbers import format_exact
+
+
+def _q(x: Fraction) -> str:
+    return format_exact(x)
+
+
+def random_corner_cases(
+    n: int,
+    *,
+    seed: int = 0,
+    max_digits: int = 999,
+    cors: str = "general",
+    both_walls: bool = True,
+    max_iterations: int = 100,
+) -> list[dict[str, Any]]:
+    """``n`` corner cases with rational inputs, the same for the same seed.
+
+    Slope k in (1/10, 10) with numerator and denominator up to ``max_digits``; velocity
+    (xd, yd) rational with both walls hit at the start (|yd| < k xd) when ``both_walls``;
+    CORs rational in [0, 1], with 0 and 1 drawn often. ``cors`` is ``"general"`` (two
+    independent CORs), ``"symmetric"`` (one COR) or ``"ideal"`` (both 1).
+    """
+    rng = random.Random(seed)
+
+    def rational(lo: Fraction, hi: Fraction) -> Fraction:
+        while True:
+            q = Fraction(rng.randint(1, max_digits), rng.randint(1, max_digits))
+            if lo < q < hi:
+                return q
+
+    def cor() -> Fraction:
+        r = rng.random()
+        if r < 0.1:
+            return Fraction(0)
+        if r < 0.2:
+            return Fraction(1)
+        d = rng.randint(1, 1000)
+        return Fraction(rng.randint(0, d), d)
+
+    out = []
+    for i in range(n):
+        k = rational(Fraction(1, 10), Fraction(10))
+        xd = Fraction(rng.randint(1, 1000), rng.randint(1, 100))
+        u = Fraction(rng.randint(-999, 999), 1000) if both_walls else Fraction(rng.randint(-3000, 3000), 1000)
+        yd = u * k * xd
+        if cors == "ideal":
+            e1 = e2 = Fraction(1)
+        elif cors == "symmetric":
+            e1 = e2 = cor()
+        else:
+            e1, e2 = cor(), cor()
+        out.append(
+            {
+                "id": f"corner-{seed}-{i}",
+                "slope": _q(k),
+                "velocity": [_q(xd), _q(yd)],
+                "eps1": _q(e1),
+                "eps2": _q(e2),
+                "max_iterations": max_iterations,
+            }
+        )
+    return out
+
+
+def grid_corner_cases(
+    slopes: Sequence[str],
+    velocities: Sequence[Sequence[str]],
+    cors: Sequence[Sequence[str]],
+    *,
+    max_iterations: int = 1000,
+) -> list[dict[str, Any]]:
+    """Every combination of the given slopes, velocities (xd, yd) and COR pairs."""
+    out = []
+    for k in slopes:
+        for v in velocities:
+            for e1, e2 in cors:
+                out.append(
+                    {
+                        "id": f"grid-{len(out)}",
+                        "slope": k,
+                        "velocity": list(v),
+                        "eps1": e1,
+                        "eps2": e2,
+                        "max_iterations": max_iterations,
+                    }
+                )
+    return out
+
+
+def run_case(case: dict[str, Any]) -> dict[str, Any]:
+    """Run one corner case dictionary; returns a summary made of plain values (picklable).
+
+    A case on intervals whose sign stays undecided (a rate that is exactly 0) is run again
+    exactly when its inputs are algebraic; a case that cannot be decided either way comes
+    back with stop ``"undecided"`` and the reason, and the sweep goes on.
+    """
+    from verify.errors import InvalidInput, Undecided
+    from verify.models.corner import run_corner
+
+    try:
+        try:
+            run = _run(case, run_corner)
+        except Undecided:
+            if case.get("backend") != "interval":
+                raise
+            run = _run({**case, "backend": "exact"}, run_corner)  # a rate exactly 0: decide it exactly
+    except (Undecided, InvalidInput) as exc:  # not decidable here (or not algebraic): say so, go on
+        return {
+            "id": case.get("id"),
+            "stop": "undecided",
+            "iterations": None,
+            "zones": [],
+            "multiple_impacts": 0,
+            "exit_velocity": None,
+            "backend": case.get("backend", "exact"),
+            "rigorous": True,
+            "reason": " ".join(str(exc).split()),
+        }
+    r = run.result
+    K = r.backend
+    return {
+        "id": case.get("id"),
+        "stop": r.stop,
+        "iterations": r.iterations,
+        "zones": run.zones,
+        "multiple_impacts": sum(1 for J in r.impact_sets if len(J) == 2),
+        "exit_velocity": [K.to_exact(x) if K.is_exact else K.to_decimal(x, 20) for x in r.exit_velocity[:2]],
+        "backend": K.describe(),
+        "rigorous": K.is_rigorous,
+    }
+
+
+def _run(case: dict[str, Any], run_corner: Any) -> Any:
+    backend: Any = case.get("backend", "exact")
+    if backend == "interval":  # sweeps give up on intervals early: an undecided sign is then decided exactly
+        from verify.core.backends import IntervalBackend
+
+        backend = IntervalBackend(case.get("dps") or 50, max_dps=case.get("max_dps", 200))
+    return run_corner(
+        alpha=case.get("alpha"),
+        slope=case.get("slope"),
+        phi=case.get("phi"),
+        velocity=case.get("velocity"),
+        eps1=case["eps1"],
+        eps2=case["eps2"],
+        backend=backend,
+        dps=case.get("dps") if backend == "exact" else None,
+        max_iterations=case.get("max_iterations", 100),
+        trace=False,
+        certify=case.get("certify", True),
+    )
+
+
+def _run_chunk(args: tuple[Callable[[dict[str, Any]], dict[str, Any]], list[dict[str, Any]]]) -> list[dict[str, Any]]:
+    func, chunk = args
+    return [func(case) for case in chunk]
+
+
+def _bar(done: int, total: int) -> None:
+    width = 30
+    filled = width * done // max(total, 1)
+    sys.stderr.write(f"\r[{'#' * filled}{' ' * (width - filled)}] {done}/{total}")
+    if done == total:
+        sys.stderr.write("\n")
+    sys.stderr.flush()
+
+
+def sweep(
+    cases: Iterable[dict[str, Any]],
+    *,
+    executor: Executor | None = None,
+    workers: int | None = None,
+    chunk: int = 100,
+    progress: bool | None = None,
+    func: Callable[[dict[str, Any]], dict[str, Any]] = run_case,
+) -> list[dict[str, Any]]:
+    """Run every case with ``func`` (default :func:`run_case`), in parallel, in order.
+
+    ``executor`` is any ``concurrent.futures.Executor`` (a Dask cluster:
+    ``Client(...).get_executor()``); without one, a local process pool of ``workers``
+    processes (default: every core) is used, or no pool at all for ``workers=1``.
+    ``progress`` draws a bar on stderr (default: when stderr is a terminal).
+    """
+    cases = list(cases)
+    chunks = [cases[i : i + chunk] for i in range(0, len(cases), chunk)]
+    show = sys.stderr.isatty() if progress is None else progress
+    results: list[dict[str, Any]] = []
+    if executor is None and (workers or os.cpu_count() or 1) == 1:
+        for c in chunks:
+            results += _run_chunk((func, c))
+            if show:
+                _bar(len(results), len(cases))
+        return results
+    own = executor is None
+    pool = executor or ProcessPoolExecutor(max_workers=workers or os.cpu_count())
+    try:
+        futures = [pool.submit(_run_chunk, (func, c)) for c in chunks]
+        for f in futures:
+            results += f.result()
+            if show:
+                _bar(len(results), len(cases))
+    finally:
+        if own:
+            pool.shutdown()
+    return results

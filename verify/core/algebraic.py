@@ -1,0 +1,250 @@
+"""Exact real algebraic numbers by isolating intervals.
+
+A :class:`RealAlgebraic` is a root of an irreducible polynomial with rational coefficients,
+held with a rational interval that contains no other root (rationals are roots of degree-1
+polynomials, held exactly). Comparisons and signs of polynomials at such numbers are decided
+exactly: equal numbers have the same minimal polynomial and a common root in their
+intervals; different numbers are separated by bisection, which always ends.
+
+They are the endpoints of the pieces of parameter maps (:mod:`verify.core.symbolic`), written in
+the simplest exact form: rationals, radicals for degree 2, ``CRootOf(poly, k)`` otherwise.
+
+>>> r = RealAlgebraic.roots_in(poly_from_coeffs([1, -6, 1]))  # eps**2 - 6 eps + 1
+>>> [str(x) for x in r]
+['3 - 2*sqrt(2)', '2*sqrt(2) + 3']
+>>> r[0] < RealAlgebraic.rational(Fraction(1716, 10000)), r[0] > RealAlgebraic.rational(Fraction(1715, 10000))
+(True, True)
+"""
+
+from __future__ import annotations
+
+from fractions import Fraction
+from functools import cached_property, total_ordering
+from typing import Any
+
+import sympy as sp
+
+X = sp.Symbol("x")
+
+
+def poly_from_coeffs(coeffs: list[Any]) -> sp.Poly:
+    """A polynomial in x from its coefficients, highest degree first."""
+    return sp.Poly(
+        [sp.Rational(c) if not isinstance(c, Fraction) else sp.Rational(c.numerator, c.denominator) for c in coeffs],
+        X,
+        domain="QQ",
+    )
+
+
+def _q(x: Any) -> Fraction:
+    return Fraction(int(x.p), int(x.q)) if hasattr(x, "p") else Fraction(x)
+
+
+def _eval(p: sp.Poly, q: Fraction) -> Fraction:
+    """p(q) exactly (Horner over Fractions)."""
+    total = Fraction(0)
+    for c in p.all_coeffs():
+        total = total * q + _q(c)
+    return total
+
+
+def _eval_interval(coeffs: list[Fraction], lo: Fraction, hi: Fraction) -> tuple[Fraction, Fraction]:
+    """An enclosure of {p(t) : lo <= t <= hi} (interval Horner, exact rationals)."""
+    a = b = Fraction(0)
+    for c in coeffs:
+        products = (a * lo, a * hi, b * lo, b * hi)
+        a, b = min(products) + c, max(products) + c
+    return a, b
+
+
+def _sign(x: Fraction) -> int:
+    return (x > 0) - (x < 0)
+
+
+def _count_roots(p: sp.Poly, lo: Fraction, hi: Fraction) -> int:
+    """Real roots of p in the closed interval [lo, hi], exactly (Sturm)."""
+    return int(p.count_roots(sp.Rational(lo.numerator, lo.denominator), sp.Rational(hi.numerator, hi.denominator)))
+
+
+@total_ordering
+class RealAlgebraic:
+    """A real algebraic number: an irreducible polynomial and an isolating interval [lo, hi]."""
+
+    __slots__ = ("__dict__", "hi", "lo", "poly")
+
+    def __init__(self, poly: sp.Poly, lo: Fraction, hi: Fraction):
+        self.poly = poly
+        self.lo = lo
+        self.hi = hi
+
+    @classmethod
+    def rational(cls, q: Fraction) -> RealAlgebraic:
+        q = Fraction(q)
+        return cls(sp.Poly([q.denominator, -q.numerator], X, domain="QQ").monic(), q, q)
+
+    @classmethod
+    def roots_in(cls, p: sp.Poly, lo: Fraction | None = None, hi: Fraction | None = None) -> list[RealAlgebraic]:
+        """The distinct real roots of ``p`` (in [lo, hi] when given), in increasing order."""
+        if p.is_zero:
+            raise ValueError("the zero polynomial has every number as a root")
+        out: list[RealAlgebraic] = []
+        _, factors = p.factor_list()
+        for f, _mult in factors:
+            f = f.monic()
+            if f.degree() == 1:
+                c1, c0 = f.all_coeffs()
+                r = -_q(c0) / _q(c1)
+                out.append(cls.rational(r))
+                continue
+            for (a, b), _m in f.intervals():
+                out.append(cls(f, _q(a), _q(b)))
+        if lo is not None:
+            out = [r for r in out if r >= RealAlgebraic.rational(lo)]
+        if hi is not None:
+            out = [r for r in out if r <= RealAlgebraic.rational(hi)]
+        return sorted(out)
+
+    @classmethod
+    def from_number(cls, value: Any) -> RealAlgebraic:
+        """A parsed number (Fraction or a real algebraic closed form) as a RealAlgebraic."""
+        if isinstance(value, Fraction):
+            return cls.rational(value)
+        poly = sp.Poly(sp.minimal_polynomial(value, X), X, domain="QQ")
+        candidates = cls.roots_in(poly)
+        prec = 128
+        while len(candidates) > 1:
+            lo, hi = _interval_of(value, prec)
+            candidates = [c for c in candidates if not (c.hi < lo or hi < c.lo)]
+            for c in candidates:
+                c.refine()
+            prec *= 2
+        return candidates[0]
+
+    @property
+    def is_rational(self) -> bool:
+        return self.lo == self.hi
+
+    def rational_value(self) -> Fraction:
+        if not self.is_rational:
+            raise ValueError(f"{self} is irrational")
+        return self.lo
+
+    def refine(self) -> None:
+        """Halve the isolating interval (exact bisection)."""
+        if self.is_rational:
+            return
+        mid = (self.lo + self.hi) / 2
+        v = _eval(self.poly, mid)
+        if v == 0:  # cannot happen for an irreducible polynomial of degree >= 2
+            self.lo = self.hi = mid
+            return
+        if _sign(_eval(self.poly, self.lo)) == _sign(v):
+            self.lo = mid
+        else:
+            self.hi = mid
+
+    def _same_root(self, other: RealAlgebraic) -> bool:
+        if self.poly != other.poly:
+            return False
+        lo, hi = max(self.lo, other.lo), min(self.hi, other.hi)
+        return lo <= hi and _count_roots(self.poly, lo, hi) == 1
+
+    def cmp(self, other: RealAlgebraic) -> int:
+        """-1, 0 or 1, exactly."""
+        if self is other:
+            return 0
+        if self.hi < other.lo:
+            return -1
+        if other.hi < self.lo:
+            return 1
+        if self.is_rational and other.is_rational:
+            return _sign(self.lo - other.lo)
+        if self.is_rational or other.is_rational:
+            irr, q, flip = (self, other.lo, 1) if other.is_rational else (other, self.lo, -1)
+            while irr.lo <= q <= irr.hi:
+                if _eval(irr.poly, q) == 0:  # impossible for irreducible degree >= 2
+                    return 0
+                irr.refine()
+            return flip * (1 if irr.lo > q else -1)
+        if self._same_root(other):
+            return 0
+        while not (self.hi < other.lo or other.hi < self.lo):
+            self.refine()
+            other.refine()
+        return -1 if self.hi < other.lo else 1
+
+    def __eq__(self, other: object) -> bool:
+        return isinstance(other, RealAlgebraic) and self.cmp(other) == 0
+
+    def __lt__(self, other: RealAlgebraic) -> bool:
+        return self.cmp(other) < 0
+
+    def __hash__(self) -> int:
+        return hash(self.poly.as_expr()) if not self.is_rational else hash(self.lo)
+
+    def sign_of(self, p: sp.Poly) -> int:
+        """The sign of p at this number, exactly."""
+        if p.is_zero:
+            return 0
+        if self.is_rational:
+            return _sign(_eval(p, self.lo))
+        if p.rem(self.poly).is_zero:
+            return 0
+        coeffs = [_q(c) for c in p.all_coeffs()]
+        while True:  # p(x) != 0: an interval evaluation on a fine enough enclosure decides it
+            lo, hi = _eval_interval(coeffs, self.lo, self.hi)
+            if lo > 0:
+                return 1
+            if hi < 0:
+                return -1
+            self.refine()
+
+    def between(self, other: RealAlgebraic) -> Fraction:
+        """A rational strictly between this number and a larger one."""
+        if self.cmp(other) >= 0:
+            raise ValueError("between() needs a larger number")
+        while not self.hi < other.lo:
+            self.refine()
+            other.refine()
+        return (self.hi + other.lo) / 2
+
+    @cached_property
+    def expr(self) -> Any:
+        """The number as a SymPy expression: a rational, radicals (degree 2) or a CRootOf."""
+        if self.is_rational:
+            return sp.Rational(self.lo.numerator, self.lo.denominator)
+        real = RealAlgebraic.roots_in(self.poly)
+        index = next(k for k, r in enumerate(real) if r == self)
+        if self.poly.degree() == 2:
+            radicals = list(sp.roots(self.poly, X))
+            boxes = [_interval_of(r) for r in radicals]
+            if len(radicals) == 2 and (boxes[0][1] < boxes[1][0] or boxes[1][1] < boxes[0][0]):
+                ordered = [r for _, r in sorted(zip(boxes, radicals), key=lambda t: t[0][0])]
+                return sp.radsimp(ordered[index])
+        return sp.CRootOf(self.poly.as_expr(), index)
+
+    def __str__(self) -> str:
+        return str(self.expr)
+
+    def __repr__(self) -> str:
+        return f"RealAlgebraic({self})"
+
+    def decimal(self, digits: int = 30) -> str:
+        """``digits`` significant digits, rounded half to even, certified."""
+        from verify.core.numbers import format_decimal
+
+        if self.is_rational:
+            return format_decimal(self.lo, digits)
+        while True:
+            lo, hi = format_decimal(self.lo, digits), format_decimal(self.hi, digits)
+            if lo == hi:
+                return lo
+            self.refine()
+
+
+def _interval_of(r: Any, prec: int = 256) -> tuple[Fraction, Fraction]:
+    """A certified rational enclosure of a real closed form (interval arithmetic)."""
+    from verify.core.numeric import _interval_context, _mpf_to_fraction, evaluate
+
+    x = evaluate(r, _interval_context(prec))
+    return _mpf_to_fraction(x.a), _mpf_to_fraction(x.b)

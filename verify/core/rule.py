@@ -1,0 +1,655 @@
+"""The iterative impact rule of Pasquero (2021), eqs. (4)-(8), written once.
+
+Given a :class:`~verify.core.system.System` and a left velocity ``p_L^0`` (its components v),
+the procedure of Sect. 3.5 is:
+
+b) the impact set J = {i : p(F_i) < 0} (eq. 2; every sign through ``K.sign``);
+c) for |J| >= 2 the global orthogonal velocity ``V_J`` and
+   ``beta = Phi(V_J, sum V_j) / ||sum V_j||^2``;
+d) the impulse (eq. 8): ``-beta sum (1 + eps_j) V_j`` for |J| >= 2,
+   ``-(1 + eps_j) V_j`` for J = {j}, 0 for J empty;
+e)-f) ``p^{w+1} = p^w + I(p^w)`` until J is empty: that velocity is ``p_R``.
+
+The paper's step e) stops when ``p^{w+1} = p^w``; this happens exactly when J is empty,
+because for non-empty J the impulse is never 0 (each ``V_j`` is a non-zero multiple of the
+independent ``U_j``, and beta > 0: its numerator is ``sum_j p(F_j)^2 / G_jj``).
+
+Orthogonal components, in terms of the system's ``U_i = g^{-1} dF_i^T`` and Gram matrix G:
+
+- ``V_i(p) = (p(F_i) / G_ii) U_i``: the Phi-orthogonal component of p w.r.t. S_i;
+- ``V_J(p) = sum_k mu_k U_k`` with ``G_JJ mu = (p(F_j))_{j in J}``: the component
+  orthogonal to the intersection of the S_j (the Gram solve).
+
+The ideal rule (5), the symmetric rule (6) and the asymmetric rule (7) are this rule with
+all CORs 1, with equal CORs, and with two constraints: pick one by name in :func:`solve`.
+
+>>> from verify.core.system import System
+>>> s = System([[1, 0, 0], [0, 1, 0], [0, 0, 1]], [[-1, 1, 0], [0, -1, 1]], [1, 1])
+>>> r = solve(s, ["1", "0", "-1"])
+>>> [s.backend.to_exact(x) for x in r.exit_velocity], r.impact_sets, r.stop
+(['-1', '0', '1'], [(0, 1)], 'exit')
+"""
+
+from __future__ import annotations
+
+import time
+from collections.abc import Callable, Sequence
+from dataclasses import dataclass, field
+from fractions import Fraction
+from functools import cached_property
+from typing import Any
+
+from verify.core.backends import exact_for
+from verify.core.engines import integer as fraction_free
+from verify.core.linalg import ldl, solve_spd
+from verify.core.numbers import to_number
+from verify.core.system import System
+from verify.core.termination import non_termination_halt
+from verify.errors import InvalidInput, InvalidSystem, NoConvergence, Undecided
+
+RULES = ("general", "ideal", "symmetric", "asymmetric")
+DEFAULT_MAX_ITERATIONS = 10_000
+
+#: A stop test: called with (system, velocity) before each impulse, once an impact is
+#: known to remain; returns a stop reason (such as ``"aeev"``), or a pair (reason,
+#: certificate) such as ``("non_terminating", {...})``, or None to go on. The system it is
+#: given answers ``rates(velocity)`` with the rates the rule holds (zeros known exactly
+#: included, see :func:`_rates_after`), so a stop test decides the same signs as the rule.
+Halt = Callable[[System, tuple], Any]
+
+
+@dataclass(frozen=True)
+class Budget:
+    """Limits on one run, which then stops with ``"budget"`` instead of going on.
+
+    ``bits`` bounds the size of the exact numbers (numerator plus denominator bits of
+    the largest velocity component, :meth:`~verify.core.backends.Backend.size`): a
+    deterministic limit, the same on every machine. ``seconds`` bounds the wall time of
+    the iteration: it depends on the machine, so results that hit it are not
+    reproducible; prefer ``bits`` where reproducibility matters.
+
+    >>> from verify.core.system import System
+    >>> s = System([[1, 0, 0], [0, 1, 0], [0, 0, 1]], [[-1, 1, 0], [0, -1, 1]], ["1/3", "1/7"])
+    >>> r = solve(s, ["100", "0", "0"], budget=Budget(bits=10))
+    >>> r.stop, r.iterations
+    ('budget', 2)
+    """
+
+    seconds: float | None = None
+    bits: int | None = None
+
+    def __post_init__(self) -> None:
+        for name in ("seconds", "bits"):
+            value = getattr(self, name)
+            if value is not None and (isinstance(value, bool) or not value > 0):
+                raise InvalidSystem(f"budget {name} must be positive, got {value!r}")
+
+
+@dataclass(frozen=True)
+class Step:
+    """One impulse of the iteration: the trace entry of Sect. 3.5 d)-e).
+
+    ``kinetic_energy`` (after the impulse, in the rest frame of the constraints) is
+    computed when first asked for: on long exact runs it is the costliest quantity.
+    """
+
+    impact_set: tuple[int, ...]
+    rates: tuple  # p(F_i) of the velocity before the impulse, for every constraint
+    beta: Any  # None for a single impact
+    impulse: tuple
+    velocity: tuple  # after the impulse
+    system: System = field(repr=False, compare=False)
+
+    @cached_property
+    def kinetic_energy(self) -> Any:
+        return self.system.kinetic_energy(self.velocity)
+
+
+@dataclass(frozen=True)
+class Result:
+    """The outcome of :func:`solve`: exit velocity, stop reason and the full trace."""
+
+    system: System
+    rule: str
+    velocity_in: tuple
+    exit_velocity: tuple
+    stop: str
+    steps: tuple[Step, ...]
+    impact_sets: list[tuple[int, ...]]
+    betas: list[Any]
+    max_iterations: int
+    notes: tuple[str, ...] = ()
+    certificate: dict | None = field(default=None)
+
+    @cached_property
+    def kinetic_energy_in(self) -> Any:
+        """The kinetic energy before the impact (rest frame of the constraints)."""
+        return self.system.kinetic_energy(self.velocity_in)
+
+    @cached_property
+    def kinetic_energy_out(self) -> Any:
+        """The kinetic energy of the exit velocity."""
+        return self.system.kinetic_energy(self.exit_velocity)
+
+    @property
+    def iterations(self) -> int:
+        """The number of impulses applied (Table 1's "# Iterations")."""
+        return len(self.impact_sets)
+
+    @property
+    def backend(self) -> Any:
+        return self.system.backend
+
+
+# -- the geometric quantities ------------------------------------------------------------
+
+
+def impact_set(system: System, v: Sequence[Any]) -> tuple[int, ...]:
+    """Step b): the constraints for which the velocity is incoming, ``p(F_i) < 0``."""
+    K = system.backend
+    return tuple(i for i, b in enumerate(system.rates(v)) if K.sign(b) < 0)
+
+
+def orthogonal_component(system: System, v: Sequence[Any], i: int) -> tuple:
+    """``V_i(p) = (p(F_i) / G_ii) U_i``, the Phi-orthogonal component w.r.t. S_i.
+
+    >>> from verify.core.system import System
+    >>> s = System([[1, 0], [0, 1]], [[-1, 1]], [1])
+    >>> [str(x) for x in orthogonal_component(s, s.velocity(["100", "0"]), 0)]
+    ['50', '-50']
+    """
+    b = system.rates(v)[i]
+    return system.combine_normals([(i, b / system.gram_diag[i])])
+
+
+def global_orthogonal_component(system: System, v: Sequence[Any], J: Sequence[int]) -> tuple:
+    """``V_J(p)``: the component of p orthogonal to the intersection of the S_j, j in J.
+
+    It is ``sum mu_k U_k`` where ``G_JJ mu = (p(F_j))_j`` (the Gram solve), so that
+    ``p - V_J`` is tangent to every S_j.
+    """
+    b = system.rates(v)
+    mu = _gram_solve(system, [b[j] for j in J], J)
+    return system.combine_normals(list(zip(J, mu)))
+
+
+def _gram_solve(system: System, rhs: Sequence[Any], J: Sequence[int]) -> tuple:
+    K = system.backend
+    G_J = [[system.gram[j][k] for k in J] for j in J]
+    return solve_spd(K, ldl(K, G_J), rhs)
+
+
+def _beta_from_rates(system: System, b: Sequence[Any], J: Sequence[int]) -> Any:
+    """beta of step c), computed in the basis (U_j) without solving the Gram system.
+
+    With ``lambda_j = p(F_j)/G_jj``, ``sum V_j = sum lambda_j U_j``, so
+    ``||sum V_j||^2 = lambda^T G_JJ lambda``; and ``Phi(V_J, U_k) = p(F_k)`` for k in J
+    (``V_J = sum mu_k U_k`` with ``G_JJ mu = p(F_J)``), so ``Phi(V_J, sum V_j) = sum_j
+    p(F_j) lambda_j``: the Gram solve of V_J is not needed for beta.
+    """
+    inv = system._inverse_gram_diag
+    lam = [b[j] * inv[j] for j in J]
+    numerator = None
+    norm = None
+    for a, (j, lj) in enumerate(zip(J, lam)):
+        term = b[j] * lj
+        numerator = term if numerator is None else numerator + term
+        row = system.gram[j]
+        g_lam = row[j] * lj  # the j-th entry of G_JJ lambda, times lambda_j below
+        for k, lk in zip(J[a + 1 :], lam[a + 1 :]):
+            g_lam = g_lam + (row[k] + row[k]) * lk  # G symmetric: off-diagonal terms twice
+        norm = lj * g_lam if norm is None else norm + lj * g_lam
+    return numerator / norm
+
+
+def beta(system: System, v: Sequence[Any], J: Sequence[int]) -> Any:
+    """The coefficient beta of Sect. 3.5 c) for the impact set J (|J| >= 2).
+
+    >>> from verify.core.system import System
+    >>> s = System([[1, 0, 0], [0, 1, 0], [0, 0, 1]], [[-1, 1, 0], [0, -1, 1]], [1, 1])
+    >>> str(beta(s, s.velocity(["1", "0", "-1"]), (0, 1)))
+    '2'
+    """
+    if len(J) < 2:
+        raise ValueError("beta is defined for impact sets of two or more constraints")
+    return _beta_from_rates(system, system.rates(v), J)
+
+
+def _impulse_from_rates(system: System, b: Sequence[Any], J: Sequence[int]) -> tuple[tuple, Any]:
+    """Eq. (8) given the rates p(F_i): returns (impulse, beta or None).
+
+    The impulse is ``sum_j c_j U_j`` with ``c_j = -(1 + e_j) p(F_j) / G_jj`` for a single
+    impact and ``c_j = -beta (1 + e_j) p(F_j) / G_jj`` for a multiple one.
+    """
+    if len(J) == 1:
+        (j,) = J
+        return system.combine_normals([(j, system._single_coefficient[j] * b[j])]), None
+    bt = _beta_from_rates(system, b, J)
+    m, inv = system._minus_one_plus_e, system._inverse_gram_diag
+    return system.combine_normals([(j, bt * m[j] * (b[j] * inv[j])) for j in J]), bt
+
+
+def impulse(system: System, v: Sequence[Any], J: Sequence[int] | None = None) -> tuple:
+    """The reactive impulse I(p) of eq. (8) for the impact set J (default: step b's).
+
+    >>> from verify.core.system import System
+    >>> s = System([[1, 0], [0, 1]], [[-1, 1]], ["1/2"])
+    >>> [str(x) for x in impulse(s, s.velocity(["100", "0"]))]
+    ['-75', '75']
+    """
+    J = impact_set(system, v) if J is None else tuple(J)
+    if not J:
+        return (system.backend.zero,) * system.n
+    return _impulse_from_rates(system, system.rates(v), J)[0]
+
+
+# -- the iteration ------------------------------------------------------------------------------
+
+
+def _system_for_rule(system: System, rule: str) -> System:
+    if rule == "general":
+        return system
+    if rule == "ideal":
+        return system.with_restitution([1] * system.r)
+    if rule == "symmetric":
+        e = system.source["restitution"]
+        if any(x != e[0] for x in e):
+            raise InvalidSystem(f"the symmetric rule (6) needs one COR for all constraints, got {[str(x) for x in e]}")
+        return system
+    if rule == "asymmetric":
+        if system.r != 2:
+            raise InvalidSystem(f"the asymmetric rule (7) is for two constraints, the system has {system.r}")
+        return system
+    raise InvalidSystem(f"unknown rule {rule!r} (choose from {', '.join(RULES)})")
+
+
+def _exact_backend_for_velocity(system: System, velocity: Sequence[Any]) -> tuple[System, tuple]:
+    """On the exact backend, widen the number field when the velocity needs it; returns the
+    system and the velocity converted into its backend."""
+    values = [to_number(x, where=f"velocity[{i}]") for i, x in enumerate(velocity)]
+    try:
+        return system, system.velocity(values)
+    except InvalidInput:  # not in this field (BadNumber): build the field of every input
+        system = system.convert_to(exact_for(_source_numbers(system) + values))
+        return system, system.velocity(values)
+
+
+def _source_numbers(system: System) -> list:
+    """Every number the system was built from (mass matrix, normals, time terms, CORs), exactly."""
+    src = system.source
+    everything = [x for row in src["mass_matrix"] for x in row] + [x for row in src["normals"] for x in row]
+    return everything + list(src["time_terms"]) + list(src["restitution"])
+
+
+# -- signs that intervals cannot decide: zeros known by structure, or checked exactly ---------------
+#
+# A rate that is exactly 0 is an interval around 0 on the interval backend, at any precision.
+# Two things decide it instead of a chase in precision:
+#
+# - the structure of the impulse. An impulse ``sum_k c_k U_k`` on J changes the rates by
+#   ``p'(F_i) = p(F_i) + sum_k G_ik c_k``. So a single impact on j leaves
+#   ``p'(F_j) = -e_j p(F_j)`` (eq. 4: ``c_j = -(1 + e_j) p(F_j) / G_jj``), exactly 0 for a COR
+#   of 0; a constraint with ``G_ik = 0`` for every k in J keeps its rate; and a multiple
+#   impact whose G_JJ is diagonal has beta = 1, so each j in J gets ``-e_j p(F_j)`` as after a
+#   single impact. Beyond that a multiple impact fixes no single rate: with equal CORs e on
+#   J only the weighted sum ``sum_j lambda_j p'(F_j) = -e sum_j lambda_j p(F_j)`` (lambda_j =
+#   p(F_j) / G_jj) is known, so its rates are left to the arithmetic. These identities are
+#   exact, so the rule uses them on every backend (exact ones get the same values).
+# - an exact check. When the inputs are rational (at once) or algebraic (only at the precision
+#   limit: number-field arithmetic can cost far more than any precision), a rate that stays undecided is
+#   recomputed exactly (:class:`_ExactRates`: the run's impact sets replayed on the exact
+#   backend, only when asked); an exact 0 then becomes the point 0. A non-zero rate is left
+#   to more precision, which separates it from 0. Transcendental inputs (tan(3/10)) have no
+#   exact check: a zero that the structure does not explain stays undecided there.
+
+
+def _known_zero(K: Any, x: Any) -> bool:
+    """Whether ``x`` is known to be exactly 0 (an undecidable sign counts as non-zero)."""
+    try:
+        return K.sign(x) == 0
+    except Undecided:
+        return False
+
+
+def _couplings(system: System) -> tuple[frozenset[int], ...]:
+    """For each constraint i, the k with ``G_ik`` not known to be 0 (i itself included)."""
+    K, G, r = system.backend, system.gram, system.r
+    return tuple(frozenset(k for k in range(r) if k == i or not _known_zero(K, G[i][k])) for i in range(r))
+
+
+def _structure(couplings: Sequence[frozenset[int]], J: tuple[int, ...]) -> tuple[bool, tuple[int, ...]]:
+    """What an impulse on J fixes exactly: (each j in J ends at ``-e_j p(F_j)``, the constraints
+    whose rate it leaves unchanged)."""
+    hit = frozenset(J)
+    diagonal = all(couplings[j] & hit == {j} for j in J)  # G_JJ diagonal: beta = 1 (always for |J| = 1)
+    untouched = tuple(i for i, c in enumerate(couplings) if i not in hit and not c & hit)
+    return diagonal, untouched
+
+
+def _rates_after(
+    system: System, v: tuple, b: Sequence[Any], J: tuple[int, ...], *, structure: tuple, minus_e: tuple
+) -> tuple:
+    """The rates of the velocity ``v`` after an impulse on J from rates ``b``: those of
+    ``system.rates(v)``, except where the structure of the impulse gives them exactly."""
+    fresh = system.rates(v)
+    diagonal, untouched = structure
+    if not diagonal and not untouched:
+        return fresh
+    out = list(fresh)
+    if diagonal:
+        for j in J:
+            out[j] = minus_e[j] * b[j]
+    for i in untouched:
+        out[i] = b[i]
+    return tuple(out)
+
+
+#: impulses up to which an undecided rate of algebraic inputs is checked exactly at once
+EAGER_EXACT_IMPULSES = 16
+
+
+class _ExactRates:
+    """The exact rates of the states of a run, for signs that its backend leaves undecided.
+
+    Built only when first asked: the system and the velocity on the exact backend (the
+    rationals, or the number field of the inputs). A state is reached by replaying the run's
+    impact sets (known, since every earlier sign was decided) from the last one asked.
+    """
+
+    def __init__(self, system: System, velocity: Sequence[Any]):
+        self._source = (system, velocity)
+        self._exact: tuple[System, tuple] | None = None
+        self.unavailable: str | None = None  #: why no exact check exists (an input that is not algebraic)
+        self._state: tuple[int, tuple] | None = None
+        self.limit = False  #: whether the backend is at its precision limit (set by :meth:`at`)
+
+    def at(self, *, limit: bool) -> _ExactRates:
+        """Itself, told whether the backend is at its precision limit (see :meth:`eager`)."""
+        self.limit = limit
+        return self
+
+    def eager(self, impulses: int) -> bool:
+        """Whether to check exactly now rather than raise the precision first: when every input
+        is rational, when the run is short (at most :data:`EAGER_EXACT_IMPULSES` impulses), or at
+        the precision limit. Otherwise (a long run in a number field, whose arithmetic can cost
+        far more than any precision) a tiny non-zero rate is left to more precision first."""
+        return self.rational or self.limit or impulses <= EAGER_EXACT_IMPULSES
+
+    @cached_property
+    def rational(self) -> bool:
+        """Whether every input is rational (the exact replay is then over the rationals)."""
+        system, velocity = self._source
+        values = [to_number(x, where=f"velocity[{i}]") for i, x in enumerate(velocity)]
+        return all(isinstance(x, Fraction) for x in _source_numbers(system) + values)
+
+    def available(self) -> bool:
+        """Whether an exact check exists (every input rational or algebraic); builds it."""
+        if self._exact is None and self.unavailable is None:
+            system, velocity = self._source
+            values = [to_number(x, where=f"velocity[{i}]") for i, x in enumerate(velocity)]
+            try:
+                exact = system.convert_to(exact_for(_source_numbers(system) + values))
+            except InvalidInput:  # BadNumber: an input that is not algebraic
+                numbers = _source_numbers(system) + values
+                bad = next(x for x in numbers if not isinstance(x, Fraction) and x.is_algebraic is not True)
+                self.unavailable = f"{bad} is not algebraic"
+                return False
+            self._exact = (exact, exact.velocity(values))
+        return self._exact is not None
+
+    def rates(self, impact_sets: Sequence[tuple[int, ...]]) -> tuple:
+        """The exact rates after the impulses on ``impact_sets`` (from the run's left velocity)."""
+        if not self.available():
+            raise Undecided(self.unavailable)
+        system, v0 = self._exact
+        done, v = self._state if self._state is not None and self._state[0] <= len(impact_sets) else (0, v0)
+        for J in impact_sets[done:]:
+            I, _ = _impulse_from_rates(system, system.rates(v), J)
+            v = tuple(x + y for x, y in zip(v, I))
+        self._state = (len(impact_sets), v)
+        return system.rates(v)
+
+    def __call__(self, system: System, impact_sets: Sequence[tuple[int, ...]], i: int, exc: Undecided) -> int:
+        """The sign of rate i when it is exactly 0, else Undecided (more precision decides it)."""
+        where = f"the rate of {system.names[i]} after {len(impact_sets)} impulses"
+        if not self.eager(len(impact_sets)):
+            raise Undecided(f"{where}: {exc}") from None
+        if not self.available():
+            raise Undecided(f"{where}: {exc}") from None
+        exact_system = self._exact[0]
+        if exact_system.backend.sign(self.rates(impact_sets)[i]) == 0:
+            return 0
+        raise Undecided(f"{where}: {exc}; exact arithmetic finds it non-zero: more precision separates it from 0")
+
+
+def _impact_set_of(
+    system: System, b: tuple, impact_sets: Sequence[tuple[int, ...]], exact: _ExactRates | None
+) -> tuple[tuple[int, ...], tuple]:
+    """Step b) on the rates ``b``: (J, the rates, with any zero found exactly made the point 0)."""
+    K = system.backend
+    try:
+        return tuple(i for i, bi in enumerate(b) if K.sign(bi) < 0), b
+    except Undecided:
+        if exact is None:
+            raise
+    out, J = list(b), []
+    for i, bi in enumerate(b):
+        try:
+            s = K.sign(bi)
+        except Undecided as exc:
+            s = exact(system, impact_sets, i, exc)  # 0, or raises
+            out[i] = K.zero  # proved 0: the point 0 encloses it
+        if s < 0:
+            J.append(i)
+    return tuple(J), tuple(out)
+
+
+class _KnownRates:
+    """The system as the stop tests see it: ``rates(v)`` of the current velocity returns the
+    rates the rule holds (zeros known exactly included), so a stop test asks the signs the
+    rule decided; everything else is the system's own."""
+
+    __slots__ = ("_b", "_system", "_v")
+
+    def __init__(self, system: System, v: tuple, b: tuple):
+        self._system, self._v, self._b = system, v, b
+
+    def rates(self, v: Sequence[Any]) -> tuple:
+        return self._b if v is self._v else self._system.rates(v)
+
+    def __getattr__(self, name: str) -> Any:
+        return getattr(self._system, name)
+
+
+def _over_budget(K: Any, v: tuple, budget: Budget | None, deadline: float | None) -> bool:
+    if budget is None:
+        return False
+    if budget.bits is not None and max(K.size(x) for x in v) > budget.bits:
+        return True
+    return deadline is not None and time.monotonic() > deadline
+
+
+def _iterate(
+    system: System,
+    v: tuple,
+    max_iterations: int,
+    halts: list[Halt],
+    trace: bool,
+    *,
+    budget: Budget | None = None,
+    progress: Callable[[int], None] | None = None,
+    exact: _ExactRates | None = None,
+) -> dict:
+    K = system.backend
+    deadline = time.monotonic() + budget.seconds if budget is not None and budget.seconds is not None else None
+    steps: list[Step] = []
+    impact_sets: list[tuple[int, ...]] = []
+    betas: list[Any] = []
+    certificate = None
+    couplings = _couplings(system)
+    minus_e = tuple(K.zero - e for e in system.restitution)
+    structures: dict[tuple[int, ...], tuple] = {}
+    b = system.rates(v)
+    while True:
+        J, b = _impact_set_of(system, b, impact_sets, exact)
+        if not J:
+            stop = "exit"
+            break
+        view = _KnownRates(system, v, b) if halts else system
+        reason = next((r for r in (h(view, v) for h in halts) if r), None)
+        if reason:
+            stop, certificate = reason if isinstance(reason, tuple) else (reason, None)
+            break
+        if len(impact_sets) >= max_iterations:
+            stop = "max_iterations"
+            break
+        if _over_budget(K, v, budget, deadline):
+            stop = "budget"
+            break
+        I, bt = _impulse_from_rates(system, b, J)
+        v = tuple(x + y for x, y in zip(v, I))
+        impact_sets.append(J)
+        betas.append(bt)
+        if trace:
+            steps.append(Step(J, b, bt, I, v, system))
+        if progress is not None:
+            progress(len(impact_sets))
+        if J not in structures:
+            structures[J] = _structure(couplings, J)
+        b = _rates_after(system, v, b, J, structure=structures[J], minus_e=minus_e)
+    return {
+        "v": v,
+        "stop": stop,
+        "steps": steps,
+        "impact_sets": impact_sets,
+        "betas": betas,
+        "certificate": certificate,
+    }
+
+
+#: impulses on the rationals before a run without trace or stop tests moves to integers
+#: (:mod:`verify.core.engines.integer`): short runs do not repay the integer set-up
+FRACTION_FREE_AFTER = 3
+
+
+def _iterate_untraced(system: System, v: tuple, max_iterations: int, budget: Budget | None) -> dict:
+    """:func:`_iterate` without trace or stop tests, on a rational backend: the first
+    impulses on the rationals, the rest of a long run over integers (same values)."""
+    started = time.monotonic()
+    first = min(max_iterations, FRACTION_FREE_AFTER)
+    out = _iterate(system, v, first, [], False, budget=budget)
+    if out["stop"] != "max_iterations" or first == max_iterations:
+        return out
+    if budget is not None and budget.seconds is not None:
+        left = budget.seconds - (time.monotonic() - started)
+        if left <= 0:
+            return {**out, "stop": "budget"}
+        budget = Budget(seconds=left, bits=budget.bits)
+    rest = fraction_free.iterate(system, out["v"], max_iterations - first, budget=budget)
+    return {
+        **out,
+        "v": rest["v"],
+        "stop": rest["stop"],
+        "impact_sets": out["impact_sets"] + rest["impact_sets"],
+        "betas": out["betas"] + rest["betas"],
+    }
+
+
+def solve(
+    system: System,
+    velocity: Sequence[Any],
+    *,
+    rule: str = "general",
+    max_iterations: int = DEFAULT_MAX_ITERATIONS,
+    halt: Halt | None = None,
+    trace: bool = True,
+    certify: bool = True,
+    budget: Budget | None = None,
+    progress: Callable[[int], None] | None = None,
+) -> Result:
+    """Run the rule from the left velocity ``velocity`` until it exits (or a stop test fires).
+
+    ``rule`` is ``"general"`` (eq. 8, the system's own CORs), ``"ideal"`` (eq. 5, all CORs
+    1), ``"symmetric"`` (eq. 6, requires equal CORs) or ``"asymmetric"`` (eq. 7, requires
+    two constraints). ``max_iterations`` caps the number of impulses (stop
+    ``"max_iterations"``); ``halt`` is an extra stop test such as the paper's AEEV stop.
+    With ``certify`` (the default) a two-constraint run also stops, with stop
+    ``"non_terminating"`` and a certificate, as soon as it is proved never to exit
+    (:mod:`verify.core.termination`). ``budget`` (a :class:`Budget`) ends a run whose numbers
+    grow too large or which takes too long with stop ``"budget"``. ``progress``, if given,
+    is called with the number of impulses so far after every impulse (it should be cheap:
+    a progress display throttles itself); a run repeated at higher precision counts again
+    from 1.
+    On a backend whose signs can be undecided (intervals) the run is repeated at higher
+    precision, and the result's ``notes`` say so; :class:`~verify.errors.NoConvergence` is
+    raised when the precision limit is reached. A rate that is exactly 0 is not chased in
+    precision: the rule knows the zeros that the impulses make by their structure (a COR of 0
+    at a single impact), and, when every input is rational or algebraic, checks any other
+    undecided rate exactly (replaying the impact sets on the exact backend).
+    ``trace=False`` keeps only impact sets and betas (for long runs).
+
+    >>> from verify.core.system import System
+    >>> s = System([[1, 0, 0], [0, 1, 0], [0, 0, 1]], [[-1, 1, 0], [0, -1, 1]], ["1/2", "1/2"])
+    >>> r = solve(s, ["100", "0", "0"], rule="symmetric")
+    >>> r.iterations, [s.backend.to_exact(x) for x in r.exit_velocity]
+    (3, ['325/16', '375/16', '225/4'])
+    """
+    if not isinstance(max_iterations, int) or max_iterations < 0:
+        raise InvalidSystem(f"max_iterations must be a non-negative integer, got {max_iterations!r}")
+    system = _system_for_rule(system, rule)
+    notes: list[str] = []
+    exact = _ExactRates(system, velocity)  # exact checks of undecided rates: built only if one is asked
+    while True:
+        K = system.backend
+        try:
+            if K.name == "exact":
+                system, v0 = _exact_backend_for_velocity(system, velocity)
+                K = system.backend
+            else:
+                v0 = system.velocity(velocity)
+            halts = [h for h in (halt, non_termination_halt(system) if certify else None) if h is not None]
+            if K.fraction_free and not trace and not halts and progress is None:
+                out = _iterate_untraced(system, v0, max_iterations, budget)
+            else:
+                out = _iterate(
+                    system,
+                    v0,
+                    max_iterations,
+                    halts,
+                    trace,
+                    budget=budget,
+                    progress=progress,
+                    exact=exact.at(limit=K.refined() is None) if K.refinable else None,
+                )
+            break
+        except Undecided as exc:
+            if not K.refinable:
+                raise
+            finer = K.refined()
+            if finer is None:
+                why = (
+                    "the inputs are exact: use the exact backend, which decides every sign"
+                    if exact.available()
+                    else f"the inputs cannot be computed exactly ({exact.unavailable}), so a value that is exactly "
+                    "0 cannot be told from a tiny one: only the zeros that the structure of the impulses gives "
+                    "(such as a COR of 0 at a single impact) are known on intervals. The input is valid: this is "
+                    "a limit of the interval backend"
+                )
+                raise NoConvergence(
+                    f"{K.describe()}: a sign stayed undecided at the precision limit ({exc}); {why}"
+                ) from None
+            notes.append(f"precision raised from {K.dps} to {finer.dps} digits after an undecided sign")
+            system = system.convert_to(finer)
+    return Result(
+        system=system,
+        rule=rule,
+        velocity_in=v0,
+        exit_velocity=out["v"],
+        stop=out["stop"],
+        steps=tuple(out["steps"]),
+        impact_sets=out["impact_sets"],
+        betas=out["betas"],
+        max_iterations=max_iterations,
+        notes=tuple(notes),
+        certificate=out["certificate"],
+    )

@@ -1,0 +1,202 @@
+"""A symbolic-parameter backend: eps as a symbol restricted to an interval.
+
+Elements are rational functions of ``eps`` with rational coefficients (SymPy's
+``FracField``). The parameter lives in a :class:`Piece`, an interval of the real line with
+exact algebraic endpoints, each open or closed. ``sign(x)`` returns the sign of x when it
+is the same for every eps of the piece; otherwise it raises :class:`Split`, which carries
+the polynomials whose real roots cut the piece into parts where every sign is constant.
+The rule itself is not touched: a driver (:mod:`verify.checks.paper.cradle_map`) catches the split,
+cuts the piece at the roots (exactly: :class:`~verify.core.algebraic.RealAlgebraic`) and runs
+again on each part.
+
+>>> K = SymbolicBackend(Piece.closed(0, 1))
+>>> e = K.parameter
+>>> K.sign(K.one + e), K.nonnegative(e * e - e - K.one), K.nonnegative(e * e)
+(1, False, True)
+>>> K.sign(e - K.convert(Fraction(1, 2)))
+Traceback (most recent call last):
+...
+verify.core.symbolic.Split: the sign of eps - 1/2 is not constant for eps in [0, 1]
+"""
+
+from __future__ import annotations
+
+import itertools
+from dataclasses import dataclass
+from fractions import Fraction
+from typing import Any
+
+import sympy as sp
+from sympy import QQ
+from sympy.polys.fields import field
+
+from verify.core.algebraic import RealAlgebraic, X
+from verify.core.backends import Backend
+from verify.errors import BadNumber, Undecided
+
+EPS = sp.Symbol("eps")
+FIELD, _EPS_ELEMENT = field([EPS], QQ)
+
+
+class Split(Undecided):
+    """The sign of an element is not constant on the piece: cut at the roots of ``polys``."""
+
+    def __init__(self, polys: list[sp.Poly], message: str):
+        super().__init__(message)
+        self.polys = polys
+
+
+@dataclass(frozen=True)
+class Piece:
+    """An interval of the parameter with exact endpoints; a point when lower == upper."""
+
+    lower: RealAlgebraic
+    upper: RealAlgebraic
+    lower_closed: bool
+    upper_closed: bool
+
+    @classmethod
+    def closed(cls, lo: Any, hi: Any) -> Piece:
+        return cls(RealAlgebraic.rational(Fraction(lo)), RealAlgebraic.rational(Fraction(hi)), True, True)
+
+    @property
+    def is_point(self) -> bool:
+        # points are built with the same number at both ends (cut) or from equal rationals
+        return self.lower is self.upper or (
+            self.lower.is_rational and self.upper.is_rational and self.lower.lo == self.upper.lo
+        )
+
+    def contains(self, x: RealAlgebraic) -> bool:
+        lo, hi = x.cmp(self.lower), x.cmp(self.upper)
+        return (lo > 0 or (lo == 0 and self.lower_closed)) and (hi < 0 or (hi == 0 and self.upper_closed))
+
+    def sample(self) -> Fraction:
+        """A rational strictly inside (not for points)."""
+        return self.lower.between(self.upper)
+
+    def cut(self, points: list[RealAlgebraic]) -> list[Piece]:
+        """The piece cut at the given points that it contains: each such point becomes a
+        piece of its own and the intervals between them are open there."""
+        if self.is_point:
+            return [self]
+        inside: list[RealAlgebraic] = []
+        for p in sorted(p for p in points if self.contains(p)):
+            if not inside or inside[-1] != p:
+                inside.append(p)
+        bounds = [self.lower, *inside, self.upper]
+        last = len(bounds) - 2
+        parts = []
+        for k, (a, b) in enumerate(itertools.pairwise(bounds)):
+            if a == b:  # an endpoint of the piece is itself a cut point
+                continue
+            a_closed = k == 0 and self.lower_closed
+            b_closed = k == last and self.upper_closed
+            parts.append(Piece(a, b, a_closed, b_closed))
+        parts += [Piece(p, p, True, True) for p in inside]
+        return sorted(parts, key=lambda q: (q.lower, not q.is_point))
+
+    def __str__(self) -> str:
+        if self.is_point:
+            return f"{{{self.lower}}}"
+        return f"{'[' if self.lower_closed else '('}{self.lower}, {self.upper}{']' if self.upper_closed else ')'}"
+
+
+class RootCache:
+    """Real roots of polynomials, computed once per polynomial and shared by every run."""
+
+    def __init__(self) -> None:
+        self._roots: dict[Any, list[RealAlgebraic]] = {}
+        self._polys: dict[Any, sp.Poly] = {}
+
+    def poly(self, p: Any) -> sp.Poly:
+        """A ``PolyElement`` of the field's ring as a SymPy ``Poly`` in x."""
+        key = tuple(sorted(p.items()))
+        if key not in self._polys:
+            self._polys[key] = sp.Poly.from_dict({m[0]: c for m, c in p.items()} or {0: 0}, X, domain="QQ")
+        return self._polys[key]
+
+    def roots(self, p: sp.Poly) -> list[RealAlgebraic]:
+        if p not in self._roots:
+            self._roots[p] = RealAlgebraic.roots_in(p) if p.degree() > 0 else []
+        return self._roots[p]
+
+
+class SymbolicBackend(Backend):
+    """Rational functions of eps, with eps ranging over a :class:`Piece`.
+
+    ``convert`` accepts rationals and SymPy expressions in the symbol ``eps``
+    (:data:`EPS`); ``parameter`` is eps itself as an element. Signs are exact for the
+    whole piece or raise :class:`Split`.
+    """
+
+    name = "symbolic"
+    is_exact = True
+    is_rigorous = True
+    is_parametric = True
+
+    def __init__(self, piece: Piece, cache: RootCache | None = None):
+        self.piece = piece
+        self.cache = cache or RootCache()
+        self.zero = FIELD(0)
+        self.one = FIELD(1)
+        self.parameter = _EPS_ELEMENT
+
+    def convert(self, value: Any) -> Any:
+        if isinstance(value, Fraction):
+            return FIELD(sp.Rational(value.numerator, value.denominator))
+        if value.free_symbols - {EPS}:
+            raise BadNumber(f"{value}: the symbolic backend knows only the parameter eps")
+        try:
+            return FIELD.from_expr(value)
+        except Exception as exc:  # CoercionFailed: sqrt(2) and other irrational constants
+            raise BadNumber(f"{value}: the symbolic backend needs rational functions of eps ({exc})") from None
+
+    def _pieces_and_signs(self, x: Any) -> list[tuple[Piece, int]]:
+        """The piece cut where the numerator or denominator of x vanishes, with the sign of x on each part."""
+        num, den = self.cache.poly(x.numer), self.cache.poly(x.denom)
+        if num.is_zero:
+            return [(self.piece, 0)]
+        if self.piece.is_point:
+            r = self.piece.lower
+            return [(self.piece, r.sign_of(num) * r.sign_of(den))]
+        points = [r for p in (num, den) for r in self.cache.roots(p) if self.piece.contains(r)]
+        parts = self.piece.cut(points) if points else [self.piece]
+        out = []
+        for part in parts:
+            if part.is_point:
+                r = part.lower
+                out.append((part, r.sign_of(num) * r.sign_of(den)))
+            else:
+                q = part.sample()
+                r = RealAlgebraic.rational(q)
+                out.append((part, r.sign_of(num) * r.sign_of(den)))
+        return out
+
+    def _split(self, x: Any, what: str) -> Split:
+        polys = [p for p in (self.cache.poly(x.numer), self.cache.poly(x.denom)) if p.degree() > 0]
+        return Split(polys, f"the {what} of {x.as_expr()} is not constant for eps in {self.piece}")
+
+    def sign(self, x: Any) -> int:
+        signs = {s for _, s in self._pieces_and_signs(x)}
+        if len(signs) == 1:
+            return signs.pop()
+        raise self._split(x, "sign")
+
+    def nonnegative(self, x: Any) -> bool:
+        """Whether x >= 0 for every eps of the piece (False: x < 0 for every eps)."""
+        signs = {s >= 0 for _, s in self._pieces_and_signs(x)}
+        if len(signs) == 1:
+            return signs.pop()
+        raise self._split(x, "sign")
+
+    def to_number(self, x: Any) -> Any:
+        return x.as_expr()
+
+    def to_exact(self, x: Any) -> str:
+        return str(sp.factor(x.as_expr()))
+
+    def to_decimal(self, x: Any, digits: int = 30) -> str:
+        return self.to_exact(x)
+
+    def describe(self) -> str:
+        return f"symbolic (eps in {self.piece}), exact"

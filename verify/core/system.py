@@ -1,0 +1,472 @@
+"""The mechanical system at a multiple contact (Sect. 2.3 and 3.5 of the paper).
+
+A :class:`System` holds, at the contact configuration, the mass matrix ``g`` (the metric
+Phi on vertical vectors), the r constraint covectors ``dF_i`` (the "normals"), their time
+derivatives ``dF_i/dt`` (0 for fixed constraints) and one coefficient of restitution per
+constraint. The admissible side of S_i is ``F_i >= 0``, so an absolute velocity with
+components ``v`` is incoming for S_i (an impact) iff ``p(F_i) = dF_i/dt + dF_i . v < 0``
+(eq. 2).
+
+Every number is parsed exactly once (:func:`verify.core.numbers.to_number`), validated, and
+converted into the backend ``K`` that the rule computes with. Derived quantities that do
+not depend on the velocity are computed once here:
+
+- ``U_i = g^{-1} dF_i^T``, the Phi-normal vector of S_i (``U_S^perp`` of Sect. 2.2);
+- the Gram matrix ``G_ij = Phi(U_i, U_j) = dF_i g^{-1} dF_j^T``, positive definite
+  exactly when the normals are independent (condition (iii) of Sect. 2.3);
+- a rest frame ``H`` of all the constraints (``dF_i/dt + dF_i . H = 0``, Sect. 2.2), the
+  one of least kinetic energy, in which kinetic energies are measured.
+
+>>> s = System([[1, 0], [0, 1]], [[-1, 1]], ["1/2"])
+>>> [str(x) for x in s.rates(s.velocity(["3", "0"]))]
+['-3']
+"""
+
+from __future__ import annotations
+
+from collections.abc import Sequence
+from fractions import Fraction
+from typing import Any
+
+from verify.core.backends import Backend, RationalBackend, exact_for, get_backend
+from verify.core.linalg import NotPositiveDefinite, dot, ldl, matvec, solve_spd
+from verify.core.numbers import Number, format_exact, to_number
+from verify.core.numeric import certified_sign
+from verify.errors import BadNumber, InvalidSystem, Undecided
+
+
+def _is_exact_zero(K: Backend, x: Any) -> bool:
+    """Whether ``x`` is exactly 0 (an undecidable sign counts as non-zero)."""
+    try:
+        return K.sign(x) == 0
+    except Undecided:
+        return False
+
+
+def _nonzero(K: Backend, row: Sequence[Any]) -> tuple:
+    return tuple((k, x) for k, x in enumerate(row) if not _is_exact_zero(K, x))
+
+
+def _sparse_dot(K: Backend, sparse_row: Sequence[tuple[int, Any]], v: Sequence[Any]) -> Any:
+    """``a . v`` for a row given by its non-zero entries ``(k, a_k)`` (the same sum as a full dot)."""
+    total = K.zero
+    for k, a in sparse_row:
+        total = total + a * v[k]
+    return total
+
+
+def _equal(a: Number, b: Number) -> bool:
+    if a == b:
+        return True
+    if isinstance(a, Fraction) and isinstance(b, Fraction):
+        return False
+    from verify.core.numbers import _to_sympy
+
+    return certified_sign(_to_sympy(a) - _to_sympy(b)) == 0
+
+
+def _exact_backend(g: list[list], a: list[list], e: list, c: list) -> Backend:
+    """The exact backend for a system's parsed numbers (:func:`verify.core.backends.exact_for`); an
+    entry it cannot hold is named by its field, with the ``backend`` parameter that can."""
+    try:
+        return exact_for([x for row in (*g, *a) for x in row] + e + c)
+    except BadNumber:
+        pass  # name the entry (field names are made only here, off the common path)
+    entries = [(f"mass_matrix[{i}][{j}]", x) for i, row in enumerate(g) for j, x in enumerate(row)]
+    entries += [(f"normals[{i}][{k}]", x) for i, row in enumerate(a) for k, x in enumerate(row)]
+    entries += [(f"restitution[{i}]", x) for i, x in enumerate(e)] + [(f"time_terms[{i}]", x) for i, x in enumerate(c)]
+    for field, x in entries:
+        if type(x) is Fraction:
+            continue
+        symbols = getattr(x, "free_symbols", None)
+        if symbols:
+            raise InvalidSystem(
+                f"{field} = {x} is not a number: it depends on {', '.join(sorted(str(s) for s in symbols))}"
+            )
+        if not isinstance(x, Fraction) and getattr(x, "is_algebraic", None) is not True:
+            raise BadNumber(
+                f"{field} = {x} is not an algebraic number, so the exact backend cannot hold it: "
+                'pass backend="interval" (certified) or backend="mp"'
+            )
+    return exact_for([x for _, x in entries])  # refused for another reason: its own message
+
+
+def _sympy_entries(matrix: Any) -> list[tuple[str, Any]]:
+    """``(mass_matrix[i][j], entry)`` for the SymPy entries of a matrix given as rows (others skipped)."""
+    import sympy as sp
+
+    if isinstance(matrix, (str, bytes)) or not isinstance(matrix, Sequence):
+        return []
+    return [
+        (f"mass_matrix[{i}][{j}]", x)
+        for i, row in enumerate(matrix)
+        if not isinstance(row, (str, bytes)) and isinstance(row, Sequence)
+        for j, x in enumerate(row)
+        if isinstance(x, sp.Basic)
+    ]
+
+
+def _at_configuration(matrix: Any, subs: dict[Any, Any]) -> Any:
+    """A mass matrix with its SymPy entries evaluated exactly at a configuration ``subs``.
+
+    Anything that is not a matrix of rows is returned as it is (the constructor names the
+    problem); an entry that still has free symbols after the substitution is an error.
+    """
+    import sympy as sp
+
+    entries = dict(_sympy_entries(matrix))
+    if not entries:
+        return matrix
+    values = {}
+    for where, x in entries.items():
+        value = x.subs(subs)
+        if value.free_symbols:
+            names = ", ".join(sorted(str(s) for s in value.free_symbols))
+            raise InvalidSystem(f"{where} = {x} depends on {names}, which has no value in the configuration")
+        values[where] = sp.simplify(value)
+    return [
+        [values.get(f"mass_matrix[{i}][{j}]", x) for j, x in enumerate(row)]
+        if not isinstance(row, (str, bytes)) and isinstance(row, Sequence)
+        else row
+        for i, row in enumerate(matrix)
+    ]
+
+
+def _check_vector(values: Any, length: int | None, field: str) -> list:
+    if type(values) not in (list, tuple) and (isinstance(values, (str, bytes)) or not isinstance(values, Sequence)):
+        raise InvalidSystem(f"{field}: expected a list of numbers, got {type(values).__name__}")
+    if length is not None and len(values) != length:
+        raise InvalidSystem(f"{field}: expected {length} numbers, got {len(values)}")
+    return [x if type(x) is Fraction else to_number(x, where=f"{field}[{i}]") for i, x in enumerate(values)]
+
+
+class System:
+    """A system in multiple contact with r frictionless codimension-1 constraints.
+
+    ``mass_matrix`` is n x n, symmetric positive definite; ``normals`` is r x n (row i is
+    ``dF_i``); ``restitution`` has r CORs in [0, 1]; ``time_terms`` has r entries
+    (default 0). Numbers may be strings (``"0.1"`` is read as 1/10), ints, Fractions or
+    SymPy numbers; floats are refused. Raises :class:`~verify.errors.InvalidSystem` with
+    the offending field and value.
+
+    >>> s = System([["2", "0"], ["0", "1"]], [["-1", "1"]], ["0.5"])
+    >>> s.n, s.r, s.backend.name, [str(u) for u in s.U[0]]
+    (2, 1, 'exact', ['-1/2', '1'])
+    """
+
+    __slots__ = (
+        "U",
+        "_energy_terms",
+        "_fraction_free",
+        "_inverse_gram_diag",
+        "_minus_one_plus_e",
+        "_moving",
+        "_single_coefficient",
+        "_sparse_U",
+        "_sparse_normals",
+        "backend",
+        "coordinates",
+        "g",
+        "gram",
+        "gram_diag",
+        "n",
+        "names",
+        "normals",
+        "r",
+        "rest_frame",
+        "restitution",
+        "source",
+        "time_terms",
+    )
+
+    def __init__(
+        self,
+        mass_matrix: Sequence[Sequence[Any]],
+        normals: Sequence[Sequence[Any]],
+        restitution: Sequence[Any],
+        time_terms: Sequence[Any] | None = None,
+        *,
+        backend: str | Backend = "exact",
+        dps: int | None = None,
+        names: Sequence[str] | None = None,
+        coordinates: Sequence[str] | None = None,
+    ):
+        K = get_backend(backend, dps=dps)
+        if isinstance(mass_matrix, (str, bytes)) or not isinstance(mass_matrix, Sequence) or not mass_matrix:
+            raise InvalidSystem("mass_matrix: expected a non-empty square matrix (a list of rows)")
+        n = len(mass_matrix)
+        g = [_check_vector(row, n, f"mass_matrix[{i}]") for i, row in enumerate(mass_matrix)]
+        if isinstance(normals, (str, bytes)) or not isinstance(normals, Sequence) or not normals:
+            raise InvalidSystem("normals: expected at least one constraint normal (a list of rows)")
+        r = len(normals)
+        a = [_check_vector(row, n, f"normals[{i}]") for i, row in enumerate(normals)]
+        e = _check_vector(restitution, r, "restitution")
+        c = _check_vector(time_terms, r, "time_terms") if time_terms is not None else [Fraction(0)] * r
+        for i in range(n):
+            for j in range(i + 1, n):
+                if not _equal(g[i][j], g[j][i]):
+                    raise InvalidSystem(
+                        f"mass_matrix is not symmetric: entry [{i}][{j}] = {format_exact(g[i][j])} "
+                        f"but [{j}][{i}] = {format_exact(g[j][i])}"
+                    )
+        for i, ei in enumerate(e):
+            if getattr(ei, "free_symbols", None):
+                continue  # a parameter such as eps: checked by the backend over its range, below
+            if not (0 <= ei <= 1) if type(ei) is Fraction else (certified_sign(ei) < 0 or certified_sign(1 - ei) < 0):
+                raise InvalidSystem(f"restitution[{i}] = {format_exact(ei)} is outside [0, 1]")
+        self.names = tuple(names) if names is not None else tuple(f"S{i + 1}" for i in range(r))
+        if len(self.names) != r:
+            raise InvalidSystem(f"names: expected {r} names, got {len(self.names)}")
+        self.coordinates = tuple(coordinates) if coordinates is not None else tuple(f"x{i + 1}" for i in range(n))
+        if len(self.coordinates) != n:
+            raise InvalidSystem(f"coordinates: expected {n} names, got {len(self.coordinates)}")
+        self.source = {
+            "mass_matrix": tuple(tuple(row) for row in g),
+            "normals": tuple(tuple(row) for row in a),
+            "time_terms": tuple(c),
+            "restitution": tuple(e),
+        }
+        if backend == "exact" and isinstance(K, RationalBackend):
+            K = _exact_backend(g, a, e, c)  # algebraic inputs: exact too
+        self.backend, self.n, self.r = K, n, r
+        self._derive()
+        for i, ei in enumerate(e):
+            if getattr(ei, "free_symbols", None):
+                x = self.restitution[i]
+                if not (K.nonnegative(x) and K.nonnegative(K.one - x)):
+                    raise InvalidSystem(f"restitution[{i}] = {ei} is outside [0, 1] for some parameter value")
+
+    def _derive(self) -> None:
+        """Convert the source numbers into the backend and compute U, G and H."""
+        K, src = self.backend, self.source
+        self._fraction_free = None  # the integer constants of verify.core.engines.integer, made when first needed
+        self.g = tuple(tuple(K.convert(x) for x in row) for row in src["mass_matrix"])
+        self.normals = tuple(tuple(K.convert(x) for x in row) for row in src["normals"])
+        self.time_terms = tuple(K.convert(x) for x in src["time_terms"])
+        self.restitution = tuple(K.convert(x) for x in src["restitution"])
+        for i, row in enumerate(self.normals):
+            if all(K.sign(x) == 0 for x in row):
+                raise InvalidSystem(f"normals[{i}] is zero: a constraint needs a non-zero gradient")
+        self._sparse_normals = tuple(_nonzero(K, row) for row in self.normals)
+        n = self.n
+        diagonal = all(_is_exact_zero(K, self.g[i][j]) for i in range(n) for j in range(n) if i != j)
+        if diagonal:  # U_i = dF_i / diag(g), entry by entry, on the non-zero pattern of dF_i
+            for i in range(n):
+                if K.sign(self.g[i][i]) <= 0:
+                    self._not_positive_definite(i, self.g[i][i])
+            U = []
+            for row in self._sparse_normals:
+                u = [K.zero] * n
+                for k, a in row:
+                    u[k] = a / self.g[k][k]
+                U.append(tuple(u))
+            self.U = tuple(U)
+        else:
+            try:
+                g_factors = ldl(K, self.g)
+            except NotPositiveDefinite as exc:
+                self._not_positive_definite(exc.index, exc.pivot)
+            self.U = tuple(solve_spd(K, g_factors, row) for row in self.normals)
+        self.gram = tuple(tuple(_sparse_dot(K, ai, uj) for uj in self.U) for ai in self._sparse_normals)
+        try:
+            gram_factors = ldl(K, self.gram)
+        except NotPositiveDefinite as exc:
+            raise InvalidSystem(
+                f"normals are dependent: normals[{exc.index}] is a combination of the normals before it "
+                "(the paper requires independent constraints, Sect. 2.3 (iii))"
+            ) from None
+        self.gram_diag = tuple(self.gram[i][i] for i in range(self.r))
+        # the rule's inner loop skips the entries that are exactly zero (sparse rows)
+        self._sparse_U = tuple(_nonzero(K, row) for row in self.U)
+        # constants of eq. (8), computed once: -(1 + e_j), 1 / G_jj and -(1 + e_j) / G_jj
+        self._minus_one_plus_e = tuple(K.zero - (K.one + e) for e in self.restitution)
+        self._inverse_gram_diag = tuple(K.one / d for d in self.gram_diag)
+        self._single_coefficient = tuple(m / d for m, d in zip(self._minus_one_plus_e, self.gram_diag))
+        half = K.convert(Fraction(1, 2))
+        self._energy_terms = tuple(
+            (i, j, half * self.g[i][j] if i == j else self.g[i][j])
+            for i in range(self.n)
+            for j in range(i, self.n)
+            if not _is_exact_zero(K, self.g[i][j])
+        )
+        self._moving = not all(K.sign(ci) == 0 for ci in self.time_terms)
+        if not self._moving:
+            self.rest_frame = (K.zero,) * self.n
+        else:
+            mu = solve_spd(K, gram_factors, self.time_terms)
+            self.rest_frame = tuple(K.zero - dot(K, mu, [u[k] for u in self.U]) for k in range(self.n))
+
+    def _not_positive_definite(self, index: int, pivot: Any) -> None:
+        raise InvalidSystem(
+            f"mass_matrix is not positive definite (pivot {index} of its LDL^T factorisation "
+            f"is {self.backend.to_decimal(pivot, 12)})"
+        )
+
+    # -- derived systems --------------------------------------------------------------
+    def convert_to(self, backend: str | Backend, *, dps: int | None = None) -> System:
+        """The same system on another backend (numbers re-converted from their exact source).
+
+        >>> System([[1]], [[1]], [1]).convert_to("interval").backend.name
+        'interval'
+        """
+        new = object.__new__(System)
+        for slot in ("n", "r", "names", "coordinates", "source"):
+            setattr(new, slot, getattr(self, slot))
+        new.backend = get_backend(backend, dps=dps)
+        new._derive()
+        return new
+
+    def with_restitution(self, restitution: Sequence[Any]) -> System:
+        """The same system with other CORs (validated like the constructor's).
+
+        >>> [str(e) for e in System([[1]], [[1]], ["1/2"]).with_restitution([1]).restitution]
+        ['1']
+        """
+        src = self.source
+        return System(
+            src["mass_matrix"],
+            src["normals"],
+            restitution,
+            src["time_terms"],
+            backend=self.backend,
+            names=self.names,
+            coordinates=self.coordinates,
+        )
+
+    # -- the quantities the rule needs --------------------------------------------------
+    def velocity(self, values: Sequence[Any], field: str = "velocity") -> tuple:
+        """Parse and convert a velocity vector (n components) into the backend."""
+        return tuple(self.backend.convert(x) for x in _check_vector(values, self.n, field))
+
+    def rates(self, v: Sequence[Any]) -> tuple:
+        """``p(F_i) = dF_i/dt + dF_i . v`` for every constraint (negative: an impact, eq. 2)."""
+        out = []
+        for ci, row in zip(self.time_terms, self._sparse_normals):
+            total = ci if self._moving else None  # fixed constraints: no "0 +" on every rate
+            for k, a in row:
+                total = a * v[k] if total is None else total + a * v[k]
+            out.append(total)
+        return tuple(out)
+
+    def combine_normals(self, coefficients: Sequence[tuple[int, Any]]) -> tuple:
+        """``sum c_j U_j`` over the pairs ``(j, c_j)``: the shape of every impulse."""
+        out: list[Any] = [None] * self.n
+        for j, c in coefficients:
+            for k, u in self._sparse_U[j]:
+                out[k] = c * u if out[k] is None else out[k] + c * u
+        zero = self.backend.zero
+        return tuple(zero if x is None else x for x in out)
+
+    def phi(self, u: Sequence[Any], w: Sequence[Any]) -> Any:
+        """The metric ``Phi(u, w) = u^T g w``."""
+        return dot(self.backend, u, matvec(self.backend, self.g, w))
+
+    def kinetic_energy(self, v: Sequence[Any]) -> Any:
+        """``1/2 Phi(v - H, v - H)`` in the rest frame H of the constraints (Sect. 2.1)."""
+        rel = tuple(x - h for x, h in zip(v, self.rest_frame))
+        total = self.backend.zero
+        for i, j, c in self._energy_terms:  # 1/2 g_ii r_i^2 and g_ij r_i r_j (i < j)
+            total = total + c * rel[i] * rel[j]
+        return total
+
+    # -- construction from constraint functions ---------------------------------------------
+    @classmethod
+    def from_functions(
+        cls,
+        functions: Sequence[Any],
+        coordinates: Sequence[Any],
+        configuration: dict[Any, Any],
+        mass_matrix: Sequence[Sequence[Any]],
+        restitution: Sequence[Any],
+        *,
+        time: Any = None,
+        names: Sequence[str] | None = None,
+        backend: str | Backend = "exact",
+        dps: int | None = None,
+    ) -> System:
+        """A system from SymPy constraint functions ``F_i(t, x)`` and a configuration.
+
+        Step a) of Sect. 3.5: only the constraints with ``F_i = 0`` at the configuration
+        (exactly) are in contact; the others are left out. Gradients ``dF_i`` and time
+        derivatives ``dF_i/dt`` are computed exactly by SymPy and evaluated there.
+        ``restitution`` gives one COR per function. The kept constraints are named by
+        ``names`` (default ``F1, F2, ...``), so ``system.names`` tells which are in contact.
+
+        ``configuration`` maps every coordinate to its value (and may give values to other
+        symbols of the functions, such as a radius). The time: when some function or the
+        mass matrix depends on the symbol ``time``, the configuration must give its value
+        (the instant of the impact), else :class:`~verify.errors.InvalidSystem` says that the
+        time is missing; the contact, the gradients and ``dF_i/dt`` are evaluated at that
+        instant. When nothing depends on it, no value is needed (every ``dF_i/dt`` is 0). A
+        symbol that is neither a coordinate, nor ``time``, nor given a value is an error
+        naming it (a time-dependent function passed without ``time=t`` is such an error).
+
+        ``mass_matrix`` may depend on the configuration (SymPy expressions in the
+        coordinates, and the time): it is evaluated exactly there, like the gradients; an
+        entry that still has free symbols is an error naming it.
+
+        >>> import sympy as sp
+        >>> x1, x2 = sp.symbols("x1 x2")
+        >>> s = System.from_functions([(x2 - x1)**2 - 4, x2 - 10], [x1, x2], {x1: 0, x2: 2},
+        ...                           [[1, 0], [0, 1]], [1, 1])
+        >>> s.names, [format_exact(x) for x in s.source["normals"][0]]
+        (('F1',), ['-4', '4'])
+        >>> t = sp.Symbol("t")
+        >>> s = System.from_functions([x2 - x1 - t], [x1, x2], {x1: 0, x2: 1, t: 1},
+        ...                           [[1 + x2**2, 0], [0, 1]], [1], time=t)
+        >>> [format_exact(x) for x in s.source["mass_matrix"][0]], [format_exact(c) for c in s.time_terms]
+        (['2', '0'], ['-1'])
+        """
+        import sympy as sp
+
+        coords = list(coordinates)
+        names = list(names) if names is not None else [f"F{i + 1}" for i in range(len(functions))]
+        if len(names) != len(functions) or len(restitution) != len(functions):
+            raise InvalidSystem("from_functions: names and restitution need one entry per function")
+        subs = dict(configuration)
+        missing = [str(q) for q in coords if q not in subs]
+        if missing:
+            raise InvalidSystem(f"configuration: no value for {', '.join(missing)}")
+        for i, F in enumerate(functions):
+            if not isinstance(F, sp.Basic):  # never sympify text: it would be evaluated
+                raise InvalidSystem(f"functions[{i}]: expected a SymPy expression, got {type(F).__name__}")
+        known = set(coords) | set(subs) | ({time} if time is not None else set())
+        for i, F in enumerate(functions):
+            unknown = sorted(str(s) for s in F.free_symbols - known)
+            if unknown:
+                raise InvalidSystem(
+                    f"functions[{i}] = {F} depends on {', '.join(unknown)}, which is not a coordinate, not the "
+                    "time (pass time=...) and has no value in the configuration"
+                )
+        if time is not None and time not in subs:
+            users = [f"functions[{i}]" for i, F in enumerate(functions) if time in F.free_symbols]
+            users += [w for w, x in _sympy_entries(mass_matrix) if time in x.free_symbols]
+            if users:
+                raise InvalidSystem(
+                    f"configuration: no value for the time {time}, on which {', '.join(users)} depends "
+                    f"(give the instant of the impact, e.g. {{{time}: 0}})"
+                )
+        g = _at_configuration(mass_matrix, subs)
+        kept, normals, time_terms, cors = [], [], [], []
+        for i, F in enumerate(functions):
+            at_contact = sp.simplify(F.subs(subs))
+            if at_contact != 0:
+                continue
+            kept.append(names[i])
+            gradient = [sp.simplify(sp.diff(F, q).subs(subs)) for q in coords]
+            normals.append([to_number(d, where=f"d{names[i]}/d{q}") for d, q in zip(gradient, coords)])
+            dt = sp.diff(F, time).subs(subs) if time is not None else sp.Integer(0)
+            time_terms.append(to_number(sp.simplify(dt), where=f"d{names[i]}/dt"))
+            cors.append(restitution[i])
+        if not kept:
+            raise InvalidSystem("from_functions: no constraint is in contact at this configuration")
+        return cls(
+            g,
+            normals,
+            cors,
+            time_terms,
+            backend=backend,
+            dps=dps,
+            names=kept,
+            coordinates=[str(q) for q in coords],
+        )

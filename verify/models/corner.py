@@ -1,0 +1,217 @@
+"""The disk in the corner (Sect. 4.2): a case of the general engine, with the paper's zones.
+
+A disk of unit mass in a corner of angle 2*alpha, walls S1: kx - y = 0 and S2: kx + y = 0
+(k = tan alpha), coordinates (x, y, theta). The admissible side of each wall is F_i >= 0
+with F_1 = y - kx and F_2 = -kx - y, so the normals are (-k, 1, 0) and (-k, -1, 0) and
+``p(F_1) = -(k xd - yd)``, ``p(F_2) = -(k xd + yd)``: the paper's zones (eq. 9) are read
+off the signs of the rates,
+
+    Z0: no wall hit, Z1: only S1, Z2: only S2, Z12: both (a multiple impact).
+
+The entrance velocity is ``v0 (cos phi, sin phi, 0)`` (the spin is irrelevant). With
+``alpha = pi/6`` and ``phi = pi/12`` the inputs are algebraic (tan(pi/6) = sqrt(3)/3,
+cos(pi/12) = (sqrt(6) + sqrt(2))/4) and the run is exact in their number field; an angle
+whose tangent or cosine is not algebraic (alpha = 3/10 radians) runs on certified intervals
+instead, and the result says so.
+
+:func:`paper_step` is an independent implementation of eq. (10), with the paper's closed
+forms for V_1, V_2 and beta; the tests check the general engine against it.
+
+>>> r = run_corner(alpha="pi/6", phi="pi/12", eps1="0.999", eps2="0.001")
+>>> r.zones, r.result.iterations, r.result.backend.describe()[:18]
+(['Z12', 'Z12', 'Z2', 'Z0'], 3, 'exact (number fiel')
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+from fractions import Fraction
+from typing import Any
+
+from verify.core.backends import Backend, get_backend
+from verify.core.numbers import Number, to_number
+from verify.core.numeric import certified_sign
+from verify.core.rule import DEFAULT_MAX_ITERATIONS, Result, solve
+from verify.core.system import System
+from verify.errors import InvalidInput, InvalidSystem
+
+ZONES = {(False, False): "Z0", (True, False): "Z1", (False, True): "Z2", (True, True): "Z12"}
+
+
+@dataclass
+class CornerRun:
+    """A corner run: the engine's result, the zones visited, and how it was computed."""
+
+    result: Result
+    zones: list[str]
+    slope: Number
+    velocity: list[Number]
+    notes: list[str] = field(default_factory=list)
+
+    @property
+    def repeated_multiple_impacts(self) -> bool:
+        return sum(1 for J in self.result.impact_sets if len(J) == 2) >= 2
+
+
+def _sympy():
+    import sympy
+
+    return sympy
+
+
+def slope_of(alpha: Any = None, slope: Any = None) -> Number:
+    """k = tan(alpha), or the given slope; validated: 0 < alpha < pi/2, k > 0."""
+    if (alpha is None) == (slope is None):
+        raise InvalidInput("give exactly one of alpha and slope")
+    if slope is not None:
+        k = to_number(slope, where="slope")
+        if certified_sign(k) <= 0:
+            raise InvalidSystem(f"slope = {slope} must be positive (k = tan(alpha), 0 < alpha < pi/2)")
+        return k
+    a = to_number(alpha, where="alpha")
+    sp = _sympy()
+    a_expr = sp.Rational(a.numerator, a.denominator) if isinstance(a, Fraction) else a
+    if certified_sign(a_expr) <= 0 or certified_sign(sp.pi / 2 - a_expr) <= 0:
+        raise InvalidSystem(f"alpha = {alpha} must lie in (0, pi/2)")
+    return to_number(sp.tan(a_expr), where="tan(alpha)")
+
+
+def velocity_of(phi: Any, v0: Any = "100") -> list[Number]:
+    """``v0 (cos phi, sin phi, 0)`` as exact numbers (closed forms when phi is not 0)."""
+    sp = _sympy()
+    p = to_number(phi, where="phi")
+    speed = to_number(v0, where="v0")
+    if certified_sign(speed) <= 0:
+        raise InvalidSystem(f"v0 = {v0} must be positive")
+    p_expr = sp.Rational(p.numerator, p.denominator) if isinstance(p, Fraction) else p
+    s_expr = sp.Rational(speed.numerator, speed.denominator) if isinstance(speed, Fraction) else speed
+    return [to_number(sp.expand(s_expr * sp.cos(p_expr))), to_number(sp.expand(s_expr * sp.sin(p_expr))), Fraction(0)]
+
+
+def corner_system(
+    slope: Any, eps1: Any, eps2: Any, *, backend: str | Backend = "exact", dps: int | None = None
+) -> System:
+    """The corner with walls of slope k = tan(alpha) and CORs eps1 (S1) and eps2 (S2).
+
+    >>> s = corner_system("1/2", "1", "1/2")
+    >>> [[str(a) for a in row] for row in s.normals]
+    [['-1/2', '1', '0'], ['-1/2', '-1', '0']]
+    """
+    k = to_number(slope, where="slope")
+    minus_k = -k
+    return System(
+        [[1, 0, 0], [0, 1, 0], [0, 0, 1]],
+        [[minus_k, 1, 0], [minus_k, -1, 0]],
+        [eps1, eps2],
+        backend=backend,
+        dps=dps,
+        names=["S1", "S2"],
+        coordinates=["x", "y", "theta"],
+    )
+
+
+def zone(system: System, v: Any) -> str:
+    """The zone of eq. (9) of a velocity: Z0, Z1, Z2 or Z12."""
+    K = system.backend
+    b = system.rates(v)
+    return ZONES[(K.sign(b[0]) < 0, K.sign(b[1]) < 0)]
+
+
+def zones_of(result: Result) -> list[str]:
+    """The zones visited: one per impulse, then the zone of the exit velocity."""
+    out = [ZONES[(0 in J, 1 in J)] for J in result.impact_sets]
+    if result.stop == "exit":
+        out.append("Z0")
+    return out
+
+
+def _backend_for(inputs: list[Number], backend: str | Backend, dps: int | None, notes: list[str]) -> Backend | str:
+    """Exact when every input is algebraic; certified intervals otherwise (and say so)."""
+    if backend != "exact":
+        return backend
+    from verify.core.backends import algebraic_generators
+
+    if algebraic_generators(inputs) is None:
+        bad = next(v for v in inputs if not isinstance(v, Fraction) and v.is_algebraic is not True)
+        notes.append(f"{bad} is not algebraic: run on certified intervals instead of exact numbers")
+        return get_backend("interval", dps=dps)
+    return "exact"
+
+
+def run_corner(
+    *,
+    alpha: Any = None,
+    slope: Any = None,
+    phi: Any = None,
+    velocity: Any = None,
+    eps1: Any,
+    eps2: Any,
+    v0: Any = "100",
+    backend: str | Backend = "exact",
+    dps: int | None = None,
+    max_iterations: int = DEFAULT_MAX_ITERATIONS,
+    rule: str = "general",
+    trace: bool = True,
+    certify: bool = True,
+) -> CornerRun:
+    """Run the disk in the corner. Give ``alpha`` or ``slope``, and ``phi`` or ``velocity``."""
+    notes: list[str] = []
+    k = slope_of(alpha, slope)
+    if (phi is None) == (velocity is None):
+        raise InvalidInput("give exactly one of phi and velocity")
+    if velocity is not None:
+        if len(velocity) != 2:
+            raise InvalidSystem(f"velocity: expected 2 components (xd, yd), got {len(velocity)}")
+        v = [to_number(x, where=f"velocity[{i}]") for i, x in enumerate(velocity)] + [Fraction(0)]
+    else:
+        v = velocity_of(phi, v0)
+    cors = [to_number(e, where=f"eps{i + 1}") for i, e in enumerate((eps1, eps2))]
+    for i, e in enumerate(cors):
+        if certified_sign(e) < 0 or certified_sign(1 - e) < 0:
+            raise InvalidSystem(f"eps{i + 1} = {(eps1, eps2)[i]} is outside [0, 1]")
+    chosen = _backend_for([k, *v, *cors], backend, dps, notes)
+    system = corner_system(k, cors[0], cors[1], backend=chosen, dps=dps if chosen != "exact" else None)
+    result = solve(system, v, rule=rule, max_iterations=max_iterations, trace=trace, certify=certify)
+    return CornerRun(result, zones_of(result), k, v, notes + list(result.notes))
+
+
+# -- the paper's own formulas (eq. 10), written independently of the engine -----------------
+
+
+def paper_step(k: Any, xd: Any, yd: Any, e1: Any, e2: Any) -> tuple[str, Any, Any, Any]:
+    """One step of eq. (10) with the paper's closed forms: (zone, beta or None, new xd, new yd).
+
+    Works on any numbers with + - * / and comparisons (Fractions, SymPy numbers).
+    """
+    s1 = k * xd - yd  # p in Z1 when s1 > 0
+    s2 = k * xd + yd
+    z = ZONES[(s1 > 0, s2 > 0)]
+    one = k * 0 + 1
+    d = one + k * k
+    V1 = (k / d * s1, -one / d * s1)
+    V2 = (k / d * s2, one / d * s2)
+    if z == "Z0":
+        return z, None, xd, yd
+    if z == "Z1":
+        return z, None, xd - (1 + e1) * V1[0], yd - (1 + e1) * V1[1]
+    if z == "Z2":
+        return z, None, xd - (1 + e2) * V2[0], yd - (1 + e2) * V2[1]
+    beta = d / 2 * (k * k * xd * xd + yd * yd) / (k**4 * xd * xd + yd * yd)
+    return (
+        z,
+        beta,
+        xd - beta * ((1 + e1) * V1[0] + (1 + e2) * V2[0]),
+        yd - beta * ((1 + e1) * V1[1] + (1 + e2) * V2[1]),
+    )
+
+
+def paper_run(k: Any, xd: Any, yd: Any, e1: Any, e2: Any, *, max_iterations: int = 1000) -> tuple[list[str], Any, Any]:
+    """Iterate :func:`paper_step` until Z0: (zones, xd, yd)."""
+    zones = []
+    for _ in range(max_iterations + 1):
+        z, _beta, nx, ny = paper_step(k, xd, yd, e1, e2)
+        zones.append(z)
+        if z == "Z0":
+            break
+        xd, yd = nx, ny
+    return zones, xd, yd

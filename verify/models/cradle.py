@@ -1,0 +1,193 @@
+"""Newton's cradle (Sect. 4.1): N balls on a line, built twice.
+
+- :func:`cradle_system` uses the reduced coordinates ``(x1, ..., xN)``: ball i has mass
+  m_i, and the contact between balls i and i+1 is ``S_(i,i+1)`` with normal
+  ``e_(i+1) - e_i`` (the direction of the gradient of the paper's constraint function).
+- :func:`cradle_system_full` starts from the paper's own constraint functions
+  ``S_(i,j) = (x^j - x^i)^2 + (y^j - y^i)^2 - 4R^2`` in the full coordinates
+  ``(x^i, y^i, theta^i)`` of N disks of radius R (moment of inertia m R^2 / 2); gradients
+  are computed by SymPy and only the pairs in contact are kept (step a of Sect. 3.5).
+
+Both give the same exit velocity in x; in the full model the y components stay zero and
+a spin stays unchanged (tested in ``tests/test_cradle.py``).
+
+>>> r = run_cradle("1/2")
+>>> r.iterations, [r.backend.to_exact(x) for x in r.exit_velocity]
+(3, ['325/16', '375/16', '225/4'])
+"""
+
+from __future__ import annotations
+
+from collections.abc import Sequence
+from fractions import Fraction
+from typing import Any
+
+from verify.core.backends import Backend
+from verify.core.numbers import to_number
+from verify.core.rule import DEFAULT_MAX_ITERATIONS, Result, solve
+from verify.core.system import System
+from verify.errors import InvalidSystem
+from verify.models.paper import PAPER_MAX_ITERATIONS, PAPER_SIGMA_RELATIVE, aeev_halt
+
+MODES = ("exact", "paper")
+
+
+def _restitution(eps: Any, contacts: int) -> list:
+    values = list(eps) if isinstance(eps, (list, tuple)) else [eps]
+    if len(values) == 1:
+        values = values * contacts
+    if len(values) != contacts:
+        raise InvalidSystem(f"eps: expected 1 or {contacts} CORs (one per contact), got {len(values)}")
+    return values
+
+
+def _masses(masses: Sequence[Any] | None, balls: int) -> list[Any]:
+    if masses is None:
+        return [Fraction(1)] * balls
+    if len(masses) != balls:
+        raise InvalidSystem(f"masses: expected {balls} masses, got {len(masses)}")
+    parsed = [to_number(m, where=f"masses[{i}]") for i, m in enumerate(masses)]
+    from verify.core.numeric import certified_sign
+
+    for i, m in enumerate(parsed):
+        if certified_sign(m) <= 0:
+            raise InvalidSystem(f"masses[{i}] = {m} must be positive")
+    return parsed
+
+
+def _check_balls(balls: int) -> None:
+    if not isinstance(balls, int) or balls < 2:
+        raise InvalidSystem(f"balls must be an integer >= 2, got {balls!r}")
+
+
+def cradle_system(
+    eps: Any,
+    balls: int = 3,
+    masses: Sequence[Any] | None = None,
+    *,
+    backend: str | Backend = "exact",
+    dps: int | None = None,
+) -> System:
+    """The cradle in reduced coordinates: one COR for all contacts, or one per contact.
+
+    >>> s = cradle_system("0.9")
+    >>> s.names, [[str(a) for a in row] for row in s.normals]
+    (('S(1,2)', 'S(2,3)'), [['-1', '1', '0'], ['0', '-1', '1']])
+    """
+    _check_balls(balls)
+    m = _masses(masses, balls)
+    g = [[m[i] if i == j else 0 for j in range(balls)] for i in range(balls)]
+    normals = [[(-1 if k == i else 1 if k == i + 1 else 0) for k in range(balls)] for i in range(balls - 1)]
+    return System(
+        g,
+        normals,
+        _restitution(eps, balls - 1),
+        backend=backend,
+        dps=dps,
+        names=[f"S({i + 1},{i + 2})" for i in range(balls - 1)],
+        coordinates=[f"x{i + 1}" for i in range(balls)],
+    )
+
+
+def cradle_system_full(
+    eps: Any,
+    balls: int = 3,
+    masses: Sequence[Any] | None = None,
+    *,
+    radius: Any = 1,
+    backend: str | Backend = "exact",
+    dps: int | None = None,
+) -> System:
+    """The cradle from the paper's constraint functions S_(i,j) in coordinates (x, y, theta).
+
+    All pairs i < j are given; at the configuration ``x^i = 2R(i-1), y^i = 0`` only
+    neighbours touch, so only ``S_(i,i+1)`` are kept. ``eps`` gives one COR for all
+    contacts or one per neighbouring contact.
+
+    >>> s = cradle_system_full("0.9")
+    >>> s.names, s.n
+    (('S(1,2)', 'S(2,3)'), 9)
+    """
+    import sympy as sp
+
+    _check_balls(balls)
+    m = _masses(masses, balls)
+    R = to_number(radius, where="radius")
+    if R <= 0:
+        raise InvalidSystem(f"radius must be positive, got {R}")
+    x = sp.symbols(f"x1:{balls + 1}")
+    y = sp.symbols(f"y1:{balls + 1}")
+    th = sp.symbols(f"theta1:{balls + 1}")
+    coords = [q for i in range(balls) for q in (x[i], y[i], th[i])]
+    Rs = sp.Rational(R.numerator, R.denominator)
+    config = {q: 0 for q in coords}
+    config.update({x[i]: 2 * Rs * i for i in range(balls)})
+    pairs = [(i, j) for i in range(balls) for j in range(i + 1, balls)]
+    functions = [(x[j] - x[i]) ** 2 + (y[j] - y[i]) ** 2 - 4 * Rs**2 for i, j in pairs]
+    neighbour_eps = _restitution(eps, balls - 1)
+    cors = [neighbour_eps[i] if j == i + 1 else 1 for i, j in pairs]
+    g = [[0] * (3 * balls) for _ in range(3 * balls)]
+    for i in range(balls):
+        g[3 * i][3 * i] = g[3 * i + 1][3 * i + 1] = m[i]
+        g[3 * i + 2][3 * i + 2] = m[i] * R * R / 2
+    return System.from_functions(
+        functions,
+        coords,
+        config,
+        g,
+        cors,
+        names=[f"S({i + 1},{j + 1})" for i, j in pairs],
+        backend=backend,
+        dps=dps,
+    )
+
+
+def cradle_velocity(balls: int, v0: Any = "100", velocity: Sequence[Any] | None = None) -> list:
+    """The left velocity: ``velocity`` when given, else ball 1 at v0 and the others at rest."""
+    if velocity is not None:
+        if len(velocity) != balls:
+            raise InvalidSystem(f"velocity: expected {balls} components, got {len(velocity)}")
+        return list(velocity)
+    return [v0] + [0] * (balls - 1)
+
+
+def run_cradle(
+    eps: Any,
+    *,
+    v0: Any = "100",
+    balls: int = 3,
+    masses: Sequence[Any] | None = None,
+    velocity: Sequence[Any] | None = None,
+    mode: str = "exact",
+    backend: str | Backend = "exact",
+    dps: int | None = None,
+    max_iterations: int | None = None,
+    trace: bool = True,
+    sigma_relative: Fraction = PAPER_SIGMA_RELATIVE,
+    certify: bool = True,
+) -> Result:
+    """Run the cradle (reduced coordinates) in ``exact`` mode or in the paper's ``paper`` mode.
+
+    ``mode="paper"`` applies the paper's own termination (Sect. 4.1): at most 10^4
+    impulses and the almost-equal-exit-velocities stop of :func:`verify.models.paper.aeev_halt`
+    with threshold ``sigma_relative * ||v0||`` (see :mod:`verify.models.paper` for its value).
+    ``mode="exact"`` stops when the velocity exits, when the run is proved never to exit
+    (stop ``"non_terminating"`` with a certificate, :mod:`verify.core.termination`), or at
+    ``max_iterations``. ``certify=False`` turns the proofs off (to follow a run that
+    never exits for as long as ``max_iterations``).
+
+    >>> run_cradle("0", mode="paper").stop, run_cradle("0", mode="paper").iterations
+    ('aeev', 32)
+    """
+    if mode not in MODES:
+        raise InvalidSystem(f"unknown mode {mode!r} (choose from {', '.join(MODES)})")
+    system = cradle_system(eps, balls, masses, backend=backend, dps=dps)
+    v = cradle_velocity(balls, v0, velocity)
+    halt = None
+    if mode == "paper":
+        halt = aeev_halt([to_number(c, where=f"velocity[{i}]") for i, c in enumerate(v)], sigma_relative)
+        cap = PAPER_MAX_ITERATIONS if max_iterations is None else max_iterations
+    else:
+        cap = DEFAULT_MAX_ITERATIONS if max_iterations is None else max_iterations
+    # paper mode reproduces the paper's own termination, which had no proof of non-termination
+    return solve(system, v, max_iterations=cap, halt=halt, trace=trace, certify=certify and mode == "exact")

@@ -1,0 +1,1 @@
+"""Case and result records, their JSON Schemas, and the files they live in."""

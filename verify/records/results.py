@@ -1,0 +1,168 @@
+"""Result records: the JSON shape described in ``docs/records.md`` (in the source repository).
+
+A result record carries the exit velocity (exact strings on exact backends, decimals
+otherwise), its decimals with 30 significant digits, the iteration count, the impact sets
+(0-based), beta per impulse (``null`` for single impacts), the stop reason and the
+kinetic energies in and out. Two fields are added beyond the contract's example:
+``backend`` (which backend produced it) and ``rigorous`` (whether every branch was
+decided exactly or with proof); interval results also carry ``exit_velocity_enclosure``
+and any run carries ``notes`` when there is something to say (precision raised).
+
+>>> from verify.models.cradle import run_cradle
+>>> rec = result_record(run_cradle("1/2"), "cradle")
+>>> rec["exit_velocity"], rec["impact_sets"], rec["stop"]
+(['325/16', '375/16', '225/4'], [[0], [1], [0]], 'exit')
+"""
+
+from __future__ import annotations
+
+import json
+from dataclasses import dataclass
+from typing import Any
+
+from verify.core.rule import Result
+from verify.errors import InvalidInput
+
+DECIMAL_DIGITS = 30
+
+
+@dataclass(frozen=True)
+class Case:
+    """A case read from a case record: its id, system, velocity and iteration cap."""
+
+    id: str
+    system: Any
+    velocity_source: Any
+    velocity: tuple
+    max_iterations: int
+
+
+def value_string(K: Any, x: Any, digits: int = DECIMAL_DIGITS) -> str:
+    """The exact string of ``x`` on exact backends, its decimal string otherwise."""
+    return K.to_exact(x) if K.is_exact else K.to_decimal(x, digits)
+
+
+def result_record(result: Result, case_id: str, *, digits: int = DECIMAL_DIGITS) -> dict[str, Any]:
+    """The result record of the contracts for one run."""
+    K = result.backend
+    record: dict[str, Any] = {
+        "id": case_id,
+        "exit_velocity": [value_string(K, x, digits) for x in result.exit_velocity],
+        "exit_velocity_decimal": [K.to_decimal(x, digits) for x in result.exit_velocity],
+        "iterations": result.iterations,
+        "impact_sets": [list(J) for J in result.impact_sets],
+        "betas": [None if b is None else value_string(K, b, digits) for b in result.betas],
+        "stop": result.stop,
+        "kinetic_energy_in": value_string(K, result.kinetic_energy_in, digits),
+        "kinetic_energy_out": value_string(K, result.kinetic_energy_out, digits),
+        "backend": K.describe(),
+        "rigorous": K.is_rigorous,
+    }
+    if K.enclosure(K.one) is not None:
+        record["exit_velocity_enclosure"] = [list(K.enclosure(x, digits)) for x in result.exit_velocity]
+    if result.notes:
+        record["notes"] = list(result.notes)
+    if result.certificate is not None:
+        record["certificate"] = result.certificate
+    return record
+
+
+def dumps(obj: Any) -> str:
+    """JSON text as written by :mod:`verify`: sorted keys, two-space indentation, final newline."""
+    return json.dumps(obj, indent=2, sort_keys=True, ensure_ascii=False) + "\n"
+
+
+# -- case records (input) ---------------------------------------------------------------------
+
+CASE_FIELDS = {"id", "mass_matrix", "normals", "time_terms", "restitution", "velocity", "max_iterations"}
+REQUIRED_FIELDS = ("id", "mass_matrix", "normals", "restitution", "velocity")
+MAX_FILE_BYTES = 64 * 1024 * 1024
+
+
+def _prefixed(where: str, exc: Exception) -> InvalidInput:
+    text = str(exc)
+    return type(exc)(f"{where}.{text}") if not text.startswith(where) else exc  # type: ignore[call-arg]
+
+
+def case_from_record(record: Any, where: str = "case", *, backend: Any = "exact", dps: int | None = None) -> Case:
+    """A case record (contracts) as a :class:`Case`; errors name the case and field.
+
+    >>> c = case_from_record({"id": "a", "mass_matrix": [["1"]], "normals": [["1"]],
+    ...                       "restitution": ["1/2"], "velocity": ["-2"]})
+    >>> c.id, c.max_iterations
+    ('a', 10000)
+    """
+    from verify.core.rule import DEFAULT_MAX_ITERATIONS
+    from verify.core.system import System
+
+    if not isinstance(record, dict):
+        raise InvalidInput(f"{where}: expected an object, got {type(record).__name__}")
+    unknown = sorted(set(record) - CASE_FIELDS)
+    if unknown:
+        raise InvalidInput(f"{where}: unknown field {unknown[0]!r}")
+    missing = [f for f in REQUIRED_FIELDS if f not in record]
+    if missing:
+        raise InvalidInput(f"{where}: missing field {missing[0]!r}")
+    case_id = record["id"]
+    if not isinstance(case_id, str) or not case_id:
+        raise InvalidInput(f"{where}.id: expected a non-empty string")
+    cap = record.get("max_iterations", DEFAULT_MAX_ITERATIONS)
+    if isinstance(cap, bool) or not isinstance(cap, int) or cap < 0:
+        raise InvalidInput(f"{where}.max_iterations: expected a non-negative integer, got {cap!r}")
+    try:
+        system = System(
+            record["mass_matrix"],
+            record["normals"],
+            record["restitution"],
+            record.get("time_terms"),
+            backend=backend,
+            dps=dps,
+        )
+        if system.backend.name == "exact":  # a velocity outside the field of the system widens it
+            from verify.core.rule import _exact_backend_for_velocity
+
+            system, velocity = _exact_backend_for_velocity(system, record["velocity"])
+        else:
+            velocity = system.velocity(record["velocity"])
+    except InvalidInput as exc:
+        raise _prefixed(where, exc) from None
+    return Case(case_id, system, record["velocity"], velocity, cap)
+
+
+def load_cases(path: str, *, backend: Any = "exact", dps: int | None = None) -> list[Case]:
+    """Read a case file ``{"cases": [...]}``; every error names the file, case and field."""
+    import os
+
+    try:
+        size = os.path.getsize(path)
+    except OSError as exc:
+        raise InvalidInput(f"{path}: cannot read ({exc.strerror})") from None
+    if size > MAX_FILE_BYTES:
+        raise InvalidInput(f"{path}: larger than {MAX_FILE_BYTES} bytes")
+    try:
+        with open(path, encoding="utf-8") as fh:
+            data = json.load(fh, parse_float=BareJSONNumber, parse_constant=_reject_constant)
+    except (UnicodeDecodeError, json.JSONDecodeError) as exc:
+        raise InvalidInput(f"{path}: not valid JSON ({exc})") from None
+    except RecursionError:
+        raise InvalidInput(f"{path}: nested too deeply") from None
+    from verify.records.schema import validate
+
+    if not isinstance(data, dict) or not isinstance(data.get("cases"), list):
+        raise InvalidInput(f'{path}: expected an object {{"cases": [...]}}')
+    validate(data, "case")
+    return [case_from_record(c, f"cases[{i}]", backend=backend, dps=dps) for i, c in enumerate(data["cases"])]
+
+
+class BareJSONNumber:
+    """A JSON number with a fraction or exponent (``0.5``): kept as text so that the field that
+    holds it can be named in the error; numbers must be strings (contracts)."""
+
+    __slots__ = ("json_number_text",)
+
+    def __init__(self, text: str):
+        self.json_number_text = text
+
+
+def _reject_constant(text: str) -> Any:
+    raise InvalidInput(f"{text} is not a number")

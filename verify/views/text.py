@@ -1,0 +1,568 @@
+"""Text and JSON views of results for the command line (no arithmetic happens here).
+
+>>> from verify.models.cradle import run_cradle
+>>> print(cradle_text(run_cradle("1"), eps=["1"], mode="exact").splitlines()[0])
+Newton's cradle: 3 balls (masses 1, 1, 1), eps = 1 for every contact
+"""
+
+from __future__ import annotations
+
+from collections.abc import Sequence
+from fractions import Fraction
+from typing import Any
+
+from verify.checks.paper.table1 import Table1, sqrt_decimal, threshold_brackets
+from verify.core.numbers import format_decimal, format_exact
+from verify.core.rule import Result
+from verify.models.paper import PAPER_SIGMA_RELATIVE, PAPER_SIGMA_STATED
+from verify.records.results import result_record, value_string
+
+TRACE_LIMIT = 40
+
+
+def _join(values: list[str]) -> str:
+    return ", ".join(values)
+
+
+def cradle_text(result: Result, *, eps: list[str], mode: str, full_trace: bool = False) -> str:
+    """The human-readable report of one cradle run."""
+    K = result.backend
+    s = result.system
+    masses = [K.to_decimal(s.g[i][i], 12) for i in range(s.n)]
+    eps_text = (
+        f"eps = {eps[0]} for every contact"
+        if len(eps) == 1
+        else "eps = " + _join([f"{e} for {name}" for e, name in zip(eps, s.names)])
+    )
+    lines = [
+        f"Newton's cradle: {s.n} balls (masses {_join(masses)}), {eps_text}",
+        f"left velocity: {_join([value_string(K, x) for x in result.velocity_in])}",
+        f"backend: {K.describe()}; mode: {mode}",
+    ]
+    lines += [f"note: {n}" for n in result.notes]
+    steps = result.steps
+    if steps:
+        lines.append("")
+        head = f"{'impulse':>7}  {'impact set':<16} {'beta':<14} {'velocity after (12 digits)':<48}"
+        lines.append(head + " kinetic energy")
+        shown = list(enumerate(steps, 1))
+        if not full_trace and len(shown) > TRACE_LIMIT:
+            shown = [*shown[: TRACE_LIMIT - 5], None, *shown[-5:]]
+        for item in shown:
+            if item is None:
+                lines.append(f"{'...':>7}  ({len(steps) - TRACE_LIMIT + 1} impulses not shown; --trace shows all)")
+                continue
+            w, st = item
+            names = "{" + ", ".join(s.names[j] for j in st.impact_set) + "}"
+            beta = "-" if st.beta is None else K.to_decimal(st.beta, 8)
+            vel = _join([K.to_decimal(x, 12) for x in st.velocity])
+            lines.append(f"{w:>7}  {names:<16} {beta:<14} {vel:<48} {K.to_decimal(st.kinetic_energy, 12)}")
+        lines.append("")
+    label = "exit velocity" if result.stop == "exit" else "velocity at the stop"
+    if K.is_exact:
+        lines.append(f"{label} (exact): {_join([_short_exact(K, x) for x in result.exit_velocity])}")
+    lines.append(f"{label} ({_decimal_label(K)}): {_join([K.to_decimal(x, 30) for x in result.exit_velocity])}")
+    stop = {
+        "exit": "exit (no constraint is hit any more)",
+        "aeev": "aeev (the paper's almost-equal-exit-velocities stop)",
+        "max_iterations": f"max_iterations (no exit within {result.max_iterations} impulses)",
+        "non_terminating": "non_terminating (proved never to exit: the certificate is in --json)",
+    }.get(result.stop, result.stop)
+    lines.append(f"iterations: {result.iterations}; stop: {stop}")
+    lines.append(
+        f"kinetic energy: {K.to_decimal(result.kinetic_energy_in, 12)} -> "
+        f"{K.to_decimal(result.kinetic_energy_out, 12)} (12 significant digits)"
+    )
+    return "\n".join(lines) + "\n"
+
+
+def solve_text(case_id: str, result: Result) -> str:
+    """A few lines per solved case."""
+    K = result.backend
+    s = result.system
+    sets = " ".join("{" + ",".join(str(j) for j in J) + "}" for J in result.impact_sets[:20])
+    if result.iterations > 20:
+        sets += f" ... ({result.iterations - 20} more)"
+    lines = [
+        f"{case_id}: {result.stop} after {result.iterations} impulses ({K.describe()})",
+        f"  impact sets: {sets or '-'}",
+    ]
+    if K.is_exact:
+        lines.append(f"  exit velocity: {_join([_short_exact(K, x) for x in result.exit_velocity])}")
+    lines.append(f"  {_decimal_label(K)}: {_join([K.to_decimal(x, 20) for x in result.exit_velocity])}")
+    lines.append(
+        f"  kinetic energy: {K.to_decimal(result.kinetic_energy_in, 12)} -> "
+        f"{K.to_decimal(result.kinetic_energy_out, 12)}"
+        f" ({len(s.names)} constraints, {s.n} coordinates)"
+    )
+    lines += [f"  note: {n}" for n in result.notes]
+    return "\n".join(lines) + "\n"
+
+
+def _decimal_label(K: Any) -> str:
+    """What the decimals are: interval backends print only the digits their enclosures certify
+    (:meth:`verify.core.backends.IntervalBackend.to_decimal`), so fewer than asked for."""
+    return "decimal" if K.enclosure(K.one) is None else "decimal, certified digits only"
+
+
+def _short_exact(K: Any, x: Any, limit: int = 60) -> str:
+    text = K.to_exact(x)
+    if len(text) <= limit:
+        return text
+    return f"<a fraction of {len(text)} characters: see --json>"
+
+
+def _iters(result: Result) -> str:
+    if result.stop == "aeev":
+        return f"AEEV / {result.iterations}"
+    if result.stop == "exit":
+        return str(result.iterations)
+    if result.stop == "non_terminating":
+        return "never exits (proof)"
+    return f"no exit in {result.iterations}"
+
+
+def table1_text(table: Table1) -> str:
+    """Table 1: printed against recomputed, every entry marked, with reasons."""
+    lines = [
+        "Table 1 of Pasquero (2021): Newton's cradle with three unit balls, v0 = 100",
+        f"source: {table.source}",
+        "",
+        "paper mode = the paper's termination (10^4 cap, AEEV stop); exact = stop only at exit"
+        f" (or after {table.exact_cap} impulses)",
+        "",
+        f"{'eps':<8}{'printed v_D1':>14}{'v_D2':>13}{'v_D3':>13}{'iterations':>12}   "
+        f"{'paper mode':>11}{'exact':>21}   entries",
+    ]
+    for row in table.rows:
+        n_ok = sum(c.agrees for c in row.checks)
+        mark = "all agree" if row.agrees else f"{n_ok}/{len(row.checks)} agree"
+        lines.append(
+            f"{row.eps:<8}{row.printed[0]:>14}{row.printed[1]:>13}{row.printed[2]:>13}{row.printed[3]:>12}   "
+            f"{_iters(row.paper):>11}{_iters(row.exact):>21}   {mark}"
+        )
+    lines += ["", "Computed exit velocities (paper mode; 12 significant digits, exact values with --json):"]
+    for row in table.rows:
+        K = row.paper.backend
+        lines.append(f"  {row.eps:<8}" + "".join(f"{K.to_decimal(x, 12):>18}" for x in row.paper.exit_velocity))
+    bad = [row for row in table.rows if not row.agrees]
+    n_bad = sum(not c.agrees for r in bad for c in r.checks)
+    lines += ["", f"Entries that disagree with the computation ({n_bad}):"]
+    if not bad:
+        lines.append("  none")
+    for row in bad:
+        for c in row.checks:
+            if not c.agrees:
+                lines.append(
+                    f"  eps = {row.eps}, {c.column}: printed {c.printed}, computed {c.computed[:14]}: {c.reason}"
+                )
+        for note in row.row_notes:
+            lines.append(f"    row {row.eps}: {note}")
+    lines += ["", *aeev_text(table.identification)]
+    rows_exit_differs = [
+        r for r in table.rows if (r.exact.stop, r.exact.iterations) != (r.paper.stop, r.paper.iterations)
+    ]
+    if rows_exit_differs:
+        lines += ["", "Where the exact run differs from paper mode:"]
+        for r in rows_exit_differs:
+            lines.append(f"  eps = {r.eps}: paper mode {_iters(r.paper)}, exact {_iters(r.exact)}")
+    return "\n".join(lines) + "\n"
+
+
+def aeev_text(ident: dict[str, Any]) -> list[str]:
+    """The identification of the paper's AEEV stop test, in words and figures."""
+    lines = ["Identification of the AEEV stop (sigma relative to ||v0||):"]
+    for name, w in ident["measures"].items():
+        what = "max |v_i - v_j| over all pairs" if name == "all" else "max |v_i - v_(i+1)| over neighbours"
+        if w["consistent"]:
+            lines.append(
+                f"  {what} < sigma: reproduces every printed count iff sigma/||v0|| is in "
+                f"({sqrt_decimal(w['lower_sq'], 4)}, {sqrt_decimal(w['upper_sq'], 4, up=True)}]"
+                f" (bounds rounded outward)"
+            )
+        else:
+            lines.append(f"  {what} < sigma: no sigma reproduces every printed count")
+        where = "inside" if w["stated_inside"] else "outside"
+        lines.append(f"    the stated sigma/||v0|| = {format_decimal(PAPER_SIGMA_STATED)} is {where} this window")
+    counts = ", ".join(f"{e}: {c}" for e, c in ident["stated_counts"].items() if "AEEV" in c)
+    lines.append(f"  AEEV stops with the stated sigma = {format_decimal(PAPER_SIGMA_STATED)} ||v0||: {counts}")
+    sigma = format_decimal(PAPER_SIGMA_RELATIVE)
+    lines.append(f"  paper mode uses sigma/||v0|| = {sigma} (see verify/models/paper.py)")
+    return lines
+
+
+def table1_json(table: Table1) -> dict[str, Any]:
+    """Table 1 as JSON: printed entries, result records of both runs, checks and notes."""
+    ident = table.identification
+    return {
+        "source": table.source,
+        "v0": str(table.v0),
+        "exact_cap": table.exact_cap,
+        "rows": [
+            {
+                "eps": row.eps,
+                "printed": dict(zip(["v_D1", "v_D2", "v_D3", "iterations"], row.printed)),
+                "paper": result_record(row.paper, f"table1-paper-{row.eps}"),
+                "exact": result_record(row.exact, f"table1-exact-{row.eps}"),
+                "checks": [
+                    {
+                        "column": c.column,
+                        "printed": c.printed,
+                        "computed": c.computed,
+                        "agrees": c.agrees,
+                        "reason": c.reason or None,
+                    }
+                    for c in row.checks
+                ],
+                "notes": row.row_notes,
+            }
+            for row in table.rows
+        ],
+        "aeev_identification": {
+            "measures": {
+                name: {
+                    "sigma_relative_squared_lower": str(w["lower_sq"]),
+                    "sigma_relative_squared_upper": str(w["upper_sq"]),
+                    "sigma_relative_lower_decimal": sqrt_decimal(w["lower_sq"], 10),
+                    "sigma_relative_upper_decimal": sqrt_decimal(w["upper_sq"], 10, up=True),
+                    "consistent": w["consistent"],
+                    "stated_sigma_inside": w["stated_inside"],
+                }
+                for name, w in ident["measures"].items()
+            },
+            "counts_with_stated_sigma": ident["stated_counts"],
+        },
+    }
+
+
+def table1_summary(table: Table1) -> str:
+    """A few lines for ``verify all``."""
+    agree = [r for r in table.rows if r.agrees]
+    bad = [r for r in table.rows if not r.agrees]
+    counts_ok = all(r.checks[-1].agrees for r in table.rows)
+    lines = [
+        f"  Table 1: {len(agree)} of {len(table.rows)} rows agree in every printed entry; "
+        f"printed iteration counts {'all reproduced' if counts_ok else 'NOT all reproduced'} in paper mode",
+    ]
+    for r in bad:
+        wrong = ", ".join(c.column for c in r.checks if not c.agrees)
+        why = r.row_notes[0] if r.row_notes else ""
+        lines.append(f"    disagrees with the paper: eps = {r.eps} ({wrong}): {why}")
+    for hi, lo, inside in threshold_brackets(table):
+        where = "lies" if inside else "does NOT lie"
+        lines.append(
+            f"    3 -> 4 iterations between eps = {hi} and {lo}; the paper's threshold 3 - 2*sqrt(2) {where} "
+            "between them (decided exactly)"
+        )
+    ident = table.identification["measures"]["all"]
+    verdict = "reproduces" if ident["stated_inside"] else "does not reproduce"
+    window = f"({sqrt_decimal(ident['lower_sq'], 4)}, {sqrt_decimal(ident['upper_sq'], 4, up=True)}]"
+    lines.append(
+        f"    AEEV stop: the stated sigma = {format_decimal(PAPER_SIGMA_STATED)} ||v0|| {verdict} "
+        f"the printed counts; sigma/||v0|| in {window} does"
+    )
+    return "\n".join(lines) + "\n"
+
+
+def approach_table(rows: Sequence[tuple[Fraction, int | str]]) -> list[str]:
+    """The lines of the table of :func:`approach_counts` (a blank line first; none for no rows).
+
+    A count is shown only for a run that exits; any other row says what happened in words,
+    and a ratio is shown only between two consecutive rows that both exit.
+
+    >>> rows = [(Fraction(1, 10), 8), (Fraction(1, 100), 24), (Fraction(1, 1000), "> 30 (budget)")]
+    >>> print("\\n".join(approach_table(rows)))
+    <BLANKLINE>
+    Impulses until exit just above the boundary (certified interval runs):
+                         eps  impulses   ratio to the row above
+                         0.1         8
+                        0.01        24                        3
+                       0.001  > 30 (budget)
+      (each row is about ten times closer to the boundary; ...)
+    """
+    if not rows:
+        return []
+    lines = [
+        "",
+        "Impulses until exit just above the boundary (certified interval runs):",
+        f"  {'eps':>22}  {'impulses':>8}  {'ratio to the row above':>23}",
+    ]
+    previous = None
+    for eps, n in rows:
+        if isinstance(n, int):
+            ratio = "" if previous is None else format_decimal(Fraction(n, previous), 4)
+            lines.append(f"  {format_decimal(eps, 16):>22}  {n:>8}  {ratio:>23}")
+            previous = n
+        else:  # no count: no ratio from this row, nor to the next one
+            lines.append(f"  {format_decimal(eps, 16):>22}  {n}")
+            previous = None
+    lines.append(
+        "  (each row is about ten times closer to the boundary; a ratio near sqrt(10) means a count "
+        "growing like (eps - boundary)^(-1/2))"
+    )
+    return lines
+
+
+def cradle_map_text(
+    cmap: Any, *, aeev_rows: list[dict[str, Any]], approach: Sequence[tuple[Fraction, int | str]]
+) -> str:
+    """The cradle map in words and tables."""
+    from verify.checks.paper.cradle_map import termination_boundaries, threshold_between
+
+    masses = ", ".join(format_exact(m) for m in cmap.masses)
+    lines = [
+        f"Newton's cradle, {cmap.balls} balls (masses {masses}), left velocity "
+        f"({', '.join(format_exact(v) for v in cmap.velocity)}), one COR eps for every contact",
+        f"eps in {cmap.domain}; explored up to {cmap.max_impulses} impulses; exact endpoints, "
+        "decimals rounded to 12 digits",
+        "",
+        f"{'eps from':>16} {'to':>16}  {'impulses':>8}  what happens",
+    ]
+    for part in cmap.parts:
+        a, b = part.piece.lower.decimal(12), part.piece.upper.decimal(12)
+        left = "[" if part.piece.lower_closed else "("
+        right = "]" if part.piece.upper_closed else ")"
+        if part.stop == "exit":
+            what = "exit: " + _sequence(part.impact_sets)
+        elif part.stop == "non_terminating":
+            what = "never exits (certificate: invariant cones)"
+        else:
+            what = "unexplored"
+        count = str(part.iterations) if part.stop == "exit" else "-"
+        lines.append(f"{left}{a:>15} {b:>16}{right} {count:>8}  {what}")
+    points = [cmap.parts[0].piece.lower] + [p.piece.upper for p in cmap.parts]
+    lines += ["", "Exact endpoints (polynomials of degree 4 or less; all of them, as CRootOf, in --json):"]
+    seen: list[Any] = []
+    for x in points:
+        if (x.is_rational or x.poly.degree() <= 4) and not any(x is y for y in seen):
+            seen.append(x)
+            lines.append(f"  {x.decimal(12):>16} = {x}")
+    t34 = threshold_between(cmap, 4, 3)
+    if t34 is not None:
+        lines += ["", f"The threshold between 3 and 4 impulses, derived: eps = {t34} = {t34.decimal(20)}"]
+    bounds = termination_boundaries(cmap)
+    for part in cmap.non_terminating:
+        lines += [
+            "",
+            f"Never exits for eps in {part.piece}: proved by invariant cones "
+            f"(mu = {', '.join(part.certificate['mu'])});",
+            "  the certificate is in --json; tests/test_cradle_map.py checks it without the code that found it.",
+        ]
+    for b in bounds:
+        lines.append(f"Termination boundary: eps = {b} = {b.decimal(20)}")
+    for part in cmap.unexplored:
+        lines += ["", f"Unexplored {part.piece}: {part.reason}"]
+    lines += approach_table(approach)
+    if aeev_rows:
+        lines += ["", "The paper's AEEV rows (Table 1), read off the map:"]
+        for row in aeev_rows:
+            lines.append(f"  eps = {row['eps']:<7} printed {row['printed']:<10} -> {row['verdict']}")
+    return "\n".join(lines) + "\n"
+
+
+def _sequence(impact_sets: list[tuple[int, ...]]) -> str:
+    """``(0)(1)(0)`` with runs folded: ``(0)(1) x 5``."""
+    words = ["(" + ",".join(str(j) for j in J) + ")" for J in impact_sets]
+    if len(words) > 8 and len(set(words[0::2])) == 1 and len(set(words[1::2])) == 1:
+        return f"{words[0]}{words[1]} alternating, {len(words)} impulses"
+    return "".join(words)
+
+
+def cradle_map_summary(cmap: Any) -> str:
+    """A few lines of the cradle map for ``verify all``."""
+    from verify.checks.paper.cradle_map import aeev_rows_explained, termination_boundaries, threshold_between
+
+    lines = [f"  exact map: {len(cmap.pieces)} pieces with an exit, up to {cmap.max_impulses} impulses"]
+    t34 = threshold_between(cmap, 4, 3)
+    if t34 is not None:
+        lines.append(f"    3 -> 4 impulses at eps = {t34} (derived from the map, as the paper states)")
+    for b in termination_boundaries(cmap):
+        above = [p for p in cmap.parts if p.piece.lower >= b and p.stop != "non_terminating"]
+        rest = (
+            "exits for every larger eps"
+            if all(p.stop == "exit" or p.exits_beyond_bound for p in above)
+            else ("larger eps not all decided")
+        )
+        lines.append(f"    never exits for eps <= {b} = {b.decimal(12)} (certified); {rest}")
+    for row in aeev_rows_explained(cmap):
+        lines.append(f"    paper's row eps = {row['eps']} ({row['printed']}): {row['verdict']}")
+    return "\n".join(lines) + "\n"
+
+
+def corner_text(run: Any, args: Any) -> str:
+    """The human-readable report of one corner run."""
+    r = run.result
+    K = r.backend
+    angle = f"alpha = {args.alpha}" if args.alpha is not None else f"slope k = {args.slope}"
+    lines = [
+        f"Disk in a corner: {angle} (k = {format_exact(run.slope)}), entrance direction phi = {args.phi}, "
+        f"v0 = {args.v0}, eps1 = {args.eps1} (S1), eps2 = {args.eps2} (S2)",
+        f"entrance velocity: {', '.join(format_exact(v) for v in run.velocity[:2])}",
+        f"backend: {K.describe()}",
+    ]
+    lines += [f"note: {n}" for n in run.notes]
+    lines.append(f"zones visited: {' -> '.join(run.zones)}")
+    if run.repeated_multiple_impacts:
+        lines.append(f"repeated multiple impacts: {sum(1 for J in r.impact_sets if len(J) == 2)}")
+    lines.append("")
+    for w, st in enumerate(r.steps, 1):
+        if w > TRACE_LIMIT:
+            lines.append(f"  ... ({len(r.steps) - TRACE_LIMIT} more impulses)")
+            break
+        beta = "" if st.beta is None else f", beta = {K.to_decimal(st.beta, 12)}"
+        wall = "+".join(r.system.names[j] for j in st.impact_set)
+        lines.append(f"  impulse {w}: {wall}{beta}; velocity {', '.join(K.to_decimal(x, 12) for x in st.velocity[:2])}")
+    label = "exit velocity" if r.stop == "exit" else "velocity at the stop"
+    if K.is_exact:
+        lines.append(f"{label} (exact): {', '.join(_short_exact(K, x, 120) for x in r.exit_velocity[:2])}")
+    lines.append(f"{label} ({_decimal_label(K)}): {', '.join(K.to_decimal(x, 30) for x in r.exit_velocity[:2])}")
+    if K.enclosure(K.one) is not None:
+        for name, x in zip(("xd", "yd"), r.exit_velocity[:2]):
+            lo, hi = K.enclosure(x, 20)
+            lines.append(f"  {name} in [{lo}, {hi}]")
+    lines.append(f"iterations: {r.iterations}; stop: {r.stop}")
+    lines.append(f"kinetic energy: {K.to_decimal(r.kinetic_energy_in, 12)} -> {K.to_decimal(r.kinetic_energy_out, 12)}")
+    return "\n".join(lines) + "\n"
+
+
+def corner_claims_text(claims: Any, boundary: Any, eps: str, rebounds: Any, floats: Any) -> str:
+    """The corner's claims, the wedge's termination boundary and float-vs-exact, in words."""
+    lines = ["The disk in the corner (Sect. 4.2): the paper's claims, checked exactly", ""]
+    for c in claims:
+        lines.append(f"  [{c.verdict}] {c.name}")
+        lines.append(f"      {c.cases} cases; {c.note}")
+        if c.counterexample:
+            lines.append(f"      counterexample: {c.counterexample}")
+        for e in c.examples[:3]:
+            lines.append(f"      example: slope {e['slope']}, velocity {e['velocity']}, eps {e['eps1']}, {e['eps2']}")
+    k_star, alpha_star = boundary
+    lines += [
+        "",
+        "Termination in the wedge (symmetric corner, one COR eps):",
+        f"  invariant cones exist, so that the entrances that reach them never leave, iff tan(alpha) <= {k_star},",
+        f"  i.e. alpha <= {alpha_star} (derived: the alternating two-step map has real eigenvalues);",
+        "  above it the map rotates every alternating run out of the corner.",
+        f"  Narrower corners, more rebounds: eps = {eps}, entrance velocity (1, 3/10), exact runs:",
+        f"  {'slope k':>18}  {'impulses':>8}  {'stop':<16} below the boundary",
+    ]
+    for r in rebounds:
+        lines.append(f"  {r['slope']:>18}  {r['iterations']:>8}  {r['stop']:<16} {r['below_boundary']}")
+    lines += [
+        "",
+        f"Float against exact ({floats['cases']} random rational cases, the paper's eq. (10) in Python floats):",
+        f"  {floats['differing']} cases take another branch; reasons: {floats['reasons']}; "
+        f"{floats['differing_with_a_cor_of_0']} of them have a COR of 0",
+    ]
+    for e in floats["examples"][:3]:
+        case = e["case"]
+        lines.append(
+            f"  e.g. slope {case['slope']}, velocity {case['velocity']}, eps {case['eps1']}, {case['eps2']}: "
+            f"exact {'-'.join(e['exact_zones'])}, float {'-'.join(e['float_zones'])} ({e['reason']})"
+        )
+    return "\n".join(lines) + "\n"
+
+
+def corner_claims_json(claims: Any, boundary: Any, eps: str, rebounds: Any, floats: Any) -> dict[str, Any]:
+    """The same as :func:`corner_claims_text`, as JSON."""
+    return {
+        "claims": [
+            {
+                "claim": c.name,
+                "verdict": c.verdict,
+                "cases": c.cases,
+                "note": c.note,
+                "counterexample": c.counterexample,
+                "examples": c.examples,
+            }
+            for c in claims
+        ],
+        "symmetric_boundary": {"slope": str(boundary[0]), "alpha": str(boundary[1])},
+        "rebounds": {"eps": eps, "velocity": ["1", "3/10"], "runs": rebounds},
+        "float_vs_exact": floats,
+    }
+
+
+def corner_summary(example: Any, claims: Any) -> str:
+    """A few lines on the corner for ``verify all``."""
+    r = example.result
+    K = r.backend
+    lines = [
+        f"  the paper's example (alpha = pi/6, phi = pi/12, eps = 0.999, 0.001): zones {' -> '.join(example.zones)}, "
+        f"exit velocity {', '.join(K.to_decimal(x, 12) for x in r.exit_velocity[:2])} (computed exactly)",
+    ]
+    for c in claims:
+        lines.append(f"    [{c.verdict}] {c.name} ({c.cases} cases)")
+    return "\n".join(lines) + "\n"
+
+
+def properties_text(profile: str, found: list) -> str:
+    """The verdict table of ``verify properties``, then every refutation with its case."""
+    import json
+
+    lines = [f"Property suite, profile {profile}: {len(found)} rows (property x rule x family)", ""]
+    width = max((len(v.property) for v in found), default=10)
+    lines.append(f"  {'property':{width}}  {'rule':10}  {'family':7}  {'verdict':8}  cases")
+    for v in found:
+        lines.append(f"  {v.property:{width}}  {v.rule:10}  {v.family:7}  {v.verdict:8}  {v.cases}")
+    counts = {k: sum(v.verdict == k for v in found) for k in ("proved", "holds", "refuted")}
+    lines += ["", "  " + ", ".join(f"{n} {k}" for k, n in counts.items())]
+    for v in found:
+        if v.verdict != "refuted":
+            continue
+        lines += [
+            "",
+            f"REFUTED: {v.property} ({v.rule} rule, {v.family})",
+            f"  {v.note}",
+            "  counterexample (case file):",
+        ]
+        lines.append("    " + json.dumps({"cases": [v.counterexample]}, sort_keys=True))
+    return "\n".join(lines) + "\n"
+
+
+def oracle_text(comparison: Any) -> str:
+    """Every mismatch of ``verify oracle check``, then a summary table."""
+    lines = []
+    for m in comparison.mismatches:
+        lines.append(f"MISMATCH {m.case_id}: {m.field}: {m.detail}")
+    fields: dict[str, int] = {}
+    for m in comparison.mismatches:
+        key = m.field.split("[")[0]
+        fields[key] = fields.get(key, 0) + 1
+    lines += ["", "  what                 count", f"  cases checked        {comparison.checked}",
+              f"  cases agreeing       {comparison.agreeing}"]  # fmt: skip
+    lines += [f"  {k:20} {v}" for k, v in sorted(fields.items())]
+    lines.append("")
+    lines.append("OK: every case agrees" if comparison.ok else f"{len(comparison.mismatches)} mismatches")
+    return "\n".join(lines) + "\n"
+
+
+def all_summary(ctx: dict) -> tuple[str, bool]:
+    """The closing summary of ``verify all``, and whether the program contradicted itself."""
+    from verify.checks.paper.cradle_map import termination_boundaries
+
+    lines = ["", "Summary", "======="]
+    table = ctx["table1"]
+    bad = [(row.eps, c.column) for row in table.rows for c in row.checks if not c.agrees]
+    lines.append(f"Table 1: {len(table.rows)} rows recomputed; {len(bad)} printed entries disagree "
+                 f"({', '.join(f'eps {e} {c}' for e, c in bad)}); see reports/table1.md")  # fmt: skip
+    cmap = ctx["cradle_map"]
+    bounds = termination_boundaries(cmap)
+    three = next((p for p in cmap.parts if p.stop == "exit" and p.iterations == 3), None)
+    lines.append(f"Cradle: threshold 3 -> 4 impulses at eps = {three.piece.lower if three else '?'} (derived); "
+                 f"never exits for eps <= {bounds[0] if bounds else '?'}; see reports/cradle-map.md")  # fmt: skip
+    example, claims = ctx["corner"]
+    lines.append(f"Corner example: {example.result.iterations} impulses, stop {example.result.stop}; claims: "
+                 + ", ".join(f"{c.verdict}" for c in claims))  # fmt: skip
+    found = ctx["verdicts"]
+    refuted = [v for v in found if v.verdict == "refuted"]
+    lines.append(f"Properties ({ctx['profile']}): {sum(v.verdict == 'proved' for v in found)} proved, "
+                 f"{sum(v.verdict == 'holds' for v in found)} hold, {len(refuted)} refuted:")  # fmt: skip
+    for name in dict.fromkeys(v.property for v in refuted):
+        rows = [f"{v.rule}/{v.family}" for v in refuted if v.property == name]
+        lines.append(f"  - {name}: {', '.join(rows)}")
+    contradictions = [v for v in refuted if v.note.startswith("contradicts the proof")]
+    lines.append("Oracle self-check: " + ("passed" if ctx["oracle_ok"] else "FAILED"))
+    failed = bool(contradictions) or not ctx["oracle_ok"]
+    if contradictions:
+        lines.append(f"PROGRAM ERROR: {len(contradictions)} rows contradict a SymPy proof (see reports/properties.md)")
+    return "\n".join(lines) + "\n", failed
