@@ -1,7 +1,7 @@
 """An independent checker of non-termination certificates (invariant cones, two constraints).
 
 Written from the mathematics in the certificate's own words, without importing the code
-that finds certificates (verify.core.termination, verify.core.symbolic, verify.checks.paper.cradle_map) or the
+that finds certificates (verify.core.termination, verify.core.backends.symbolic, verify.checks.paper.cradle_map) or the
 rule: it recomputes the Gram matrix from the masses and normals with SymPy, applies the
 impulse maps itself, and checks every condition, either exactly at a rational eps or for
 every eps of an interval with algebraic endpoints (by the real roots of each polynomial).
@@ -19,7 +19,7 @@ import itertools
 
 import sympy as sp
 
-from verify.core.numbers import parse_number  # only to read number strings without eval
+from verify.core.parse import parse_number  # only to read number strings without eval
 
 EPS = sp.Symbol("eps")
 

@@ -7,8 +7,18 @@ from fractions import Fraction
 import pytest
 import sympy as sp
 
-from verify.core.backends import BACKENDS, IntervalBackend, RationalBackend, _rational_impls, get_backend
-from verify.core.numbers import format_decimal
+import verify.core.backends
+from verify.core.backends import (
+    BACKENDS,
+    IntervalBackend,
+    NumberFieldBackend,
+    RationalBackend,
+    get_backend,
+    rational_impls,
+)
+from verify.core.backends.base import Backend
+from verify.core.backends.symbolic import Piece, SymbolicBackend
+from verify.core.format import format_decimal
 from verify.errors import BadNumber, InvalidInput, Undecided
 
 # (name, operation on (K, a, b), exact expected value) with a = 1/3 and b = -5/7
@@ -33,7 +43,7 @@ def test_contract_arithmetic(backend, name, op, expected):
     x = op(K, K.convert(Fraction(1, 3)), K.convert(Fraction(-5, 7)))
     if K.is_exact:
         assert K.to_number(x) == expected
-    elif isinstance(K, IntervalBackend):
+    elif K.encloses:
         assert K.contains(x, expected)
         if expected == 0:  # a - a encloses 0 without being the point 0: undecidable, by design
             with pytest.raises(Undecided):
@@ -50,7 +60,41 @@ def test_flags(backend):
     assert backend.name in backend.describe()
 
 
-@pytest.mark.parametrize("impl", list(_rational_impls()))
+CAPABILITIES = ("is_exact", "is_rigorous", "rationals", "widens_to_inputs", "encloses", "refinable", "is_parametric")
+
+
+@pytest.mark.parametrize(
+    ("K", "declared"),
+    [
+        (RationalBackend("python"), {"is_exact", "is_rigorous", "rationals", "widens_to_inputs"}),
+        (NumberFieldBackend([sp.sqrt(2)]), {"is_exact", "is_rigorous", "widens_to_inputs"}),
+        (get_backend("interval"), {"is_rigorous", "encloses", "refinable"}),
+        (get_backend("mp"), set()),
+        (get_backend("float"), set()),
+        (SymbolicBackend(Piece.closed(0, 1)), {"is_exact", "is_rigorous", "is_parametric"}),
+    ],
+    ids=["rational", "field", "interval", "mp", "float", "symbolic"],
+)
+def test_capabilities_are_declared_and_kept(K: Backend, declared: set[str]) -> None:
+    """Each backend declares what it can do, and does it: callers read these, never names."""
+    assert {c for c in CAPABILITIES if getattr(K, c)} == declared
+    x = K.convert(Fraction(-5, 7))
+    assert (K.enclosure(x) is not None) == K.encloses
+    assert (K.refined() is not None) == K.refinable
+    if K.rationals:
+        assert type(K.to_number(x)) is Fraction and K.to_number(x) == Fraction(-5, 7)
+    if not K.is_exact:
+        with pytest.raises(TypeError):
+            K.to_number(x)
+
+
+def test_the_package_exports_its_public_names() -> None:
+    for name in verify.core.backends.__all__:
+        assert getattr(verify.core.backends, name) is not None
+    assert not [n for n in verify.core.backends.__all__ if n.startswith("_")]
+
+
+@pytest.mark.parametrize("impl", list(rational_impls()))
 def test_every_rational_implementation_gives_the_same_results(impl):
     from verify.models.cradle import run_cradle
 

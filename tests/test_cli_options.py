@@ -1,6 +1,6 @@
 """Every numeric and output-path option of the command line, found by walking the parser itself.
 
-A new option with one of the checked types (verify.cli.BoundedInt, Seconds, NonNegativeRational,
+A new option with one of the checked types (verify.cli.common.BoundedInt, Seconds, NonNegativeRational,
 ExactNumber, OutputDir, OutputFile) is covered here without editing this file; an option typed
 with a bare ``int`` or ``float`` (whose range nothing checks) fails the walk. Then: the budget
 options of ``verify solve`` and ``verify oracle check`` (--max-iterations, --max-bits,
@@ -18,8 +18,17 @@ from pathlib import Path
 
 import pytest
 
-from verify import cli
-from verify.cli import BoundedInt, ExactNumber, NonNegativeRational, OutputDir, OutputFile, Seconds, build_parser, main
+from verify.cli import build_parser, checks, main, maps, paper, reports, run
+from verify.cli.common import (
+    BoundedInt,
+    ExactNumber,
+    NonNegativeRational,
+    OutputDir,
+    OutputFile,
+    Seconds,
+    UsageError,
+    write_output,
+)
 
 ROOT = Path(__file__).resolve().parent.parent
 
@@ -95,9 +104,10 @@ def bad_values(kind) -> list[str]:
 @pytest.fixture
 def no_command_runs(monkeypatch, tmp_path):
     """Parse only: a command that would run fails the test (a bad value slipped through)."""
-    for name in dir(cli):
-        if name.startswith("_cmd_"):
-            monkeypatch.setattr(cli, name, lambda args, name=name: pytest.fail(f"{name} ran: {args}"))
+    for group in (checks, maps, paper, reports, run):
+        for name in dir(group):
+            if name.startswith("cmd_"):
+                monkeypatch.setattr(group, name, lambda args, name=name: pytest.fail(f"{name} ran: {args}"))
     monkeypatch.chdir(tmp_path)  # default output folders (reports) are checked here
 
 
@@ -227,8 +237,8 @@ def test_a_failed_report_leaves_no_temporary_file(tmp_path, monkeypatch, capsys)
 
 def test_write_file_leaves_nothing_on_failure(tmp_path):
     (tmp_path / "bench.json.tmp").mkdir()
-    with pytest.raises(cli.UsageError, match=r"--save .*bench\.json\.tmp"):
-        cli._write_file(str(tmp_path / "bench.json"), "{}\n", "--save")
+    with pytest.raises(UsageError, match=r"--save .*bench\.json\.tmp"):
+        write_output(str(tmp_path / "bench.json"), "{}\n", "--save")
     assert tree(tmp_path) == ["bench.json.tmp"]
 
 
@@ -356,7 +366,7 @@ def test_ctrl_c_is_one_line(monkeypatch, capsys):
     def interrupted(args):
         raise KeyboardInterrupt
 
-    monkeypatch.setattr(cli, "_cmd_table1", interrupted)
+    monkeypatch.setattr(paper, "cmd_table1", interrupted)
     assert main(["table1"]) == 130
     assert capsys.readouterr().err == "verify: interrupted\n"
 

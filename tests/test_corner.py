@@ -16,7 +16,7 @@ from verify.cli import main
 from verify.core.backends import get_backend
 from verify.core.rule import beta
 from verify.core.termination import cone_parameters
-from verify.models.corner import corner_system, paper_run, paper_step, run_corner
+from verify.models.corner import corner_geometry, corner_system, paper_run, run_corner
 from verify.models.wedge import approach_slopes, below_boundary, rebounds_by_slope, symmetric_boundary
 
 slopes = st.fractions(min_value=F(1, 10), max_value=10, max_denominator=60)
@@ -61,12 +61,34 @@ def test_angles_without_algebraic_values_run_on_certified_intervals():
 
 @given(both_walls(), cors, cors)
 def test_gram_beta_equals_the_papers_closed_form(case, e1, e2):
+    """The engine's multiple impulse, with beta from the Gram matrix, is eq. (10)'s first step
+    with the paper's closed form of beta: the same velocity after it."""
     k, xd, yd = case
     s = corner_system(k, e1, e2)
     v = s.velocity([xd, yd, 0])
-    zone, b, _, _ = paper_step(k, xd, yd, e1, e2)
-    assert zone == "Z12"
-    assert s.backend.to_number(beta(s, v, (0, 1))) == b
+    zones, px, py = paper_run(k, xd, yd, e1, e2, max_iterations=1)
+    assert zones[0] == "Z12"
+    run = run_corner(slope=k, velocity=[xd, yd], eps1=e1, eps2=e2, max_iterations=1, certify=False)
+    K = run.result.backend
+    assert [K.to_number(x) for x in run.result.steps[0].velocity[:2]] == [px, py]
+    assert K.to_number(run.result.betas[0]) == s.backend.to_number(beta(s, v, (0, 1)))
+
+
+def test_the_corner_system_is_the_corner_geometry():
+    g, normals = corner_geometry(F(1, 3))
+    s = corner_system("1/3", "1/2", "1")
+    assert s.source["mass_matrix"] == tuple(tuple(row) for row in g)
+    assert s.source["normals"] == tuple(tuple(row) for row in normals)
+    assert [[str(a) for a in row] for row in normals] == [["-1/3", "1", "0"], ["-1/3", "-1", "0"]]
+
+
+def test_eq_10_runs_on_fractions_and_on_floats():
+    exact = paper_run(F(1, 2), F(2), F(0), F(0), F(1))
+    floats = paper_run(0.5, 2.0, 0.0, 0.0, 1.0)
+    assert exact[0] == floats[0] == ["Z12", "Z1", "Z0"]
+    assert exact[1:] == (F(-8, 5), F(-4, 5))
+    assert all(abs(float(x) - y) < 1e-12 for x, y in zip(exact[1:], floats[1:]))  # the floats round
+    assert paper_run(F(1, 2), F(2), F(0), F(0), F(1), max_iterations=1)[0] == ["Z12"]  # the cap: no Z0 after it
 
 
 @given(slopes, speeds, st.fractions(min_value=-10, max_value=10, max_denominator=30), cors, cors)

@@ -10,7 +10,7 @@ from hypothesis import strategies as st
 
 from verify.core.rule import solve
 from verify.errors import InvalidSystem
-from verify.models.cradle import cradle_system, cradle_system_full, run_cradle
+from verify.models.cradle import cradle_geometry, cradle_system, cradle_system_full, run_cradle
 
 eps_open = st.fractions(min_value=F(1, 60), max_value=F(59, 60), max_denominator=60)
 
@@ -106,3 +106,11 @@ def test_cradle_rejects_bad_input(kwargs, message):
 def test_cor_count_must_match_the_contacts():
     with pytest.raises(InvalidSystem, match="expected 1 or 2 CORs"):
         run_cradle(["1", "1", "1"])
+
+
+def test_the_cradle_system_is_the_cradle_geometry():
+    g, normals = cradle_geometry([F(1), F(2), F(3), F(1, 2)])
+    s = cradle_system("1/2", 4, ["1", "2", "3", "1/2"])
+    assert s.source["mass_matrix"] == tuple(tuple(row) for row in g)
+    assert s.source["normals"] == tuple(tuple(row) for row in normals)
+    assert [[str(a) for a in row] for row in normals][2] == ["0", "0", "-1", "1"]

@@ -22,7 +22,7 @@ from verify.checks.paper.cradle_map import (
 )
 from verify.cli import main
 from verify.core.algebraic import RealAlgebraic
-from verify.core.symbolic import EPS
+from verify.core.backends.symbolic import EPS
 from verify.errors import InvalidInput, InvalidSystem
 from verify.models.cradle import run_cradle
 

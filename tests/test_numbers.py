@@ -10,7 +10,8 @@ import sympy as sp
 from hypothesis import example, given
 from hypothesis import strategies as st
 
-from verify.core.numbers import format_decimal, format_exact, int_to_str, parse_number, split_list, to_number
+from verify.core.format import format_decimal, format_exact, ilog10, int_to_str
+from verify.core.parse import parse_number, split_list, to_number, to_sympy
 from verify.errors import BadNumber
 
 GOOD = [
@@ -208,11 +209,11 @@ def test_format_decimal_reads_exact_rationals_through_their_integers():
 
 @pytest.mark.parametrize("impl", ["gmpy2", "flint", "python"])
 def test_format_decimal_reads_the_values_of_every_rational_backend(impl):
-    from verify.core.backends import RationalBackend, _rational_impls
+    from verify.core.backends import RationalBackend, rational_impls
     from verify.core.rule import solve
     from verify.core.system import System
 
-    if impl not in _rational_impls():
+    if impl not in rational_impls():
         pytest.skip(f"{impl} is not installed")
     K = RationalBackend(impl)
     s = System([[1, 0, 0], [0, 1, 0], [0, 0, 1]], [[-1, 1, 0], [0, -1, 1]], ["1/3", "1/7"], backend=K)
@@ -262,3 +263,14 @@ def test_format_decimal_rounds_algebraic_values_in_the_direction_asked():
     )
     one = (sp.sqrt(2) + 1) * (sp.sqrt(2) - 1)  # exactly 1, though not written so
     assert format_decimal(one, 3, "floor") == format_decimal(one, 3, "ceiling") == "1"
+
+
+@given(st.integers(1, 10**60), st.integers(1, 10**60))
+def test_ilog10_is_the_exact_floor_of_log10(num, den):
+    e = ilog10(num, den)
+    assert Fraction(10) ** e <= Fraction(num, den) < Fraction(10) ** (e + 1)
+
+
+def test_to_sympy_is_exact_and_keeps_closed_forms():
+    assert to_sympy(Fraction(10**30 + 1, 3)) == sp.Rational(10**30 + 1, 3)
+    assert to_sympy(sp.sqrt(2)) is sp.sqrt(2)

@@ -50,7 +50,7 @@ def _rate(a, t, v):
     """p(F) of a case's constraint, or None when an entry is irrational."""
     from fractions import Fraction
 
-    from verify.core.numbers import parse_number, to_number
+    from verify.core.parse import parse_number, to_number
 
     values = [to_number(parse_number(x)) for x in (*a, t, *v)]
     if not all(isinstance(x, Fraction) for x in values):
@@ -248,8 +248,8 @@ def test_the_readme_shows_what_the_worked_example_prints(capsys) -> None:
 
 
 def test_oversized_result_files_are_refused(monkeypatch) -> None:
-    import verify.records.results
+    import verify.records.files
 
-    monkeypatch.setattr(verify.records.results, "MAX_FILE_BYTES", 100)
+    monkeypatch.setattr(verify.records.files, "MAX_FILE_BYTES", 100)
     with pytest.raises(InvalidInput, match="larger than 100 bytes"):
         oracle.load_results(" " * 101, "big.json")

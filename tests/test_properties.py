@@ -209,7 +209,7 @@ def test_the_found_non_terminating_case_still_refutes() -> None:
 # -- tests of the tests: each property catches a broken rule --------------------------------------
 
 _original_impulse = rule_module._impulse_from_rates
-_original_beta = rule_module._beta_from_rates
+_original_beta = rule_module.beta_from_rates
 _original_for_rule = rule_module._system_for_rule
 _original_rates = System.rates
 
@@ -291,7 +291,7 @@ MUTANTS = {
     "the exit velocity is outgoing": ("rates", _negated_rates, "corner", "general"),
     "each impulse is eq. (8) as printed": ("_impulse_from_rates", _wrong_beta_sign, "corner", "general"),
     "a single impact gives eq. (4)": ("_impulse_from_rates", _reversed_cors, "general", "general"),
-    "beta = 1 for one constraint": ("_beta_from_rates", _beta_times_mass, "general", "general"),
+    "beta = 1 for one constraint": ("beta_from_rates", _beta_times_mass, "general", "general"),
     "all CORs 1 give the ideal rule (5)": ("_impulse_from_rates", _wrong_beta_sign, "corner", "ideal"),
     "equal CORs give the symmetric rule (6)": ("_impulse_from_rates", _wrong_beta_sign, "corner", "symmetric"),
     "two constraints: eq. (8) is the asymmetric rule (7)": (
@@ -395,7 +395,18 @@ def test_cli_rejects_an_unknown_property(capsys: pytest.CaptureFixture[str]) -> 
 
 
 def test_cli_profile_names_are_the_verdict_profiles() -> None:
-    from verify.checks.properties.verdicts import PROFILES
-    from verify.cli import PROFILE_NAMES
+    """One table of profiles, offered by the command line without loading Hypothesis and SymPy."""
+    import subprocess
+    import sys
 
-    assert tuple(PROFILES) == PROFILE_NAMES
+    from verify.checks.properties import profiles, verdicts
+    from verify.cli import build_parser
+
+    assert verdicts.PROFILES is profiles.PROFILES
+    for command in ("properties", "report"):
+        assert [build_parser().parse_args([command, "--profile", p]).profile for p in profiles.PROFILES] == list(
+            profiles.PROFILES
+        )
+    loaded = "sorted({'hypothesis', 'sympy'} & set(sys.modules))"
+    code = f"import sys, verify.cli; verify.cli.build_parser(); print({loaded})"
+    assert subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True).stdout == "[]\n"

@@ -57,3 +57,34 @@ def test_an_empty_hypothesis_profile_means_the_default():
 def test_ruff_is_clean():
     out = subprocess.run(["ruff", "check", str(ROOT)], capture_output=True, text=True, check=False)
     assert out.returncode == 0, out.stdout + out.stderr
+
+
+@pytest.mark.skipif(shutil.which("mypy") is None, reason="mypy is not installed")
+def test_mypy_is_clean():
+    """The types check (configuration in pyproject.toml: strict for verify.core)."""
+    out = subprocess.run(["mypy"], cwd=ROOT, capture_output=True, text=True, check=False)
+    assert out.returncode == 0, out.stdout + out.stderr
+
+
+#: import names whose distribution on the package registry has another name
+DISTRIBUTIONS = {"flint": "python-flint"}
+
+
+def test_every_third_party_import_is_declared():
+    """Each package that verify/ imports is a dependency or an optional extra of pyproject.toml."""
+    import ast
+    import tomllib
+
+    project = tomllib.loads((ROOT / "pyproject.toml").read_text(encoding="utf-8"))["project"]
+    specs = project["dependencies"] + [d for extra in project["optional-dependencies"].values() for d in extra]
+    declared = {re.split(r"[<>=\[ ]", spec, maxsplit=1)[0].lower() for spec in specs}
+    imported = set()
+    for path in (ROOT / "verify").rglob("*.py"):
+        for node in ast.walk(ast.parse(path.read_text(encoding="utf-8"))):
+            if isinstance(node, ast.Import):
+                imported |= {a.name.split(".")[0] for a in node.names}
+            elif isinstance(node, ast.ImportFrom) and not node.level and node.module:
+                imported.add(node.module.split(".")[0])
+    third_party = {m for m in imported if m not in sys.stdlib_module_names and m != "verify"}
+    missing = sorted(m for m in third_party if DISTRIBUTIONS.get(m, m).lower() not in declared)
+    assert not missing, f"imported but not declared in pyproject.toml: {missing}"

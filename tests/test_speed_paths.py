@@ -12,13 +12,15 @@ from hypothesis import given, settings
 from hypothesis import strategies as st
 
 import verify.core.rule as rule_module
-from verify.checks.bench import batch, corner_loop
+from verify.checks.bench import batch
 from verify.checks.properties.strategies import cases
 from verify.cli import main
 from verify.core.engines import integer as fraction_free
-from verify.core.engines.floats import corner_batch, solve_batch, systems_batch
+from verify.core.engines.floats import solve_batch, systems_batch
+from verify.core.engines.policy import Limits
 from verify.core.rule import Budget, solve
 from verify.core.system import System
+from verify.models.corner import corner_batch, paper_run, zones_of
 
 
 def _system(record: dict) -> System:
@@ -35,11 +37,11 @@ def test_integer_iteration_equals_the_traced_rule(drawn) -> None:
         return
     budget = Budget(bits=4096)  # multiple impacts can triple the sizes: bound them
     traced = solve(s, rec["velocity"], max_iterations=60, trace=True, certify=False, budget=budget)
-    fast = fraction_free.iterate(s, traced.velocity_in, 60, budget=budget)
-    assert fast["impact_sets"] == traced.impact_sets
-    assert fast["betas"] == traced.betas
-    assert fast["stop"] == traced.stop
-    assert list(fast["v"]) == list(traced.exit_velocity)
+    fast = fraction_free.iterate(s, traced.velocity_in, budget.limits(60))
+    assert fast.impact_sets == traced.impact_sets
+    assert fast.betas == traced.betas
+    assert fast.stop == traced.stop
+    assert list(fast.v) == list(traced.exit_velocity)
 
 
 def test_solve_switches_to_integers_on_long_runs_with_the_same_result(monkeypatch) -> None:
@@ -53,7 +55,7 @@ def test_solve_switches_to_integers_on_long_runs_with_the_same_result(monkeypatc
     assert calls == [1]  # the untraced run went to integers after FRACTION_FREE_AFTER impulses
     assert fast.iterations == 100 > rule_module.FRACTION_FREE_AFTER
     assert list(fast.exit_velocity) == list(traced.exit_velocity) and fast.impact_sets == traced.impact_sets
-    assert corner_loop(k, xd, yd, e1, e2)[0] == fast.impact_sets  # and the plain Fraction loop agrees
+    assert paper_run(k, xd, yd, e1, e2, max_iterations=100)[0] == zones_of(fast)  # and eq. (10) on Fractions agrees
 
 
 def test_integer_budget_stops_where_the_rational_one_does() -> None:
@@ -64,6 +66,21 @@ def test_integer_budget_stops_where_the_rational_one_does() -> None:
     traced = solve(s, v, max_iterations=500, trace=True, certify=False, budget=Budget(bits=2000))
     assert fast.stop == traced.stop == "budget"
     assert fast.iterations == traced.iterations
+
+
+def test_the_engines_share_one_stop_policy() -> None:
+    """The cap on the impulses stops the traced, the integer and the float engines alike."""
+    s = System([[1, 0, 0], [0, 1, 0], [0, 0, 1]], [[-1, 1, 0], [0, -1, 1]], ["1/2", "1/2"])
+    velocity = ["100", "0", "0"]
+    for cap in range(5):
+        traced = solve(s, velocity, max_iterations=cap, certify=False)
+        fast = fraction_free.iterate(s, traced.velocity_in, Limits(cap))
+        floats = solve_batch(systems_batch([s], [velocity]), max_iterations=cap, exact_fallback=False)
+        assert fast.stop == traced.stop == floats.stop[0] == ("exit" if cap >= 3 else "max_iterations")
+        assert fast.impact_sets == traced.impact_sets == floats.impact_sets(0)
+    traced = solve(s, velocity, budget=Budget(bits=10), certify=False)
+    fast = fraction_free.iterate(s, traced.velocity_in, Budget(bits=10).limits(100))
+    assert fast.stop == traced.stop == "budget" and fast.impact_sets == traced.impact_sets
 
 
 def _assert_batch_matches_exact(systems_and_velocities, result) -> None:
@@ -89,7 +106,8 @@ def test_float_path_takes_the_exact_branches_on_the_bench_batch() -> None:
     wrong = sum(
         1
         for i, c in enumerate(cases_)
-        if corner_loop(*(x.numerator / x.denominator for x in c))[0] != out.impact_sets(i)
+        if paper_run(*(x.numerator / x.denominator for x in c), max_iterations=100)[0]
+        != paper_run(*c, max_iterations=100)[0]
     )
     assert wrong > 0  # plain floats do go wrong on this batch; the float path did not
 
@@ -100,7 +118,7 @@ def test_float_path_on_general_systems(drawn) -> None:
     shapes = {(len(d.record["mass_matrix"]), len(d.record["normals"])) for d in drawn}
     first = [d for d in drawn if (len(d.record["mass_matrix"]), len(d.record["normals"])) == next(iter(shapes))]
     systems = [_system(d.record) for d in first]
-    if not all(s.backend.fraction_free for s in systems) or any(s._moving for s in systems):
+    if not all(s.backend.fraction_free for s in systems) or any(s.moving for s in systems):
         return  # the batch holds fixed rational constraints
     velocities = [d.record["velocity"] for d in first]
     out = solve_batch(systems_batch(systems, velocities), budget=Budget(bits=4096))

@@ -11,7 +11,8 @@ CORs) on a backend, and :func:`solve` it from a left velocity.
 """
 
 from verify.core.backends import BACKENDS, Backend, get_backend
-from verify.core.numbers import format_decimal, format_exact, parse_number
+from verify.core.format import format_decimal, format_exact
+from verify.core.parse import parse_number
 from verify.core.rule import (
     RULES,
     Result,

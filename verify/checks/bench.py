@@ -9,9 +9,11 @@ batch in its own number type (Fractions for the exact ones, floats for the float
 float arrays with radii for the float path), converted before the clock starts; the
 exact engine builds and validates a :class:`~verify.core.system.System` per case inside it.
 
-The baselines are plain loops written for the corner alone (:func:`corner_loop`, the
-paper's eq. (10) with its closed forms), once over ``fractions.Fraction`` and once over
-Python floats. Every contestant's branch sequence is compared with the exact engine's.
+The baselines are the plain loop written for the corner alone
+(:func:`verify.models.corner.paper_run`, the paper's eq. (10) with its closed forms), once
+over ``fractions.Fraction`` and once over Python floats; the float one is the plain float
+implementation of the corner report's float check too. Every contestant's branch sequence
+(its zones) is compared with the exact engine's.
 
 >>> figures = bench(size=20, repeats=1, impulses=(10,), table=False)
 >>> [(f.name, f.unit) for f in figures[:2]]
@@ -30,6 +32,7 @@ from fractions import Fraction
 from typing import Any
 
 from verify.checks.sweep import random_corner_cases
+from verify.models.corner import corner_batch, corner_system, paper_run, zones_of
 
 BATCH_SIZE = 10_000
 BATCH_SEED = 0
@@ -39,7 +42,11 @@ IMPULSES = (10, 100, 1000, 10_000)
 QUICK = {"size": 500, "repeats": 1, "impulses": (10, 100), "table": False}
 #: the long run of the cost-per-impulse figures: the ideal rule in a corner of slope
 #: 1/10000, which reflects the disk 15,706 times before it leaves (exact), all single impacts
-LONG_RUN = {"slope": Fraction(1, 10_000), "velocity": (Fraction(1), Fraction(1, 30_000)), "cors": (1, 1)}
+LONG_RUN: dict[str, Any] = {
+    "slope": Fraction(1, 10_000),
+    "velocity": (Fraction(1), Fraction(1, 30_000)),
+    "cors": (1, 1),
+}
 
 
 @dataclass(frozen=True)
@@ -63,55 +70,26 @@ def batch(size: int = BATCH_SIZE, seed: int = BATCH_SEED) -> list[tuple[Fraction
     >>> batch(1)[0]
     (Fraction(173, 79), Fraction(259, 18), Fraction(-41088019, 1422000), Fraction(497, 524), Fraction(310, 803))
     """
-    out = []
+    out: list[tuple[Fraction, ...]] = []
     for c in random_corner_cases(size, seed=seed, max_iterations=MAX_IMPULSES):
         xd, yd = (Fraction(x) for x in c["velocity"])
         out.append((Fraction(c["slope"]), xd, yd, Fraction(c["eps1"]), Fraction(c["eps2"])))
     return out
 
 
-def corner_loop(k: Any, xd: Any, yd: Any, e1: Any, e2: Any, *, max_impulses: int = MAX_IMPULSES) -> tuple:
-    """The baseline: eq. (10) with the paper's closed forms, in whatever numbers it is given.
-
-    Returns (impact sets, xd, yd) with impact sets as tuples of wall indices (0: S1, 1: S2).
-
-    >>> corner_loop(Fraction(1, 2), Fraction(2), Fraction(0), Fraction(0), Fraction(1))[0]
-    [(0, 1), (0,)]
-    """
-    d = 1 + k * k
-    k2 = k * k
-    sets: list[tuple[int, ...]] = []
-    for _ in range(max_impulses + 1):
-        s1 = k * xd - yd  # -p(F_1): S1 is hit when s1 > 0
-        s2 = k * xd + yd
-        h1, h2 = s1 > 0, s2 > 0
-        if not (h1 or h2) or len(sets) == max_impulses:
-            break
-        if h1 and h2:
-            beta = d / 2 * (k2 * xd * xd + yd * yd) / (k2 * k2 * xd * xd + yd * yd)
-            a1, a2 = (1 + e1) * s1 / d, (1 + e2) * s2 / d
-            xd, yd = xd - beta * k * (a1 + a2), yd - beta * (a2 - a1)
-            sets.append((0, 1))
-        elif h1:
-            a1 = (1 + e1) * s1 / d
-            xd, yd = xd - k * a1, yd + a1
-            sets.append((0,))
-        else:
-            a2 = (1 + e2) * s2 / d
-            xd, yd = xd - k * a2, yd - a2
-            sets.append((1,))
-    return sets, xd, yd
-
-
 def _exact_engine(cases: Sequence[tuple], backend: Any) -> list:
     from verify.core.rule import solve
-    from verify.core.system import System
 
     out = []
     for k, xd, yd, e1, e2 in cases:
-        s = System([[1, 0, 0], [0, 1, 0], [0, 0, 1]], [[-k, 1, 0], [-k, -1, 0]], [e1, e2], backend=backend)
+        s = corner_system(k, e1, e2, backend=backend)
         out.append(solve(s, [xd, yd, 0], max_iterations=MAX_IMPULSES, trace=False, certify=False))
     return out
+
+
+def _baseline(cases: Sequence[tuple]) -> list[list[str]]:
+    """The zones of the plain loop (eq. 10) on every case, in the numbers the cases are in."""
+    return [paper_run(*c, max_iterations=MAX_IMPULSES)[0] for c in cases]
 
 
 def _best(fns: dict[str, Callable[[], Any]], repeats: int) -> tuple[dict[str, float], dict[str, Any]]:
@@ -132,7 +110,7 @@ def _speed(name: str, seconds: float, size: int, baseline: str, base_seconds: fl
 
 def _corner_figures(cases: list[tuple], repeats: int) -> list[Figure]:
     from verify.core.backends import RationalBackend
-    from verify.core.engines.floats import corner_batch, solve_batch
+    from verify.core.engines.floats import solve_batch
 
     n = len(cases)
     fast, plain = RationalBackend(), RationalBackend("python")
@@ -140,19 +118,20 @@ def _corner_figures(cases: list[tuple], repeats: int) -> list[Figure]:
     arrays = corner_batch([c[0] for c in cases], [c[1:3] for c in cases], [c[3:] for c in cases])
     times, res = _best(
         {
-            "fraction_loop": lambda: [corner_loop(*c) for c in cases],
+            "fraction_loop": lambda: _baseline(cases),
             "exact_engine": lambda: _exact_engine(cases, fast),
             "exact_engine_pure_python": lambda: _exact_engine(cases, plain),
-            "float_loop": lambda: [corner_loop(*c) for c in floats],
+            "float_loop": lambda: _baseline(floats),
             "float_path": lambda: solve_batch(arrays, MAX_IMPULSES),
         },
         repeats,
     )
-    exact_sets = [list(r.impact_sets) for r in res["exact_engine"]]
-    if exact_sets != [r[0] for r in res["fraction_loop"]]:
+    exact_zones = [zones_of(r) for r in res["exact_engine"]]
+    if exact_zones != res["fraction_loop"]:
         raise AssertionError("the exact engine and the Fraction loop disagree on the batch")
-    wrong_float = sum(1 for e, r in zip(exact_sets, res["float_loop"]) if e != r[0])
+    wrong_float = sum(1 for e, z in zip(exact_zones, res["float_loop"]) if e != z)
     path = res["float_path"]
+    exact_sets = [list(r.impact_sets) for r in res["exact_engine"]]
     wrong_path = sum(1 for i, e in enumerate(exact_sets) if e != path.impact_sets(i))
     base, fbase = "corner_batch.fraction_loop", "corner_batch.float_loop"
     t = times
@@ -214,7 +193,6 @@ def _table_figures(repeats: int) -> list[Figure]:
 def _impulse_figures(impulses: Sequence[int]) -> list[Figure]:
     from verify.core.backends import IntervalBackend, RationalBackend
     from verify.core.rule import solve
-    from verify.models.corner import corner_system
 
     k, (xd, yd), (e1, e2) = LONG_RUN["slope"], LONG_RUN["velocity"], LONG_RUN["cors"]
     out: list[Figure] = []

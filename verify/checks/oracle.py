@@ -17,9 +17,7 @@ the stop reason, the iteration count, the impact sets, and the exit velocity wit
 
 from __future__ import annotations
 
-import contextlib
 import functools
-import json
 import os
 import random
 from collections.abc import Callable
@@ -28,42 +26,25 @@ from fractions import Fraction
 from typing import Any
 
 from verify.checks.properties.strategies import velocity_with_rates
-from verify.core.numbers import format_exact
+from verify.models.corner import corner_geometry
+from verify.models.cradle import cradle_geometry
+from verify.records.results import case_from_record, case_record, dumps, result_record
 
 GOLDEN_VERSION = "1"
 DEFAULT_RTOL = Fraction(1, 10**9)
 SEED = 2021
-
-
-def _s(x: Any) -> str:
-    return format_exact(x)
-
-
-def _case(case_id: str, g: Any, normals: Any, eps: Any, v: Any, *, time_terms: Any = None) -> dict:
-    r = len(normals)
-    return {
-        "id": case_id,
-        "mass_matrix": [[_s(x) for x in row] for row in g],
-        "normals": [[_s(x) for x in row] for row in normals],
-        "time_terms": [_s(x) for x in (time_terms or [0] * r)],
-        "restitution": [_s(x) for x in eps],
-        "velocity": [_s(x) for x in v],
-        "max_iterations": 10_000,
-    }
-
-
-def _diag(masses: list[Any]) -> list[list[Any]]:
-    return [[m if i == j else 0 for j in range(len(masses))] for i, m in enumerate(masses)]
+#: the iteration cap of every golden case
+GOLDEN_MAX_ITERATIONS = 10_000
 
 
 def _cradle(case_id: str, eps: list[Any], velocity: list[Any], masses: list[Any] | None = None) -> dict:
-    n = len(velocity)
-    normals = [[-1 if k == i else 1 if k == i + 1 else 0 for k in range(n)] for i in range(n - 1)]
-    return _case(case_id, _diag(masses or [1] * n), normals, eps, velocity)
+    g, normals = cradle_geometry(masses or [1] * len(velocity))
+    return case_record(case_id, g, normals, eps, velocity, max_iterations=GOLDEN_MAX_ITERATIONS)
 
 
 def _corner(case_id: str, slope: Any, eps: list[Any], velocity: list[Any]) -> dict:
-    return _case(case_id, _diag([1, 1, 1]), [[-slope, 1, 0], [-slope, -1, 0]], eps, velocity)
+    g, normals = corner_geometry(slope)
+    return case_record(case_id, g, normals, eps, velocity, max_iterations=GOLDEN_MAX_ITERATIONS)
 
 
 def _paper_cases() -> list[dict]:
@@ -123,7 +104,6 @@ GENERATION_BITS = 2048
 
 def _ends(record: dict) -> bool:
     from verify.core.rule import Budget, solve
-    from verify.records.results import case_from_record
 
     c = case_from_record(record)
     r = solve(c.system, c.velocity_source, max_iterations=1000, trace=False, budget=Budget(bits=GENERATION_BITS))
@@ -153,7 +133,8 @@ def _random_case(rng: random.Random, index: int, k: int) -> dict:
     w = [q(-2, 2) for _ in range(n)]
     v = velocity_with_rates((g, normals, time_terms), w, targets)
     kind = "moving" if moving else "fixed"
-    return _case(f"general-{index:02d}-r{r}-n{n}-{kind}", g, normals, eps, v, time_terms=time_terms)
+    case_id = f"general-{index:02d}-r{r}-n{n}-{kind}"
+    return case_record(case_id, g, normals, eps, v, time_terms=time_terms, max_iterations=GOLDEN_MAX_ITERATIONS)
 
 
 def golden_dataset() -> tuple[list[dict], int]:
@@ -184,7 +165,6 @@ def golden_results(
     [('exit', 2), ('budget', 1)]
     """
     from verify.core.rule import solve
-    from verify.records.results import case_from_record, result_record
 
     out = []
     for k, record in enumerate(cases, 1):
@@ -237,8 +217,6 @@ def export(folder: str) -> list[str]:
     Each file is written whole to a temporary name, then renamed: an interrupted export
     leaves no partial file behind. Returns the paths written.
     """
-    from verify.records.results import dumps
-
     cases, skipped = golden_dataset()
     results = golden_results(cases)
     texts = {
@@ -246,22 +224,12 @@ def export(folder: str) -> list[str]:
         "results.json": dumps({"results": results}),
         "README.md": _summary(cases, results, skipped),
     }
+    from verify.records.files import write_all_atomic
+
     os.makedirs(folder, exist_ok=True)
-    paths, written = [], []
-    try:
-        for name, text in texts.items():
-            path = os.path.join(folder, name)
-            paths.append(path)
-            with open(path + ".tmp", "w", encoding="utf-8", newline="\n") as fh:
-                written.append(path + ".tmp")
-                fh.write(text)
-    except BaseException:  # a failed or interrupted write leaves no temporary file of its own
-        for tmp in written:
-            with contextlib.suppress(OSError):
-                os.remove(tmp)
-        raise
-    for path in paths:
-        os.replace(path + ".tmp", path)
+    paths = [os.path.join(folder, name) for name in texts]
+    files: dict[str | os.PathLike[str], str | bytes] = dict(zip(paths, texts.values()))
+    write_all_atomic(files)
     return paths
 
 
@@ -294,14 +262,14 @@ class Comparison:
 
 def _approx(text: str, where: str) -> Fraction:
     """A number string of a result file as a Fraction (closed forms to 40 digits)."""
-    from verify.core.numbers import parse_number, to_number
+    from verify.core.parse import parse_number, to_number
 
     value = to_number(parse_number(text, where=where), where=where)
     if isinstance(value, Fraction):
         return value
-    from verify.core.numeric import certified_digits
+    from verify.core.format import format_decimal
 
-    return Fraction(certified_digits(value, 40))
+    return Fraction(format_decimal(value, 40))
 
 
 def compare(cases: list[dict], expected: list[dict], got: list[dict], *, rtol: Fraction, atol: Fraction) -> Comparison:
@@ -397,7 +365,7 @@ def _compare_velocity(case: dict, exact: dict, mine: dict, rtol: Fraction, atol:
     for i, (e, m) in enumerate(zip(exact["exit_velocity"], mine["exit_velocity"])):
         diff = abs(_approx(e, f"{cid}.exit_velocity[{i}]") - _approx(m, f"results[{cid}].exit_velocity[{i}]"))
         if diff > tol:
-            from verify.core.numbers import format_decimal
+            from verify.core.format import format_decimal
 
             out.append(
                 Mismatch(
@@ -412,18 +380,10 @@ def _compare_velocity(case: dict, exact: dict, mine: dict, rtol: Fraction, atol:
 
 def load_results(text: str, source: str) -> list[dict]:
     """Parse and validate a result file (schema of the contracts); errors name the field."""
-    from verify.errors import InvalidInput
-    from verify.records.results import MAX_FILE_BYTES, BareJSONNumber, _reject_constant
+    from verify.records.files import load_json
     from verify.records.schema import validate
 
-    if len(text) > MAX_FILE_BYTES:
-        raise InvalidInput(f"{source}: larger than {MAX_FILE_BYTES} bytes")
-    try:
-        data = json.loads(text, parse_float=BareJSONNumber, parse_constant=_reject_constant)
-    except json.JSONDecodeError as exc:
-        raise InvalidInput(f"{source}: not valid JSON ({exc})") from None
-    except RecursionError:
-        raise InvalidInput(f"{source}: nested too deeply") from None
+    data = load_json(source, text=text)
     validate(data, "result", source)
     return data["results"]
 

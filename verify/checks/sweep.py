@@ -13,15 +13,16 @@ stderr. Results come back in the order of the cases.
 
 from __future__ import annotations
 
-import os
 import random
 import sys
+from collections import Counter
 from collections.abc import Callable, Iterable, Sequence
-from concurrent.futures import Executor, ProcessPoolExecutor
+from concurrent.futures import Executor
 from fractions import Fraction
 from typing import Any
 
-from verify.core.numbers import format_exact
+from verify.checks.pool import map_in_processes
+from verify.core.format import format_exact
 
 
 def _q(x: Fraction) -> str:
@@ -94,7 +95,7 @@ def grid_corner_cases(
     max_iterations: int = 1000,
 ) -> list[dict[str, Any]]:
     """Every combination of the given slopes, velocities (xd, yd) and COR pairs."""
-    out = []
+    out: list[dict[str, Any]] = []
     for k in slopes:
         for v in velocities:
             for e1, e2 in cors:
@@ -202,28 +203,49 @@ def sweep(
 
     ``executor`` is any ``concurrent.futures.Executor`` (a Dask cluster:
     ``Client(...).get_executor()``); without one, a local process pool of ``workers``
-    processes (default: every core) is used, or no pool at all for ``workers=1``.
-    ``progress`` draws a bar on stderr (default: when stderr is a terminal).
+    processes (default: every core) is used, or no pool at all for ``workers=1``
+    (:func:`verify.checks.pool.map_in_processes`). ``progress`` draws a bar on stderr
+    (default: when stderr is a terminal).
     """
     cases = list(cases)
-    chunks = [cases[i : i + chunk] for i in range(0, len(cases), chunk)]
+    chunks = [(func, cases[i : i + chunk]) for i in range(0, len(cases), chunk)]
     show = sys.stderr.isatty() if progress is None else progress
-    results: list[dict[str, Any]] = []
-    if executor is None and (workers or os.cpu_count() or 1) == 1:
-        for c in chunks:
-            results += _run_chunk((func, c))
-            if show:
-                _bar(len(results), len(cases))
-        return results
-    own = executor is None
-    pool = executor or ProcessPoolExecutor(max_workers=workers or os.cpu_count())
-    try:
-        futures = [pool.submit(_run_chunk, (func, c)) for c in chunks]
-        for f in futures:
-            results += f.result()
-            if show:
-                _bar(len(results), len(cases))
-    finally:
-        if own:
-            pool.shutdown()
-    return results
+    done = 0
+
+    def bar(_: int, results: list[dict[str, Any]]) -> None:
+        nonlocal done
+        done += len(results)
+        _bar(done, len(cases))
+
+    parts = map_in_processes(_run_chunk, chunks, workers=workers, executor=executor, on_done=bar if show else None)
+    return [r for part in parts for r in part]
+
+
+def sweep_summary(results: Sequence[dict[str, Any]]) -> dict[str, Any]:
+    """How a sweep's runs ended: the count of each stop, and of runs with repeated multiple impacts.
+
+    >>> sweep_summary([{"stop": "exit", "multiple_impacts": 2}, {"stop": "exit", "multiple_impacts": 1}])
+    {'stops': {'exit': 2}, 'repeated_multiple_impacts': 1}
+    """
+    return {
+        "stops": dict(Counter(r["stop"] for r in results)),
+        "repeated_multiple_impacts": sum(1 for r in results if r["multiple_impacts"] > 1),
+    }
+
+
+def random_sweep(n: int, *, seed: int = 0, max_iterations: int = 100, workers: int | None = None) -> dict[str, Any]:
+    """``verify sweep``: ``n`` random rational corner cases (:func:`random_corner_cases`) run exactly in
+    parallel; their :func:`sweep_summary` with ``cases`` (the count), ``seconds`` (wall time of the
+    runs) and ``results`` (one summary per case, in order).
+
+    >>> s = random_sweep(2, seed=1, workers=1)
+    >>> s["cases"], s["stops"], s["repeated_multiple_impacts"]
+    (2, {'exit': 2}, 0)
+    """
+    import time
+
+    cases = random_corner_cases(n, seed=seed, max_iterations=max_iterations)
+    start = time.perf_counter()
+    results = sweep(cases, workers=workers)
+    seconds = time.perf_counter() - start
+    return {"cases": len(cases), "seconds": seconds, **sweep_summary(results), "results": results}

@@ -6,8 +6,9 @@ polynomials, held exactly). Comparisons and signs of polynomials at such numbers
 exactly: equal numbers have the same minimal polynomial and a common root in their
 intervals; different numbers are separated by bisection, which always ends.
 
-They are the endpoints of the pieces of parameter maps (:mod:`verify.core.symbolic`), written in
-the simplest exact form: rationals, radicals for degree 2, ``CRootOf(poly, k)`` otherwise.
+They are the endpoints of the pieces of parameter maps (:mod:`verify.core.backends.symbolic`), written in
+the simplest exact form: rationals, radicals for degree 2, ``CRootOf(poly, k)`` otherwise; their
+decimal digits are :func:`verify.core.format.format_decimal`'s (certified).
 
 >>> r = RealAlgebraic.roots_in(poly_from_coeffs([1, -6, 1]))  # eps**2 - 6 eps + 1
 >>> [str(x) for x in r]
@@ -229,22 +230,10 @@ class RealAlgebraic:
     def __repr__(self) -> str:
         return f"RealAlgebraic({self})"
 
-    def decimal(self, digits: int = 30) -> str:
-        """``digits`` significant digits, rounded half to even, certified."""
-        from verify.core.numbers import format_decimal
-
-        if self.is_rational:
-            return format_decimal(self.lo, digits)
-        while True:
-            lo, hi = format_decimal(self.lo, digits), format_decimal(self.hi, digits)
-            if lo == hi:
-                return lo
-            self.refine()
-
 
 def _interval_of(r: Any, prec: int = 256) -> tuple[Fraction, Fraction]:
     """A certified rational enclosure of a real closed form (interval arithmetic)."""
-    from verify.core.numeric import _interval_context, _mpf_to_fraction, evaluate
+    from verify.core.numeric import evaluate, interval_context, mpf_to_fraction
 
-    x = evaluate(r, _interval_context(prec))
-    return _mpf_to_fraction(x.a), _mpf_to_fraction(x.b)
+    x = evaluate(r, interval_context(prec))
+    return mpf_to_fraction(x.a), mpf_to_fraction(x.b)

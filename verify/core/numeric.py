@@ -4,13 +4,12 @@ One walker, :func:`evaluate`, serves the ``mp`` context (heuristic), the ``iv`` 
 context (a certified enclosure) and ``fp``. It handles exactly what the number parser can
 build: rationals, ``pi``, ``+ * **``, ``sqrt``, ``sin cos tan`` and ``CRootOf``.
 
-:func:`certified_sign` and :func:`certified_digits` decide signs and print digits of closed
-forms rigorously: from interval enclosures at rising precision, with an exact zero test
-(the minimal polynomial) when the enclosure keeps containing 0.
+:func:`certified_sign` decides the sign of a closed form rigorously: from interval
+enclosures at rising precision (:func:`interval_context`), with an exact zero test (the
+minimal polynomial) when the enclosure keeps containing 0. :func:`mpf_to_fraction` reads the
+exact value of a bound. Their digits are printed by :func:`verify.core.format.format_decimal`.
 
 >>> import sympy
->>> certified_digits(sympy.sqrt(2), 12)
-'1.41421356237'
 >>> certified_sign(3 - 2 * sympy.sqrt(2))
 1
 """
@@ -71,14 +70,22 @@ def evaluate(expr: Any, ctx: Any) -> Any:
         dx = sp.Rational(1, 2 ** (prec + 8))
         approx = expr.eval_rational(dx=dx, n=prec // 3 + 10)
         mid = ctx.mpf(int(approx.p)) / ctx.mpf(int(approx.q))
-        if hasattr(ctx, "_is_interval") or type(ctx).__name__ == "MPIntervalContext":
+        from mpmath.ctx_iv import MPIntervalContext
+
+        if isinstance(ctx, MPIntervalContext):
             err = ctx.mpf(int(dx.p)) / ctx.mpf(int(dx.q))
             return mid + ctx.mpf([-1, 1]) * err
         return mid
     raise NoConvergence(f"cannot evaluate {expr} numerically")
 
 
-def _interval_context(prec: int) -> Any:
+def interval_context(prec: int) -> Any:
+    """A fresh mpmath interval context at ``prec`` bits (its own, so precision never leaks).
+
+    >>> x = evaluate(Fraction(1, 3), interval_context(64))
+    >>> mpf_to_fraction(x.a) < Fraction(1, 3) < mpf_to_fraction(x.b)
+    True
+    """
     from mpmath.ctx_iv import MPIntervalContext
 
     ctx = MPIntervalContext()
@@ -102,7 +109,7 @@ def certified_sign(expr: Any) -> int:
         return (expr > 0) - (expr < 0)
     prec = START_PREC
     while prec <= MAX_PREC:
-        x = evaluate(expr, _interval_context(prec))
+        x = evaluate(expr, interval_context(prec))
         if x.a > 0:
             return 1
         if x.b < 0:
@@ -115,27 +122,14 @@ def certified_sign(expr: Any) -> int:
     raise NoConvergence(f"cannot decide the sign of {expr} at {MAX_PREC} bits")
 
 
-def certified_digits(expr: Any, digits: int = 30) -> str:
-    """``digits`` significant digits of a closed form, certified by an interval enclosure."""
-    from verify.core.numbers import format_decimal
-
-    if certified_sign(expr) == 0:
-        return "0"
-    prec = max(START_PREC, digits * 10 // 3 + 32)
-    while prec <= MAX_PREC:
-        x = evaluate(expr, _interval_context(prec))
-        lo = format_decimal(_mpf_to_fraction(x.a), digits)
-        hi = format_decimal(_mpf_to_fraction(x.b), digits)
-        if lo == hi:
-            return lo
-        prec *= 2
-    raise NoConvergence(f"cannot certify {digits} digits of {expr}")
-
-
-def _mpf_to_fraction(x: Any) -> Fraction:
+def mpf_to_fraction(x: Any) -> Fraction:
     """The exact value of an mpmath number or of a degenerate interval (an endpoint).
 
     Reads the raw (sign, mantissa, exponent, bits) tuple, so nothing is rounded.
+
+    >>> from mpmath import mp
+    >>> mpf_to_fraction(mp.mpf(3) / 8)
+    Fraction(3, 8)
     """
     raw = x._mpi_[0] if hasattr(x, "_mpi_") else x._mpf_
     sign, man, exp, _ = raw

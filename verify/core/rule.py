@@ -32,18 +32,18 @@ all CORs 1, with equal CORs, and with two constraints: pick one by name in :func
 
 from __future__ import annotations
 
-import time
 from collections.abc import Callable, Sequence
 from dataclasses import dataclass, field
 from fractions import Fraction
-from functools import cached_property
+from functools import cached_property, partial
 from typing import Any
 
-from verify.core.backends import exact_for
+from verify.core.backends import Backend, exact_for
 from verify.core.engines import integer as fraction_free
+from verify.core.engines.policy import Limits, Run
 from verify.core.linalg import ldl, solve_spd
-from verify.core.numbers import to_number
-from verify.core.system import System
+from verify.core.parse import to_number
+from verify.core.system import System, known_zero
 from verify.core.termination import non_termination_halt
 from verify.errors import InvalidInput, InvalidSystem, NoConvergence, Undecided
 
@@ -55,7 +55,7 @@ DEFAULT_MAX_ITERATIONS = 10_000
 #: certificate) such as ``("non_terminating", {...})``, or None to go on. The system it is
 #: given answers ``rates(velocity)`` with the rates the rule holds (zeros known exactly
 #: included, see :func:`_rates_after`), so a stop test decides the same signs as the rule.
-Halt = Callable[[System, tuple], Any]
+Halt = Callable[[Any, tuple], Any]
 
 
 @dataclass(frozen=True)
@@ -83,6 +83,11 @@ class Budget:
             value = getattr(self, name)
             if value is not None and (isinstance(value, bool) or not value > 0):
                 raise InvalidSystem(f"budget {name} must be positive, got {value!r}")
+
+    def limits(self, max_iterations: int) -> Limits:
+        """The engines' stop policy (:mod:`verify.core.engines.policy`) for this budget and
+        ``max_iterations`` impulses."""
+        return Limits(max_iterations, bits=self.bits, seconds=self.seconds)
 
 
 @dataclass(frozen=True)
@@ -179,18 +184,24 @@ def _gram_solve(system: System, rhs: Sequence[Any], J: Sequence[int]) -> tuple:
     return solve_spd(K, ldl(K, G_J), rhs)
 
 
-def _beta_from_rates(system: System, b: Sequence[Any], J: Sequence[int]) -> Any:
-    """beta of step c), computed in the basis (U_j) without solving the Gram system.
+def beta_from_rates(system: System, b: Sequence[Any], J: Sequence[int]) -> Any:
+    """beta of step c) from the rates ``b = p(F)``, computed in the basis (U_j) without solving
+    the Gram system (:func:`beta` from a velocity).
 
     With ``lambda_j = p(F_j)/G_jj``, ``sum V_j = sum lambda_j U_j``, so
     ``||sum V_j||^2 = lambda^T G_JJ lambda``; and ``Phi(V_J, U_k) = p(F_k)`` for k in J
     (``V_J = sum mu_k U_k`` with ``G_JJ mu = p(F_J)``), so ``Phi(V_J, sum V_j) = sum_j
     p(F_j) lambda_j``: the Gram solve of V_J is not needed for beta.
+
+    >>> from verify.core.system import System
+    >>> s = System([[1, 0, 0], [0, 1, 0], [0, 0, 1]], [[-1, 1, 0], [0, -1, 1]], [1, 1])
+    >>> str(beta_from_rates(s, s.rates(s.velocity(["1", "0", "-1"])), (0, 1)))
+    '2'
     """
-    inv = system._inverse_gram_diag
+    inv = system.inverse_gram_diag
     lam = [b[j] * inv[j] for j in J]
-    numerator = None
-    norm = None
+    numerator: Any = None
+    norm: Any = None
     for a, (j, lj) in enumerate(zip(J, lam)):
         term = b[j] * lj
         numerator = term if numerator is None else numerator + term
@@ -212,7 +223,7 @@ def beta(system: System, v: Sequence[Any], J: Sequence[int]) -> Any:
     """
     if len(J) < 2:
         raise ValueError("beta is defined for impact sets of two or more constraints")
-    return _beta_from_rates(system, system.rates(v), J)
+    return beta_from_rates(system, system.rates(v), J)
 
 
 def _impulse_from_rates(system: System, b: Sequence[Any], J: Sequence[int]) -> tuple[tuple, Any]:
@@ -223,9 +234,9 @@ def _impulse_from_rates(system: System, b: Sequence[Any], J: Sequence[int]) -> t
     """
     if len(J) == 1:
         (j,) = J
-        return system.combine_normals([(j, system._single_coefficient[j] * b[j])]), None
-    bt = _beta_from_rates(system, b, J)
-    m, inv = system._minus_one_plus_e, system._inverse_gram_diag
+        return system.combine_normals([(j, system.single_coefficient[j] * b[j])]), None
+    bt = beta_from_rates(system, b, J)
+    m, inv = system.minus_one_plus_e, system.inverse_gram_diag
     return system.combine_normals([(j, bt * m[j] * (b[j] * inv[j])) for j in J]), bt
 
 
@@ -263,15 +274,32 @@ def _system_for_rule(system: System, rule: str) -> System:
     raise InvalidSystem(f"unknown rule {rule!r} (choose from {', '.join(RULES)})")
 
 
-def _exact_backend_for_velocity(system: System, velocity: Sequence[Any]) -> tuple[System, tuple]:
+def exact_backend_for_velocity(system: System, velocity: Sequence[Any]) -> tuple[System, tuple]:
     """On the exact backend, widen the number field when the velocity needs it; returns the
-    system and the velocity converted into its backend."""
-    values = [to_number(x, where=f"velocity[{i}]") for i, x in enumerate(velocity)]
+    system and the velocity converted into its backend.
+
+    >>> from verify.core.system import System
+    >>> s, v = exact_backend_for_velocity(System([[1]], [[1]], [1]), ["sqrt(2)"])
+    >>> s.backend.describe()[:18], s.backend.to_exact(v[0])
+    ('exact (number fiel', 'sqrt(2)')
+    """
+    values = _velocity_numbers(velocity)
     try:
         return system, system.velocity(values)
     except InvalidInput:  # not in this field (BadNumber): build the field of every input
-        system = system.convert_to(exact_for(_source_numbers(system) + values))
+        system = _on_exact_field(system, values)
         return system, system.velocity(values)
+
+
+def _velocity_numbers(velocity: Sequence[Any]) -> list[Any]:
+    """The components of a velocity as exact numbers."""
+    return [to_number(x, where=f"velocity[{i}]") for i, x in enumerate(velocity)]
+
+
+def _on_exact_field(system: System, values: list[Any]) -> System:
+    """The system on the exact backend of all its inputs and ``values`` (the rationals, or their
+    number field); InvalidInput (BadNumber) when one of them is not algebraic."""
+    return system.convert_to(exact_for(_source_numbers(system) + values))
 
 
 def _source_numbers(system: System) -> list:
@@ -303,18 +331,10 @@ def _source_numbers(system: System) -> list:
 #   exact check: a zero that the structure does not explain stays undecided there.
 
 
-def _known_zero(K: Any, x: Any) -> bool:
-    """Whether ``x`` is known to be exactly 0 (an undecidable sign counts as non-zero)."""
-    try:
-        return K.sign(x) == 0
-    except Undecided:
-        return False
-
-
 def _couplings(system: System) -> tuple[frozenset[int], ...]:
     """For each constraint i, the k with ``G_ik`` not known to be 0 (i itself included)."""
     K, G, r = system.backend, system.gram, system.r
-    return tuple(frozenset(k for k in range(r) if k == i or not _known_zero(K, G[i][k])) for i in range(r))
+    return tuple(frozenset(k for k in range(r) if k == i or not known_zero(K, G[i][k])) for i in range(r))
 
 
 def _structure(couplings: Sequence[frozenset[int]], J: tuple[int, ...]) -> tuple[bool, tuple[int, ...]]:
@@ -378,17 +398,18 @@ class _ExactRates:
     @cached_property
     def rational(self) -> bool:
         """Whether every input is rational (the exact replay is then over the rationals)."""
-        system, velocity = self._source
-        values = [to_number(x, where=f"velocity[{i}]") for i, x in enumerate(velocity)]
-        return all(isinstance(x, Fraction) for x in _source_numbers(system) + values)
+        return all(isinstance(x, Fraction) for x in _source_numbers(self._source[0]) + self._values)
+
+    @cached_property
+    def _values(self) -> list[Any]:
+        return _velocity_numbers(self._source[1])
 
     def available(self) -> bool:
         """Whether an exact check exists (every input rational or algebraic); builds it."""
         if self._exact is None and self.unavailable is None:
-            system, velocity = self._source
-            values = [to_number(x, where=f"velocity[{i}]") for i, x in enumerate(velocity)]
+            system, values = self._source[0], self._values
             try:
-                exact = system.convert_to(exact_for(_source_numbers(system) + values))
+                exact = _on_exact_field(system, values)
             except InvalidInput:  # BadNumber: an input that is not algebraic
                 numbers = _source_numbers(system) + values
                 bad = next(x for x in numbers if not isinstance(x, Fraction) and x.is_algebraic is not True)
@@ -397,11 +418,16 @@ class _ExactRates:
             self._exact = (exact, exact.velocity(values))
         return self._exact is not None
 
+    def _built(self) -> tuple[System, tuple]:
+        """The system and left velocity on the exact backend (Undecided when there is none)."""
+        self.available()
+        if self._exact is None:
+            raise Undecided(self.unavailable)
+        return self._exact
+
     def rates(self, impact_sets: Sequence[tuple[int, ...]]) -> tuple:
         """The exact rates after the impulses on ``impact_sets`` (from the run's left velocity)."""
-        if not self.available():
-            raise Undecided(self.unavailable)
-        system, v0 = self._exact
+        system, v0 = self._built()
         done, v = self._state if self._state is not None and self._state[0] <= len(impact_sets) else (0, v0)
         for J in impact_sets[done:]:
             I, _ = _impulse_from_rates(system, system.rates(v), J)
@@ -416,7 +442,7 @@ class _ExactRates:
             raise Undecided(f"{where}: {exc}") from None
         if not self.available():
             raise Undecided(f"{where}: {exc}") from None
-        exact_system = self._exact[0]
+        exact_system = self._built()[0]
         if exact_system.backend.sign(self.rates(impact_sets)[i]) == 0:
             return 0
         raise Undecided(f"{where}: {exc}; exact arithmetic finds it non-zero: more precision separates it from 0")
@@ -461,27 +487,22 @@ class _KnownRates:
         return getattr(self._system, name)
 
 
-def _over_budget(K: Any, v: tuple, budget: Budget | None, deadline: float | None) -> bool:
-    if budget is None:
-        return False
-    if budget.bits is not None and max(K.size(x) for x in v) > budget.bits:
-        return True
-    return deadline is not None and time.monotonic() > deadline
+def _largest_size(K: Backend, v: tuple) -> int:
+    return max(K.size(x) for x in v)
 
 
 def _iterate(
     system: System,
     v: tuple,
-    max_iterations: int,
+    limits: Limits,
     halts: list[Halt],
     trace: bool,
     *,
-    budget: Budget | None = None,
     progress: Callable[[int], None] | None = None,
     exact: _ExactRates | None = None,
-) -> dict:
+) -> Run:
     K = system.backend
-    deadline = time.monotonic() + budget.seconds if budget is not None and budget.seconds is not None else None
+    limits = limits.start()
     steps: list[Step] = []
     impact_sets: list[tuple[int, ...]] = []
     betas: list[Any] = []
@@ -500,11 +521,9 @@ def _iterate(
         if reason:
             stop, certificate = reason if isinstance(reason, tuple) else (reason, None)
             break
-        if len(impact_sets) >= max_iterations:
-            stop = "max_iterations"
-            break
-        if _over_budget(K, v, budget, deadline):
-            stop = "budget"
+        limit = limits.stop(len(impact_sets), partial(_largest_size, K, v))
+        if limit is not None:
+            stop = limit
             break
         I, bt = _impulse_from_rates(system, b, J)
         v = tuple(x + y for x, y in zip(v, I))
@@ -517,14 +536,7 @@ def _iterate(
         if J not in structures:
             structures[J] = _structure(couplings, J)
         b = _rates_after(system, v, b, J, structure=structures[J], minus_e=minus_e)
-    return {
-        "v": v,
-        "stop": stop,
-        "steps": steps,
-        "impact_sets": impact_sets,
-        "betas": betas,
-        "certificate": certificate,
-    }
+    return Run(v, stop, impact_sets, betas, tuple(steps), certificate)
 
 
 #: impulses on the rationals before a run without trace or stop tests moves to integers
@@ -532,27 +544,47 @@ def _iterate(
 FRACTION_FREE_AFTER = 3
 
 
-def _iterate_untraced(system: System, v: tuple, max_iterations: int, budget: Budget | None) -> dict:
+def _iterate_untraced(system: System, v: tuple, limits: Limits) -> Run:
     """:func:`_iterate` without trace or stop tests, on a rational backend: the first
-    impulses on the rationals, the rest of a long run over integers (same values)."""
-    started = time.monotonic()
-    first = min(max_iterations, FRACTION_FREE_AFTER)
-    out = _iterate(system, v, first, [], False, budget=budget)
-    if out["stop"] != "max_iterations" or first == max_iterations:
+    impulses on the rationals, the rest of a long run over integers (same values, same
+    deadline)."""
+    limits = limits.start()
+    first = min(limits.max_iterations, FRACTION_FREE_AFTER)
+    out = _iterate(system, v, limits.capped(first), [], False)
+    if out.stop != "max_iterations" or first == limits.max_iterations:
         return out
-    if budget is not None and budget.seconds is not None:
-        left = budget.seconds - (time.monotonic() - started)
-        if left <= 0:
-            return {**out, "stop": "budget"}
-        budget = Budget(seconds=left, bits=budget.bits)
-    rest = fraction_free.iterate(system, out["v"], max_iterations - first, budget=budget)
-    return {
-        **out,
-        "v": rest["v"],
-        "stop": rest["stop"],
-        "impact_sets": out["impact_sets"] + rest["impact_sets"],
-        "betas": out["betas"] + rest["betas"],
-    }
+    return out.then(fraction_free.iterate(system, out.v, limits.capped(limits.max_iterations - first)))
+
+
+def _run(
+    system: System,
+    v0: tuple,
+    limits: Limits,
+    halts: list[Halt],
+    *,
+    trace: bool,
+    progress: Callable[[int], None] | None,
+    exact: _ExactRates,
+) -> Run:
+    """One run at the system's backend: over integers when nothing is traced or tested."""
+    K = system.backend
+    if K.fraction_free and not trace and not halts and progress is None:
+        return _iterate_untraced(system, v0, limits)
+    checks = exact.at(limit=K.refined() is None) if K.refinable else None
+    return _iterate(system, v0, limits, halts, trace, progress=progress, exact=checks)
+
+
+def _no_convergence(K: Backend, exc: Undecided, exact: _ExactRates) -> NoConvergence:
+    """The error for a sign still undecided at the precision limit of ``K``, with the reason."""
+    why = (
+        "the inputs are exact: use the exact backend, which decides every sign"
+        if exact.available()
+        else f"the inputs cannot be computed exactly ({exact.unavailable}), so a value that is exactly "
+        "0 cannot be told from a tiny one: only the zeros that the structure of the impulses gives "
+        "(such as a COR of 0 at a single impact) are known on intervals. The input is valid: this is "
+        "a limit of the interval backend"
+    )
+    return NoConvergence(f"{K.describe()}: a sign stayed undecided at the precision limit ({exc}); {why}")
 
 
 def solve(
@@ -597,59 +629,37 @@ def solve(
     if not isinstance(max_iterations, int) or max_iterations < 0:
         raise InvalidSystem(f"max_iterations must be a non-negative integer, got {max_iterations!r}")
     system = _system_for_rule(system, rule)
+    limits = budget.limits(max_iterations) if budget is not None else Limits(max_iterations)
     notes: list[str] = []
     exact = _ExactRates(system, velocity)  # exact checks of undecided rates: built only if one is asked
     while True:
-        K = system.backend
         try:
-            if K.name == "exact":
-                system, v0 = _exact_backend_for_velocity(system, velocity)
-                K = system.backend
+            if system.backend.widens_to_inputs:
+                system, v0 = exact_backend_for_velocity(system, velocity)
             else:
                 v0 = system.velocity(velocity)
             halts = [h for h in (halt, non_termination_halt(system) if certify else None) if h is not None]
-            if K.fraction_free and not trace and not halts and progress is None:
-                out = _iterate_untraced(system, v0, max_iterations, budget)
-            else:
-                out = _iterate(
-                    system,
-                    v0,
-                    max_iterations,
-                    halts,
-                    trace,
-                    budget=budget,
-                    progress=progress,
-                    exact=exact.at(limit=K.refined() is None) if K.refinable else None,
-                )
+            out = _run(system, v0, limits, halts, trace=trace, progress=progress, exact=exact)
             break
         except Undecided as exc:
+            K = system.backend
             if not K.refinable:
                 raise
             finer = K.refined()
             if finer is None:
-                why = (
-                    "the inputs are exact: use the exact backend, which decides every sign"
-                    if exact.available()
-                    else f"the inputs cannot be computed exactly ({exact.unavailable}), so a value that is exactly "
-                    "0 cannot be told from a tiny one: only the zeros that the structure of the impulses gives "
-                    "(such as a COR of 0 at a single impact) are known on intervals. The input is valid: this is "
-                    "a limit of the interval backend"
-                )
-                raise NoConvergence(
-                    f"{K.describe()}: a sign stayed undecided at the precision limit ({exc}); {why}"
-                ) from None
+                raise _no_convergence(K, exc, exact) from None
             notes.append(f"precision raised from {K.dps} to {finer.dps} digits after an undecided sign")
             system = system.convert_to(finer)
     return Result(
         system=system,
         rule=rule,
         velocity_in=v0,
-        exit_velocity=out["v"],
-        stop=out["stop"],
-        steps=tuple(out["steps"]),
-        impact_sets=out["impact_sets"],
-        betas=out["betas"],
+        exit_velocity=out.v,
+        stop=out.stop,
+        steps=out.steps,
+        impact_sets=out.impact_sets,
+        betas=out.betas,
         max_iterations=max_iterations,
         notes=tuple(notes),
-        certificate=out["certificate"],
+        certificate=out.certificate,
     )

@@ -7,7 +7,7 @@ constraint. The admissible side of S_i is ``F_i >= 0``, so an absolute velocity 
 components ``v`` is incoming for S_i (an impact) iff ``p(F_i) = dF_i/dt + dF_i . v < 0``
 (eq. 2).
 
-Every number is parsed exactly once (:func:`verify.core.numbers.to_number`), validated, and
+Every number is parsed exactly once (:func:`verify.core.parse.to_number`), validated, and
 converted into the backend ``K`` that the rule computes with. Derived quantities that do
 not depend on the velocity are computed once here:
 
@@ -28,15 +28,23 @@ from collections.abc import Sequence
 from fractions import Fraction
 from typing import Any
 
-from verify.core.backends import Backend, RationalBackend, exact_for, get_backend
+from verify.core.backends import Backend, exact_for, get_backend
+from verify.core.format import format_exact
 from verify.core.linalg import NotPositiveDefinite, dot, ldl, matvec, solve_spd
-from verify.core.numbers import Number, format_exact, to_number
 from verify.core.numeric import certified_sign
+from verify.core.parse import Number, to_number
 from verify.errors import BadNumber, InvalidSystem, Undecided
 
 
-def _is_exact_zero(K: Backend, x: Any) -> bool:
-    """Whether ``x`` is exactly 0 (an undecidable sign counts as non-zero)."""
+def known_zero(K: Backend, x: Any) -> bool:
+    """Whether ``x`` is known to be exactly 0 on ``K`` (an undecidable sign counts as non-zero).
+
+    >>> from verify.core.backends import get_backend
+    >>> K = get_backend("interval")
+    >>> third = K.convert(Fraction(1, 3))
+    >>> known_zero(K, K.zero), known_zero(K, K.one - third - third - third)
+    (True, False)
+    """
     try:
         return K.sign(x) == 0
     except Undecided:
@@ -44,7 +52,7 @@ def _is_exact_zero(K: Backend, x: Any) -> bool:
 
 
 def _nonzero(K: Backend, row: Sequence[Any]) -> tuple:
-    return tuple((k, x) for k, x in enumerate(row) if not _is_exact_zero(K, x))
+    return tuple((k, x) for k, x in enumerate(row) if not known_zero(K, x))
 
 
 def _sparse_dot(K: Backend, sparse_row: Sequence[tuple[int, Any]], v: Sequence[Any]) -> Any:
@@ -60,9 +68,7 @@ def _equal(a: Number, b: Number) -> bool:
         return True
     if isinstance(a, Fraction) and isinstance(b, Fraction):
         return False
-    from verify.core.numbers import _to_sympy
-
-    return certified_sign(_to_sympy(a) - _to_sympy(b)) == 0
+    return certified_sign(a - b) == 0  # a SymPy number among them: SymPy takes the Fraction exactly
 
 
 def _exact_backend(g: list[list], a: list[list], e: list, c: list) -> Backend:
@@ -132,6 +138,68 @@ def _at_configuration(matrix: Any, subs: dict[Any, Any]) -> Any:
     ]
 
 
+def _check_functions(
+    functions: Sequence[Any], coords: list[Any], subs: dict[Any, Any], time: Any, mass_matrix: Any
+) -> None:
+    """The checks of :meth:`System.from_functions`: every coordinate has a value, every function
+    is a SymPy expression in known symbols, and the time has a value when something uses it."""
+    import sympy as sp
+
+    missing = [str(q) for q in coords if q not in subs]
+    if missing:
+        raise InvalidSystem(f"configuration: no value for {', '.join(missing)}")
+    for i, F in enumerate(functions):
+        if not isinstance(F, sp.Basic):  # never sympify text: it would be evaluated
+            raise InvalidSystem(f"functions[{i}]: expected a SymPy expression, got {type(F).__name__}")
+    known = set(coords) | set(subs) | ({time} if time is not None else set())
+    for i, F in enumerate(functions):
+        unknown = sorted(str(s) for s in F.free_symbols - known)
+        if unknown:
+            raise InvalidSystem(
+                f"functions[{i}] = {F} depends on {', '.join(unknown)}, which is not a coordinate, not the "
+                "time (pass time=...) and has no value in the configuration"
+            )
+    if time is not None and time not in subs:
+        users = [f"functions[{i}]" for i, F in enumerate(functions) if time in F.free_symbols]
+        users += [w for w, x in _sympy_entries(mass_matrix) if time in x.free_symbols]
+        if users:
+            raise InvalidSystem(
+                f"configuration: no value for the time {time}, on which {', '.join(users)} depends "
+                f"(give the instant of the impact, e.g. {{{time}: 0}})"
+            )
+
+
+def _contacts(
+    functions: Sequence[Any],
+    coords: list[Any],
+    subs: dict[Any, Any],
+    *,
+    time: Any,
+    names: list[str],
+    restitution: Sequence[Any],
+) -> tuple[list[str], list[list[Number]], list[Number], list[Any]]:
+    """Step a) of Sect. 3.5 for :meth:`System.from_functions`: the names, normals ``dF_i``, time
+    terms ``dF_i/dt`` and CORs of the functions that are 0 at the configuration (exactly)."""
+    import sympy as sp
+
+    kept: list[str] = []
+    normals: list[list[Number]] = []
+    time_terms: list[Number] = []
+    cors: list[Any] = []
+    for i, F in enumerate(functions):
+        if sp.simplify(F.subs(subs)) != 0:
+            continue
+        kept.append(names[i])
+        gradient = [sp.simplify(sp.diff(F, q).subs(subs)) for q in coords]
+        normals.append([to_number(d, where=f"d{names[i]}/d{q}") for d, q in zip(gradient, coords)])
+        dt = sp.diff(F, time).subs(subs) if time is not None else sp.Integer(0)
+        time_terms.append(to_number(sp.simplify(dt), where=f"d{names[i]}/dt"))
+        cors.append(restitution[i])
+    if not kept:
+        raise InvalidSystem("from_functions: no constraint is in contact at this configuration")
+    return kept, normals, time_terms, cors
+
+
 def _check_vector(values: Any, length: int | None, field: str) -> list:
     if type(values) not in (list, tuple) and (isinstance(values, (str, bytes)) or not isinstance(values, Sequence)):
         raise InvalidSystem(f"{field}: expected a list of numbers, got {type(values).__name__}")
@@ -156,8 +224,8 @@ class System:
 
     __slots__ = (
         "U",
+        "__weakref__",
         "_energy_terms",
-        "_fraction_free",
         "_inverse_gram_diag",
         "_minus_one_plus_e",
         "_moving",
@@ -226,7 +294,7 @@ class System:
             "time_terms": tuple(c),
             "restitution": tuple(e),
         }
-        if backend == "exact" and isinstance(K, RationalBackend):
+        if backend == "exact" and K.widens_to_inputs:
             K = _exact_backend(g, a, e, c)  # algebraic inputs: exact too
         self.backend, self.n, self.r = K, n, r
         self._derive()
@@ -239,7 +307,6 @@ class System:
     def _derive(self) -> None:
         """Convert the source numbers into the backend and compute U, G and H."""
         K, src = self.backend, self.source
-        self._fraction_free = None  # the integer constants of verify.core.engines.integer, made when first needed
         self.g = tuple(tuple(K.convert(x) for x in row) for row in src["mass_matrix"])
         self.normals = tuple(tuple(K.convert(x) for x in row) for row in src["normals"])
         self.time_terms = tuple(K.convert(x) for x in src["time_terms"])
@@ -249,7 +316,7 @@ class System:
                 raise InvalidSystem(f"normals[{i}] is zero: a constraint needs a non-zero gradient")
         self._sparse_normals = tuple(_nonzero(K, row) for row in self.normals)
         n = self.n
-        diagonal = all(_is_exact_zero(K, self.g[i][j]) for i in range(n) for j in range(n) if i != j)
+        diagonal = all(known_zero(K, self.g[i][j]) for i in range(n) for j in range(n) if i != j)
         if diagonal:  # U_i = dF_i / diag(g), entry by entry, on the non-zero pattern of dF_i
             for i in range(n):
                 if K.sign(self.g[i][i]) <= 0:
@@ -287,7 +354,7 @@ class System:
             (i, j, half * self.g[i][j] if i == j else self.g[i][j])
             for i in range(self.n)
             for j in range(i, self.n)
-            if not _is_exact_zero(K, self.g[i][j])
+            if not known_zero(K, self.g[i][j])
         )
         self._moving = not all(K.sign(ci) == 0 for ci in self.time_terms)
         if not self._moving:
@@ -295,6 +362,31 @@ class System:
         else:
             mu = solve_spd(K, gram_factors, self.time_terms)
             self.rest_frame = tuple(K.zero - dot(K, mu, [u[k] for u in self.U]) for k in range(self.n))
+
+    # -- the constants of eq. (8), computed once (read-only) -------------------------------
+    @property
+    def minus_one_plus_e(self) -> tuple[Any, ...]:
+        """``-(1 + e_j)`` for every constraint j (the factor of every impulse, eq. 8)."""
+        return self._minus_one_plus_e
+
+    @property
+    def inverse_gram_diag(self) -> tuple[Any, ...]:
+        """``1 / G_jj`` for every constraint j (``lambda_j = p(F_j) / G_jj``)."""
+        return self._inverse_gram_diag
+
+    @property
+    def single_coefficient(self) -> tuple[Any, ...]:
+        """``-(1 + e_j) / G_jj``: a single impact on j is ``single_coefficient[j] p(F_j) U_j`` (eq. 4).
+
+        >>> [str(x) for x in System([[2, 0], [0, 1]], [[1, 0]], ["1/2"]).single_coefficient]
+        ['-3']
+        """
+        return self._single_coefficient
+
+    @property
+    def moving(self) -> bool:
+        """Whether some constraint moves (a time term ``dF_i/dt`` is not 0)."""
+        return self._moving
 
     def _not_positive_definite(self, index: int, pivot: Any) -> None:
         raise InvalidSystem(
@@ -417,49 +509,16 @@ class System:
         >>> [format_exact(x) for x in s.source["mass_matrix"][0]], [format_exact(c) for c in s.time_terms]
         (['2', '0'], ['-1'])
         """
-        import sympy as sp
-
         coords = list(coordinates)
         names = list(names) if names is not None else [f"F{i + 1}" for i in range(len(functions))]
         if len(names) != len(functions) or len(restitution) != len(functions):
             raise InvalidSystem("from_functions: names and restitution need one entry per function")
         subs = dict(configuration)
-        missing = [str(q) for q in coords if q not in subs]
-        if missing:
-            raise InvalidSystem(f"configuration: no value for {', '.join(missing)}")
-        for i, F in enumerate(functions):
-            if not isinstance(F, sp.Basic):  # never sympify text: it would be evaluated
-                raise InvalidSystem(f"functions[{i}]: expected a SymPy expression, got {type(F).__name__}")
-        known = set(coords) | set(subs) | ({time} if time is not None else set())
-        for i, F in enumerate(functions):
-            unknown = sorted(str(s) for s in F.free_symbols - known)
-            if unknown:
-                raise InvalidSystem(
-                    f"functions[{i}] = {F} depends on {', '.join(unknown)}, which is not a coordinate, not the "
-                    "time (pass time=...) and has no value in the configuration"
-                )
-        if time is not None and time not in subs:
-            users = [f"functions[{i}]" for i, F in enumerate(functions) if time in F.free_symbols]
-            users += [w for w, x in _sympy_entries(mass_matrix) if time in x.free_symbols]
-            if users:
-                raise InvalidSystem(
-                    f"configuration: no value for the time {time}, on which {', '.join(users)} depends "
-                    f"(give the instant of the impact, e.g. {{{time}: 0}})"
-                )
+        _check_functions(functions, coords, subs, time, mass_matrix)
         g = _at_configuration(mass_matrix, subs)
-        kept, normals, time_terms, cors = [], [], [], []
-        for i, F in enumerate(functions):
-            at_contact = sp.simplify(F.subs(subs))
-            if at_contact != 0:
-                continue
-            kept.append(names[i])
-            gradient = [sp.simplify(sp.diff(F, q).subs(subs)) for q in coords]
-            normals.append([to_number(d, where=f"d{names[i]}/d{q}") for d, q in zip(gradient, coords)])
-            dt = sp.diff(F, time).subs(subs) if time is not None else sp.Integer(0)
-            time_terms.append(to_number(sp.simplify(dt), where=f"d{names[i]}/dt"))
-            cors.append(restitution[i])
-        if not kept:
-            raise InvalidSystem("from_functions: no constraint is in contact at this configuration")
+        kept, normals, time_terms, cors = _contacts(
+            functions, coords, subs, time=time, names=names, restitution=restitution
+        )
         return cls(
             g,
             normals,

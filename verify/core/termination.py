@@ -85,14 +85,16 @@ def _lambda(system: System, cc: Any) -> Any:
     if source[0] == source[1]:  # the same COR (compared exactly, before conversion)
         return half
     # lam in [sqrt(e_1/cc), 1 - sqrt(e_0/cc)] (for phase 0) found by bisection, from rationals:
-    if K.is_exact and hasattr(K, "impl"):  # exact rationals
+    if K.rationals:
         c = K.to_number(cc)
         e0, e1 = K.to_number(e[0]), K.to_number(e[1])
-    elif K.enclosure(K.one) is not None and all(isinstance(x, Fraction) for x in source):
+    elif K.encloses and all(isinstance(x, Fraction) for x in source):
         # certified intervals with rational CORs: a lower bound of cc (lam^2 lo >= t then holds
         # for cc too); the cone conditions are verified afterwards, so lam cannot make them unsound
-        lo, _ = (Fraction(x) for x in K.enclosure(cc, 40))
-        c, (e0, e1) = lo, source
+        bounds = K.enclosure(cc, 40)
+        if bounds is None:
+            return half
+        c, (e0, e1) = Fraction(bounds[0]), source
     else:
         return half  # a parameter or approximate backend: try the symmetric weight only
     if c <= 0:
@@ -143,7 +145,7 @@ def cone_certificate(
 
     Returns None when the cones above do not apply (more than two constraints, G_01 >= 0,
     conditions that fail). On a parameter backend the conditions are decided for the whole
-    parameter range, or a :class:`~verify.core.symbolic.Split` is raised where they change.
+    parameter range, or a :class:`~verify.core.backends.symbolic.Split` is raised where they change.
     ``mu`` passes :func:`cone_parameters` when it is already known.
     """
     mu = cone_parameters(system, phase) if mu is None else mu

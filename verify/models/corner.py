@@ -14,8 +14,11 @@ cos(pi/12) = (sqrt(6) + sqrt(2))/4) and the run is exact in their number field; 
 whose tangent or cosine is not algebraic (alpha = 3/10 radians) runs on certified intervals
 instead, and the result says so.
 
-:func:`paper_step` is an independent implementation of eq. (10), with the paper's closed
-forms for V_1, V_2 and beta; the tests check the general engine against it.
+:func:`paper_run` is an independent implementation of eq. (10), with the paper's closed
+forms for V_1, V_2 and beta, in whatever numbers it is given: the tests check the general
+engine against it on Fractions, the float check (:mod:`verify.checks.paper.float_check`)
+and the benchmark (:mod:`verify.checks.bench`) run it on floats. :func:`corner_geometry` is
+the one description of the corner's mass matrix and walls.
 
 >>> r = run_corner(alpha="pi/6", phi="pi/12", eps1="0.999", eps2="0.001")
 >>> r.zones, r.result.iterations, r.result.backend.describe()[:18]
@@ -29,8 +32,8 @@ from fractions import Fraction
 from typing import Any
 
 from verify.core.backends import Backend, get_backend
-from verify.core.numbers import Number, to_number
 from verify.core.numeric import certified_sign
+from verify.core.parse import Number, to_number
 from verify.core.rule import DEFAULT_MAX_ITERATIONS, Result, solve
 from verify.core.system import System
 from verify.errors import InvalidInput, InvalidSystem
@@ -88,6 +91,19 @@ def velocity_of(phi: Any, v0: Any = "100") -> list[Number]:
     return [to_number(sp.expand(s_expr * sp.cos(p_expr))), to_number(sp.expand(s_expr * sp.sin(p_expr))), Fraction(0)]
 
 
+def corner_geometry(k: Any) -> tuple[list[list[Fraction]], list[list[Any]]]:
+    """The corner of slope ``k`` in coordinates (x, y, theta): the unit mass matrix and the
+    normals (-k, 1, 0) of S1 and (-k, -1, 0) of S2, as exact numbers (``k`` as given).
+
+    >>> g, normals = corner_geometry(Fraction(1, 2))
+    >>> [[str(a) for a in row] for row in normals], [str(x) for x in g[2]]
+    ([['-1/2', '1', '0'], ['-1/2', '-1', '0']], ['0', '0', '1'])
+    """
+    one, zero = Fraction(1), Fraction(0)
+    g = [[one if i == j else zero for j in range(3)] for i in range(3)]
+    return g, [[-k, one, zero], [-k, -one, zero]]
+
+
 def corner_system(
     slope: Any, eps1: Any, eps2: Any, *, backend: str | Backend = "exact", dps: int | None = None
 ) -> System:
@@ -97,11 +113,10 @@ def corner_system(
     >>> [[str(a) for a in row] for row in s.normals]
     [['-1/2', '1', '0'], ['-1/2', '-1', '0']]
     """
-    k = to_number(slope, where="slope")
-    minus_k = -k
+    mass_matrix, normals = corner_geometry(to_number(slope, where="slope"))
     return System(
-        [[1, 0, 0], [0, 1, 0], [0, 0, 1]],
-        [[minus_k, 1, 0], [minus_k, -1, 0]],
+        mass_matrix,
+        normals,
         [eps1, eps2],
         backend=backend,
         dps=dps,
@@ -178,40 +193,63 @@ def run_corner(
 # -- the paper's own formulas (eq. 10), written independently of the engine -----------------
 
 
-def paper_step(k: Any, xd: Any, yd: Any, e1: Any, e2: Any) -> tuple[str, Any, Any, Any]:
-    """One step of eq. (10) with the paper's closed forms: (zone, beta or None, new xd, new yd).
-
-    Works on any numbers with + - * / and comparisons (Fractions, SymPy numbers).
-    """
-    s1 = k * xd - yd  # p in Z1 when s1 > 0
-    s2 = k * xd + yd
-    z = ZONES[(s1 > 0, s2 > 0)]
-    one = k * 0 + 1
-    d = one + k * k
-    V1 = (k / d * s1, -one / d * s1)
-    V2 = (k / d * s2, one / d * s2)
-    if z == "Z0":
-        return z, None, xd, yd
-    if z == "Z1":
-        return z, None, xd - (1 + e1) * V1[0], yd - (1 + e1) * V1[1]
-    if z == "Z2":
-        return z, None, xd - (1 + e2) * V2[0], yd - (1 + e2) * V2[1]
-    beta = d / 2 * (k * k * xd * xd + yd * yd) / (k**4 * xd * xd + yd * yd)
-    return (
-        z,
-        beta,
-        xd - beta * ((1 + e1) * V1[0] + (1 + e2) * V2[0]),
-        yd - beta * ((1 + e1) * V1[1] + (1 + e2) * V2[1]),
-    )
-
-
 def paper_run(k: Any, xd: Any, yd: Any, e1: Any, e2: Any, *, max_iterations: int = 1000) -> tuple[list[str], Any, Any]:
-    """Iterate :func:`paper_step` until Z0: (zones, xd, yd)."""
-    zones = []
-    for _ in range(max_iterations + 1):
-        z, _beta, nx, ny = paper_step(k, xd, yd, e1, e2)
-        zones.append(z)
-        if z == "Z0":
+    """Eq. (10) with the paper's closed forms, iterated: (zones, xd, yd).
+
+    One zone per impulse, then ``"Z0"`` when the velocity leaves within ``max_iterations``
+    impulses (the zones of :func:`zones_of`); ``(xd, yd)`` is the velocity after the last
+    impulse. Works on any numbers with + - * / and comparisons (Fractions, floats, SymPy
+    numbers), with the same operations in the same order on each: the benchmark times it
+    on Fractions and on floats as the plain baseline, so it stays a plain loop.
+
+    >>> paper_run(Fraction(1, 2), Fraction(2), Fraction(0), Fraction(0), Fraction(1))
+    (['Z12', 'Z1', 'Z0'], Fraction(-8, 5), Fraction(-4, 5))
+    >>> paper_run(0.5, 2.0, 0.0, 0.0, 1.0, max_iterations=1)[0]
+    ['Z12']
+    """
+    one = k * 0 + 1
+    d = one + k * k  # 1 + k^2
+    k2, k4, half_d = k * k, k**4, d / 2
+    kd, minus_one_d, one_d = k / d, -one / d, one / d  # V_1 = (k, -1) s1 / d, V_2 = (k, 1) s2 / d
+    f1, f2 = 1 + e1, 1 + e2
+    zones: list[str] = []
+    for impulses in range(max_iterations + 1):
+        s1 = k * xd - yd  # -p(F_1): S1 is hit when s1 > 0
+        s2 = k * xd + yd  # -p(F_2)
+        h1, h2 = s1 > 0, s2 > 0
+        if not (h1 or h2):
+            zones.append("Z0")
             break
-        xd, yd = nx, ny
+        if impulses == max_iterations:
+            break
+        if h1 and h2:
+            y2 = yd * yd
+            beta = half_d * (k2 * xd * xd + y2) / (k4 * xd * xd + y2)
+            xd, yd = (
+                xd - beta * (f1 * (kd * s1) + f2 * (kd * s2)),
+                yd - beta * (f1 * (minus_one_d * s1) + f2 * (one_d * s2)),
+            )
+            zones.append("Z12")
+        elif h1:
+            xd, yd = xd - f1 * (kd * s1), yd - f1 * (minus_one_d * s1)
+            zones.append("Z1")
+        else:
+            xd, yd = xd - f2 * (kd * s2), yd - f2 * (one_d * s2)
+            zones.append("Z2")
     return zones, xd, yd
+
+
+def corner_batch(slopes: list[Any], velocities: list[Any], cors: list[Any]) -> Any:
+    """A float batch (:func:`verify.core.engines.floats.systems_batch`) of disks in corners: per
+    case the slope k, the velocity (xd, yd) and the CORs (eps1, eps2), exact rationals.
+
+    >>> from verify.core.engines.floats import solve_batch
+    >>> F = Fraction
+    >>> out = solve_batch(corner_batch([F(1, 2), F(1)], [[2, 0], [1, F(1, 2)]], [[0, 1], [F(1, 2), 0]]))
+    >>> out.impact_sets(0), out.stop[0], out.fallback.tolist()
+    ([(0, 1), (0,)], 'exit', [False, True])
+    """
+    from verify.core.engines.floats import systems_batch
+
+    systems = [corner_system(k, e[0], e[1]) for k, e in zip(slopes, cors)]
+    return systems_batch(systems, [[v[0], v[1], 0] for v in velocities])

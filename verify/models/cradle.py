@@ -23,7 +23,7 @@ from fractions import Fraction
 from typing import Any
 
 from verify.core.backends import Backend
-from verify.core.numbers import to_number
+from verify.core.parse import to_number
 from verify.core.rule import DEFAULT_MAX_ITERATIONS, Result, solve
 from verify.core.system import System
 from verify.errors import InvalidSystem
@@ -60,6 +60,21 @@ def _check_balls(balls: int) -> None:
         raise InvalidSystem(f"balls must be an integer >= 2, got {balls!r}")
 
 
+def cradle_geometry(masses: Sequence[Any]) -> tuple[list[list[Any]], list[list[Fraction]]]:
+    """The cradle of ``len(masses)`` balls in reduced coordinates: the diagonal mass matrix of
+    ``masses`` (as given) and the normals ``e_(i+1) - e_i`` of the contacts, as exact numbers.
+
+    >>> g, normals = cradle_geometry([Fraction(1), Fraction(2), Fraction(1)])
+    >>> [str(x) for x in g[1]], [[str(a) for a in row] for row in normals]
+    (['0', '2', '0'], [['-1', '1', '0'], ['0', '-1', '1']])
+    """
+    balls = len(masses)
+    zero, one = Fraction(0), Fraction(1)
+    g = [[masses[i] if i == j else zero for j in range(balls)] for i in range(balls)]
+    normals = [[-one if k == i else one if k == i + 1 else zero for k in range(balls)] for i in range(balls - 1)]
+    return g, normals
+
+
 def cradle_system(
     eps: Any,
     balls: int = 3,
@@ -75,9 +90,7 @@ def cradle_system(
     (('S(1,2)', 'S(2,3)'), [['-1', '1', '0'], ['0', '-1', '1']])
     """
     _check_balls(balls)
-    m = _masses(masses, balls)
-    g = [[m[i] if i == j else 0 for j in range(balls)] for i in range(balls)]
-    normals = [[(-1 if k == i else 1 if k == i + 1 else 0) for k in range(balls)] for i in range(balls - 1)]
+    g, normals = cradle_geometry(_masses(masses, balls))
     return System(
         g,
         normals,
@@ -149,6 +162,25 @@ def cradle_velocity(balls: int, v0: Any = "100", velocity: Sequence[Any] | None 
             raise InvalidSystem(f"velocity: expected {balls} components, got {len(velocity)}")
         return list(velocity)
     return [v0] + [0] * (balls - 1)
+
+
+def cradle_balls(balls: int | None, masses: Sequence[Any] | None, velocity: Sequence[Any] | None) -> int:
+    """The number of balls: ``balls`` when given, else the length shared by ``masses`` and ``velocity``
+    (those given), else 3. A list of another length raises :class:`InvalidSystem` naming it.
+
+    >>> cradle_balls(None, ["1", "2", "1", "2"], None)
+    4
+    >>> cradle_balls(None, ["1", "2"], ["1", "0", "0"])
+    Traceback (most recent call last):
+    verify.errors.InvalidSystem: masses has 2 entries but there are 3 balls
+    """
+    inferred = {len(x) for x in (masses, velocity) if x is not None}
+    if balls is None:
+        balls = inferred.pop() if len(inferred) == 1 else 3
+    for name, values in (("masses", masses), ("velocity", velocity)):
+        if values is not None and len(values) != balls:
+            raise InvalidSystem(f"{name} has {len(values)} entries but there are {balls} balls")
+    return balls
 
 
 def run_cradle(

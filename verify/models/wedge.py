@@ -20,7 +20,7 @@ from __future__ import annotations
 from fractions import Fraction
 from typing import Any
 
-from verify.core.numbers import format_exact
+from verify.core.format import format_exact
 
 
 def symmetric_boundary() -> tuple[Any, Any]:

@@ -17,10 +17,11 @@ and any run carries ``notes`` when there is something to say (precision raised).
 from __future__ import annotations
 
 import json
+from collections.abc import Sequence
 from dataclasses import dataclass
 from typing import Any
 
-from verify.core.rule import Result
+from verify.core.rule import DEFAULT_MAX_ITERATIONS, Result
 from verify.errors import InvalidInput
 
 DECIMAL_DIGITS = 30
@@ -58,12 +59,23 @@ def result_record(result: Result, case_id: str, *, digits: int = DECIMAL_DIGITS)
         "backend": K.describe(),
         "rigorous": K.is_rigorous,
     }
-    if K.enclosure(K.one) is not None:
+    if K.encloses:
         record["exit_velocity_enclosure"] = [list(K.enclosure(x, digits)) for x in result.exit_velocity]
     if result.notes:
         record["notes"] = list(result.notes)
     if result.certificate is not None:
         record["certificate"] = result.certificate
+    return record
+
+
+def corner_record(run: Any, case_id: str = "corner") -> dict[str, Any]:
+    """The result record of a corner run (:class:`verify.models.corner.CornerRun`) with the zones
+    visited, whether multiple impacts repeat, and the run's notes (``verify corner --json``)."""
+    record = result_record(run.result, case_id)
+    record["zones"] = run.zones
+    record["repeated_multiple_impacts"] = run.repeated_multiple_impacts
+    if run.notes:
+        record["notes"] = run.notes
     return record
 
 
@@ -76,12 +88,42 @@ def dumps(obj: Any) -> str:
 
 CASE_FIELDS = {"id", "mass_matrix", "normals", "time_terms", "restitution", "velocity", "max_iterations"}
 REQUIRED_FIELDS = ("id", "mass_matrix", "normals", "restitution", "velocity")
-MAX_FILE_BYTES = 64 * 1024 * 1024
 
 
-def _prefixed(where: str, exc: Exception) -> InvalidInput:
+def case_record(
+    case_id: str,
+    mass_matrix: Sequence[Sequence[Any]],
+    normals: Sequence[Sequence[Any]],
+    restitution: Sequence[Any],
+    velocity: Sequence[Any],
+    *,
+    time_terms: Sequence[Any] | None = None,
+    max_iterations: int = DEFAULT_MAX_ITERATIONS,
+) -> dict[str, Any]:
+    """The case record (contracts) of a system's exact inputs and a velocity: every number as
+    its exact string, the time terms 0 unless given. The one place that writes case records.
+
+    >>> from fractions import Fraction
+    >>> r = case_record("a", [[1]], [[1]], [Fraction(1, 2)], [-2], max_iterations=5)
+    >>> r["time_terms"], r["restitution"], r["velocity"], r["max_iterations"]
+    (['0'], ['1/2'], ['-2'], 5)
+    """
+    from verify.core.format import format_exact
+
+    return {
+        "id": case_id,
+        "mass_matrix": [[format_exact(x) for x in row] for row in mass_matrix],
+        "normals": [[format_exact(x) for x in row] for row in normals],
+        "time_terms": [format_exact(x) for x in (time_terms if time_terms is not None else [0] * len(normals))],
+        "restitution": [format_exact(x) for x in restitution],
+        "velocity": [format_exact(x) for x in velocity],
+        "max_iterations": max_iterations,
+    }
+
+
+def _prefixed(where: str, exc: InvalidInput) -> InvalidInput:
     text = str(exc)
-    return type(exc)(f"{where}.{text}") if not text.startswith(where) else exc  # type: ignore[call-arg]
+    return type(exc)(f"{where}.{text}") if not text.startswith(where) else exc
 
 
 def case_from_record(record: Any, where: str = "case", *, backend: Any = "exact", dps: int | None = None) -> Case:
@@ -92,7 +134,6 @@ def case_from_record(record: Any, where: str = "case", *, backend: Any = "exact"
     >>> c.id, c.max_iterations
     ('a', 10000)
     """
-    from verify.core.rule import DEFAULT_MAX_ITERATIONS
     from verify.core.system import System
 
     if not isinstance(record, dict):
@@ -118,10 +159,10 @@ def case_from_record(record: Any, where: str = "case", *, backend: Any = "exact"
             backend=backend,
             dps=dps,
         )
-        if system.backend.name == "exact":  # a velocity outside the field of the system widens it
-            from verify.core.rule import _exact_backend_for_velocity
+        if system.backend.widens_to_inputs:  # a velocity outside the field of the system widens it
+            from verify.core.rule import exact_backend_for_velocity
 
-            system, velocity = _exact_backend_for_velocity(system, record["velocity"])
+            system, velocity = exact_backend_for_velocity(system, record["velocity"])
         else:
             velocity = system.velocity(record["velocity"])
     except InvalidInput as exc:
@@ -131,38 +172,12 @@ def case_from_record(record: Any, where: str = "case", *, backend: Any = "exact"
 
 def load_cases(path: str, *, backend: Any = "exact", dps: int | None = None) -> list[Case]:
     """Read a case file ``{"cases": [...]}``; every error names the file, case and field."""
-    import os
-
-    try:
-        size = os.path.getsize(path)
-    except OSError as exc:
-        raise InvalidInput(f"{path}: cannot read ({exc.strerror})") from None
-    if size > MAX_FILE_BYTES:
-        raise InvalidInput(f"{path}: larger than {MAX_FILE_BYTES} bytes")
-    try:
-        with open(path, encoding="utf-8") as fh:
-            data = json.load(fh, parse_float=BareJSONNumber, parse_constant=_reject_constant)
-    except (UnicodeDecodeError, json.JSONDecodeError) as exc:
-        raise InvalidInput(f"{path}: not valid JSON ({exc})") from None
-    except RecursionError:
-        raise InvalidInput(f"{path}: nested too deeply") from None
+    from verify.records.files import load_json
     from verify.records.schema import validate
+
+    data = load_json(path, path=path)
 
     if not isinstance(data, dict) or not isinstance(data.get("cases"), list):
         raise InvalidInput(f'{path}: expected an object {{"cases": [...]}}')
     validate(data, "case")
     return [case_from_record(c, f"cases[{i}]", backend=backend, dps=dps) for i, c in enumerate(data["cases"])]
-
-
-class BareJSONNumber:
-    """A JSON number with a fraction or exponent (``0.5``): kept as text so that the field that
-    holds it can be named in the error; numbers must be strings (contracts)."""
-
-    __slots__ = ("json_number_text",)
-
-    def __init__(self, text: str):
-        self.json_number_text = text
-
-
-def _reject_constant(text: str) -> Any:
-    raise InvalidInput(f"{text} is not a number")

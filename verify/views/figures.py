@@ -24,7 +24,9 @@ def _pyplot() -> Any:
 
 def _x(a: Any) -> float:
     """A plotting coordinate for an exact endpoint (display only: the map itself is exact)."""
-    return float(a.decimal(17))
+    from verify.core.format import format_decimal
+
+    return float(format_decimal(a, 17))
 
 
 def _unexplored_kind(part: Any) -> str:
@@ -34,7 +36,7 @@ def _unexplored_kind(part: Any) -> str:
 
 
 #: how each kind of part is drawn (the staircase's legend shows the same styles)
-_UNEXPLORED_STYLE = {
+_UNEXPLORED_STYLE: dict[str, dict[str, Any]] = {
     "exits_later": {"facecolor": "0.6", "alpha": 0.3, "hatch": "//"},
     "undecided": {"facecolor": "0.85", "alpha": 0.6, "hatch": "xx"},
 }
@@ -366,7 +368,7 @@ def wedge_boundary(path: str | Path, *, executor: Any = None, workers: int | Non
     _, alpha_star = symmetric_boundary()
     eps = sp.Symbol("eps", positive=True)
     curve = sp.lambdify(eps, alpha_star, "math")
-    cases = []
+    cases: list[dict[str, Any]] = []
     for i in range(1, n):
         for j in range(1, n):
             a = f"{j}*pi/{4 * n}"  # (0, pi/4)

@@ -6,111 +6,52 @@ one. Output is deterministic (fixed seeds, derandomised Hypothesis, no timestamp
 metadata stripped): writing twice gives the same bytes. Pages are written whole to
 temporary names and renamed at the end, so an interrupted run leaves the old reports.
 
+Each page is a function of what it shows (``table1_page(table)``, ...). :data:`PAGES` calls
+each with the output folder and the :class:`Findings`, which computes each topic once,
+when its page first asks for it (the summary of ``verify all`` reads the same findings).
+
 >>> [name for name, _ in PAGES][:2]
 ['table1.md', 'cradle-map.md']
 """
 
 from __future__ import annotations
 
-import os
 from collections.abc import Callable
+from dataclasses import dataclass
 from fractions import Fraction
+from functools import cached_property
 from pathlib import Path
 from typing import Any
 
 CORNER_CASES = 2000
+#: the paper's corner example (Sect. 4.2), as given to ``verify corner``
+CORNER_EXAMPLE: dict[str, Any] = {
+    "alpha": "pi/6", "slope": None, "phi": "pi/12", "v0": "100", "eps1": "0.999", "eps2": "0.001"
+}
 
 
 def _block(text: str) -> str:
     return "```text\n" + text.rstrip("\n") + "\n```\n"
 
 
-def _page_table1(out: Path, ctx: dict) -> str:
-    from verify.checks.paper.table1 import table1
-    from verify.views.text import table1_text
+@dataclass
+class OracleFindings:
+    """The golden dataset, its self-check, and the worked example's comparison (None outside a checkout)."""
 
-    ctx["table1"] = table = table1()
-    return (
-        "# Table 1: Newton's cradle (Sect. 4.1)\n\n"
-        "The paper's Table 1 beside the exact results and the paper-mode results (the paper's own termination: a\n"
-        "cap of 10^4 impulses and the AEEV stop). Every printed entry is marked as agreeing or not, with the\n"
-        "reason. Command: `verify table1` (`--json` for exact values).\n\n" + _block(table1_text(table))
-    )
+    cases: list[dict[str, Any]]
+    results: list[dict[str, Any]]
+    skipped: int
+    self_check: Any
+    example: Any = None
 
 
-def _page_cradle_map(out: Path, ctx: dict) -> str:
-    from verify.checks.paper.cradle_map import aeev_rows_explained, approach_counts, cradle_map, termination_boundaries
-    from verify.views.figures import cradle_staircase
-    from verify.views.text import cradle_map_text
-
-    ctx["cradle_map"] = cmap = cradle_map(max_impulses=40)
-    bounds = termination_boundaries(cmap)
-    approach = approach_counts(bounds[0], range(2, 7)) if bounds else []
-    cradle_staircase(cmap, out / "cradle-staircase.png")
-    return (
-        "# The cradle for every eps in [0, 1]\n\n"
-        "eps runs as a symbol; the interval is cut at the exact roots wherever a sign changes. Thresholds are\n"
-        "exact algebraic numbers (with decimals); the termination boundary comes with its certificate\n"
-        "(`verify cradle-map --json`); the AEEV rows of Table 1 are read off the map. Command: `verify cradle-map`.\n\n"
-        + _block(cradle_map_text(cmap, aeev_rows=aeev_rows_explained(cmap), approach=approach))
-        + "\n![Impulse count against eps: the staircase and the termination boundary](cradle-staircase.png)\n"
-    )
-
-
-def _page_corner(out: Path, ctx: dict) -> str:
-    from types import SimpleNamespace
-
-    from verify.checks.paper.corner_claims import corner_findings
-    from verify.models.corner import run_corner
-    from verify.views import figures
-    from verify.views.text import corner_claims_text, corner_text
-
-    example = run_corner(alpha="pi/6", phi="pi/12", eps1="0.999", eps2="0.001")
-    args = SimpleNamespace(alpha="pi/6", slope=None, phi="pi/12", eps1="0.999", eps2="0.001", v0="100", json=False)
-    findings = corner_findings(CORNER_CASES, seed=0, workers=ctx["workers"])
-    ctx["corner"] = (example, findings[0])
-    names = [
-        ("corner-exit-vs-entrance.png", figures.corner_exit_vs_entrance, "exit speed and direction against entrance"),
-        ("corner-multiple-impacts.png", figures.corner_multiple_impacts_map, "where repeated multiple impacts occur"),
-        ("wedge-boundary.png", figures.wedge_boundary, "the symmetric termination boundary"),
-    ]
-    for name, draw, _ in names:
-        draw(out / name, workers=ctx["workers"])
-    pictures = "".join(f"\n![{what}]({name})\n" for name, _, what in names)
-    return (
-        "# The disk in a corner (Sect. 4.2)\n\n"
-        "The paper's example traced impulse by impulse (`verify corner --alpha pi/6 --phi pi/12 --eps1 0.999 "
-        "--eps2 0.001`):\n\n" + _block(corner_text(example, args)) + "\n"
-        f"The paper's claims on {CORNER_CASES} exact rational cases, the termination boundary, the rebounds as the\n"
-        f"corner narrows, and float against exact (`verify corner-claims --cases {CORNER_CASES}`):\n\n"
-        + _block(corner_claims_text(*findings))
-        + pictures
-    )
-
-
-def _page_properties(out: Path, ctx: dict) -> str:
-    from verify.checks.properties.verdicts import verdicts
-    from verify.views.text import properties_text
-
-    found = ctx.get("verdicts") or verdicts(ctx["profile"], workers=ctx["workers"])
-    ctx["verdicts"] = found
-    return (
-        "# Properties of the rule\n\n"
-        f"Every property x rule x family, profile `{ctx['profile']}` "
-        f"(`verify properties --profile {ctx['profile']}`).\n"
-        "Each refutation comes with its shrunk exact counterexample; save it as a case file and rerun it\n"
-        "with "
-        "`verify solve CASE.json --rule RULE` (or let `verify properties --counterexamples DIR` write the files).\n\n"
-        + _block(properties_text(ctx["profile"], found))
-    )
-
-
-def _page_oracle(out: Path, ctx: dict) -> str:
+def oracle_findings() -> OracleFindings:
+    """The golden dataset and its exact results compared with themselves at zero tolerance, and, in a
+    source checkout, the independent float implementation ``examples/float_impl.py`` checked against them."""
     import json
     import sys
 
     from verify.checks import oracle
-    from verify.views.text import oracle_text
 
     cases, skipped = oracle.golden_dataset()
     results = oracle.golden_results(cases)
@@ -119,33 +60,162 @@ def _page_oracle(out: Path, ctx: dict) -> str:
         Path.cwd() / "examples" / "float_impl.py",
         Path(__file__).resolve().parent.parent / "examples" / "float_impl.py",
     ]
-    example = next((p for p in candidates if p.exists()), candidates[0])
+    example = next((p for p in candidates if p.exists()), None)
+    compared = None
+    if example is not None:  # a source checkout: the worked example of the README
+        text = oracle.run_implementation(f"{sys.executable} {example}", json.dumps({"cases": cases}), 600)
+        got = oracle.load_results(text, "examples/float_impl.py")
+        compared = oracle.compare(cases, results, got, rtol=oracle.DEFAULT_RTOL, atol=Fraction(0))
+    return OracleFindings(cases, results, skipped, self_check, compared)
+
+
+class Findings:
+    """What the reports show, each topic computed by one library call when first asked for.
+
+    ``verdicts`` reuses property verdicts already computed for ``profile``.
+    """
+
+    def __init__(self, profile: str = "ci", workers: int | None = None, verdicts: Any = None) -> None:
+        self.profile, self.workers = profile, workers
+        self.given_verdicts = verdicts
+
+    @cached_property
+    def table1(self) -> Any:
+        from verify.checks.paper.table1 import table1
+
+        return table1()
+
+    @cached_property
+    def cradle_map(self) -> Any:
+        from verify.checks.paper.cradle_map import cradle_map, map_report
+
+        return map_report(cradle_map(max_impulses=40), approach=6, paper=True)
+
+    @cached_property
+    def corner_example(self) -> Any:
+        from verify.models.corner import run_corner
+
+        e = CORNER_EXAMPLE
+        return run_corner(alpha=e["alpha"], phi=e["phi"], eps1=e["eps1"], eps2=e["eps2"], v0=e["v0"])
+
+    @cached_property
+    def corner(self) -> tuple[Any, ...]:
+        from verify.checks.paper.corner_claims import corner_findings
+
+        return corner_findings(CORNER_CASES, seed=0, workers=self.workers)
+
+    @cached_property
+    def verdicts(self) -> list[Any]:
+        from verify.checks.properties import verdicts
+
+        if self.given_verdicts:
+            return list(self.given_verdicts)
+        return verdicts.verdicts(self.profile, workers=self.workers)
+
+    @cached_property
+    def oracle(self) -> OracleFindings:
+        return oracle_findings()
+
+
+def table1_page(table: Any) -> str:
+    """The page of Table 1."""
+    from verify.views.text import table1_text
+
+    return (
+        "# Table 1: Newton's cradle (Sect. 4.1)\n\n"
+        "The paper's Table 1 beside the exact results and the paper-mode results (the paper's own termination: a\n"
+        "cap of 10^4 impulses and the AEEV stop). Every printed entry is marked as agreeing or not, with the\n"
+        "reason. Command: `verify table1` (`--json` for exact values).\n\n" + _block(table1_text(table))
+    )
+
+
+def cradle_map_page(out: Path, report: Any) -> str:
+    """The page of the cradle map (a :class:`verify.checks.paper.cradle_map.MapReport`); draws its figure
+    into ``out``."""
+    from verify.views.figures import cradle_staircase
+    from verify.views.text import cradle_map_text
+
+    cradle_staircase(report.cmap, out / "cradle-staircase.png")
+    return (
+        "# The cradle for every eps in [0, 1]\n\n"
+        "eps runs as a symbol; the interval is cut at the exact roots wherever a sign changes. Thresholds are\n"
+        "exact algebraic numbers (with decimals); the termination boundary comes with its certificate\n"
+        "(`verify cradle-map --json`); the AEEV rows of Table 1 are read off the map. Command: `verify cradle-map`.\n\n"
+        + _block(cradle_map_text(report.cmap, aeev_rows=report.aeev_rows, approach=report.approach))
+        + "\n![Impulse count against eps: the staircase and the termination boundary](cradle-staircase.png)\n"
+    )
+
+
+def corner_page(out: Path, example: Any, findings: tuple[Any, ...], workers: int | None) -> str:
+    """The page of the corner: the paper's example run, the findings of ``verify corner-claims``; draws
+    its figures into ``out``."""
+    from verify.views import figures
+    from verify.views.text import corner_claims_text, corner_text
+
+    names = [
+        ("corner-exit-vs-entrance.png", figures.corner_exit_vs_entrance, "exit speed and direction against entrance"),
+        ("corner-multiple-impacts.png", figures.corner_multiple_impacts_map, "where repeated multiple impacts occur"),
+        ("wedge-boundary.png", figures.wedge_boundary, "the symmetric termination boundary"),
+    ]
+    for name, draw, _ in names:
+        draw(out / name, workers=workers)
+    pictures = "".join(f"\n![{what}]({name})\n" for name, _, what in names)
+    return (
+        "# The disk in a corner (Sect. 4.2)\n\n"
+        "The paper's example traced impulse by impulse (`verify corner --alpha pi/6 --phi pi/12 --eps1 0.999 "
+        "--eps2 0.001`):\n\n" + _block(corner_text(example, **CORNER_EXAMPLE)) + "\n"
+        f"The paper's claims on {CORNER_CASES} exact rational cases, the termination boundary, the rebounds as the\n"
+        f"corner narrows, and float against exact (`verify corner-claims --cases {CORNER_CASES}`):\n\n"
+        + _block(corner_claims_text(*findings))
+        + pictures
+    )
+
+
+def properties_page(profile: str, found: list[Any]) -> str:
+    """The page of the property verdicts."""
+    from verify.views.text import properties_text
+
+    return (
+        "# Properties of the rule\n\n"
+        f"Every property x rule x family, profile `{profile}` "
+        f"(`verify properties --profile {profile}`).\n"
+        "Each refutation comes with its shrunk exact counterexample; save it as a case file and rerun it\n"
+        "with "
+        "`verify solve CASE.json --rule RULE` (or let `verify properties --counterexamples DIR` write the files).\n\n"
+        + _block(properties_text(profile, found))
+    )
+
+
+def oracle_page(found: OracleFindings) -> str:
+    """The page of the reference oracle."""
+    from verify.checks import oracle
+    from verify.views.text import oracle_text
+
     lines = [
         "# The reference oracle\n",
         "The golden dataset (`golden/`, written by `verify oracle export golden`): what it contains.\n",
-        oracle.dataset_description(cases, results, skipped),
+        oracle.dataset_description(found.cases, found.results, found.skipped),
         "Self-check: the exact results compared with themselves at zero tolerance "
         "(`verify oracle check golden/cases.json golden/results.json --rtol 0`):\n",
-        _block(oracle_text(self_check)),
+        _block(oracle_text(found.self_check)),
     ]
-    if example.exists():  # a source checkout: the worked example of the README
-        text = oracle.run_implementation(f"{sys.executable} {example}", json.dumps({"cases": cases}), 600)
-        got = oracle.load_results(text, "examples/float_impl.py")
+    if found.example is not None:
         lines += [
             "\nAn independent float implementation (`examples/float_impl.py`) checked against it "
             '(`verify oracle check golden/cases.json --impl "python3 examples/float_impl.py"`):\n',
-            _block(oracle_text(oracle.compare(cases, results, got, rtol=oracle.DEFAULT_RTOL, atol=Fraction(0)))),
+            _block(oracle_text(found.example)),
         ]
     else:
         lines.append("\n(The worked example `examples/float_impl.py` is in the source checkout; run from its root.)\n")
-    ctx["oracle_ok"] = self_check.ok
     return "\n".join(lines)
 
 
-def _page_performance(out: Path, ctx: dict) -> str:
+def performance_page(out: Path) -> str:
+    """The page of ``out/bench.json`` (copied there from ``reports/bench.json`` when missing)."""
     import json
 
     from verify.checks.bench import bench_text, requirements
+    from verify.records.files import write_atomic
 
     saved = out / "bench.json"
     source = saved if saved.exists() else Path("reports") / "bench.json"
@@ -156,7 +226,7 @@ def _page_performance(out: Path, ctx: dict) -> str:
         )
     data = source.read_bytes()
     if source != saved:  # keep the record beside the page it feeds
-        saved.write_bytes(data)
+        write_atomic(saved, data)
     record = json.loads(data)
     checks = "\n".join(f"- {line}" for line in requirements(record))
     return (
@@ -194,7 +264,8 @@ How to read them:
 """
 
 
-def _page_fig1(out: Path, ctx: dict) -> str:
+def fig1_page(out: Path) -> str:
+    """The page of the three disks after the impact; draws its figure into ``out``."""
     from verify.views.figures import cradle_motion
 
     cradle_motion(out / "cradle-motion.png")
@@ -206,14 +277,15 @@ def _page_fig1(out: Path, ctx: dict) -> str:
     )
 
 
-PAGES: list[tuple[str, Callable[[Path, dict], str]]] = [
-    ("table1.md", _page_table1),
-    ("cradle-map.md", _page_cradle_map),
-    ("corner.md", _page_corner),
-    ("properties.md", _page_properties),
-    ("oracle.md", _page_oracle),
-    ("performance.md", _page_performance),
-    ("fig1.md", _page_fig1),
+#: each page: its file name, and how it is written from the output folder and the findings
+PAGES: list[tuple[str, Callable[[Path, Findings], str]]] = [
+    ("table1.md", lambda out, f: table1_page(f.table1)),
+    ("cradle-map.md", lambda out, f: cradle_map_page(out, f.cradle_map)),
+    ("corner.md", lambda out, f: corner_page(out, f.corner_example, f.corner, f.workers)),
+    ("properties.md", lambda out, f: properties_page(f.profile, f.verdicts)),
+    ("oracle.md", lambda out, f: oracle_page(f.oracle)),
+    ("performance.md", lambda out, f: performance_page(out)),
+    ("fig1.md", lambda out, f: fig1_page(out)),
 ]
 
 TITLES = {
@@ -228,31 +300,21 @@ TITLES = {
 
 
 def write_reports(out: str | Path = "reports", *, profile: str = "ci", workers: int | None = None,
-                  progress: Callable[[str], None] | None = None, verdicts: Any = None) -> dict[str, Any]:  # fmt: skip
-    """Write every page and the index into ``out``; returns what the summary of
-    ``verify all`` needs (the results of each topic, whether the oracle self-check passed).
-    ``verdicts`` reuses property verdicts already computed for ``profile``."""
+                  progress: Callable[[str], None] | None = None, verdicts: Any = None) -> Findings:  # fmt: skip
+    """Write every page and the index into ``out``; returns the :class:`Findings` shown, which the
+    summary of ``verify all`` reads. ``verdicts`` reuses property verdicts already computed for ``profile``."""
+    from verify.records.files import write_all_atomic
+
     out = Path(out)
     out.mkdir(parents=True, exist_ok=True)
-    ctx: dict[str, Any] = {"profile": profile, "workers": workers, "verdicts": verdicts}
+    findings = Findings(profile, workers, verdicts)
     texts: dict[str, str] = {}
     for i, (name, page) in enumerate(PAGES, 1):
         if progress:
             progress(f"[report {i}/{len(PAGES)}] {TITLES[name]} ...")
-        texts[name] = page(out, ctx)
+        texts[name] = page(out, findings)
     index = ["# Reports\n", "Generated by `verify report` (also run by `verify all`); do not edit by hand.\n"]
     index += [f"- [{TITLES[name]}]({name})" for name, _ in PAGES]
     texts["README.md"] = "\n".join(index) + "\n"
-    written: list[Path] = []
-    try:
-        for name, text in texts.items():
-            with open(out / (name + ".tmp"), "w", encoding="utf-8", newline="\n") as fh:
-                written.append(out / (name + ".tmp"))
-                fh.write(text)
-    except BaseException:  # a failed or interrupted write leaves no temporary file of its own
-        for tmp in written:
-            tmp.unlink(missing_ok=True)
-        raise
-    for name in texts:
-        os.replace(out / (name + ".tmp"), out / name)
-    return ctx
+    write_all_atomic({out / name: text for name, text in texts.items()})
+    return findings

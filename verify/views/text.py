@@ -12,7 +12,7 @@ from fractions import Fraction
 from typing import Any
 
 from verify.checks.paper.table1 import Table1, sqrt_decimal, threshold_brackets
-from verify.core.numbers import format_decimal, format_exact
+from verify.core.format import format_decimal, format_exact
 from verify.core.rule import Result
 from verify.models.paper import PAPER_SIGMA_RELATIVE, PAPER_SIGMA_STATED
 from verify.records.results import result_record, value_string
@@ -45,7 +45,7 @@ def cradle_text(result: Result, *, eps: list[str], mode: str, full_trace: bool =
         lines.append("")
         head = f"{'impulse':>7}  {'impact set':<16} {'beta':<14} {'velocity after (12 digits)':<48}"
         lines.append(head + " kinetic energy")
-        shown = list(enumerate(steps, 1))
+        shown: list[tuple[int, Any] | None] = list(enumerate(steps, 1))
         if not full_trace and len(shown) > TRACE_LIMIT:
             shown = [*shown[: TRACE_LIMIT - 5], None, *shown[-5:]]
         for item in shown:
@@ -102,7 +102,7 @@ def solve_text(case_id: str, result: Result) -> str:
 def _decimal_label(K: Any) -> str:
     """What the decimals are: interval backends print only the digits their enclosures certify
     (:meth:`verify.core.backends.IntervalBackend.to_decimal`), so fewer than asked for."""
-    return "decimal" if K.enclosure(K.one) is None else "decimal, certified digits only"
+    return "decimal, certified digits only" if K.encloses else "decimal"
 
 
 def _short_exact(K: Any, x: Any, limit: int = 60) -> str:
@@ -319,7 +319,7 @@ def cradle_map_text(
         f"{'eps from':>16} {'to':>16}  {'impulses':>8}  what happens",
     ]
     for part in cmap.parts:
-        a, b = part.piece.lower.decimal(12), part.piece.upper.decimal(12)
+        a, b = format_decimal(part.piece.lower, 12), format_decimal(part.piece.upper, 12)
         left = "[" if part.piece.lower_closed else "("
         right = "]" if part.piece.upper_closed else ")"
         if part.stop == "exit":
@@ -336,10 +336,10 @@ def cradle_map_text(
     for x in points:
         if (x.is_rational or x.poly.degree() <= 4) and not any(x is y for y in seen):
             seen.append(x)
-            lines.append(f"  {x.decimal(12):>16} = {x}")
+            lines.append(f"  {format_decimal(x, 12):>16} = {x}")
     t34 = threshold_between(cmap, 4, 3)
     if t34 is not None:
-        lines += ["", f"The threshold between 3 and 4 impulses, derived: eps = {t34} = {t34.decimal(20)}"]
+        lines += ["", f"The threshold between 3 and 4 impulses, derived: eps = {t34} = {format_decimal(t34, 20)}"]
     bounds = termination_boundaries(cmap)
     for part in cmap.non_terminating:
         lines += [
@@ -348,8 +348,8 @@ def cradle_map_text(
             f"(mu = {', '.join(part.certificate['mu'])});",
             "  the certificate is in --json; tests/test_cradle_map.py checks it without the code that found it.",
         ]
-    for b in bounds:
-        lines.append(f"Termination boundary: eps = {b} = {b.decimal(20)}")
+    for bound in bounds:
+        lines.append(f"Termination boundary: eps = {bound} = {format_decimal(bound, 20)}")
     for part in cmap.unexplored:
         lines += ["", f"Unexplored {part.piece}: {part.reason}"]
     lines += approach_table(approach)
@@ -383,20 +383,20 @@ def cradle_map_summary(cmap: Any) -> str:
             if all(p.stop == "exit" or p.exits_beyond_bound for p in above)
             else ("larger eps not all decided")
         )
-        lines.append(f"    never exits for eps <= {b} = {b.decimal(12)} (certified); {rest}")
+        lines.append(f"    never exits for eps <= {b} = {format_decimal(b, 12)} (certified); {rest}")
     for row in aeev_rows_explained(cmap):
         lines.append(f"    paper's row eps = {row['eps']} ({row['printed']}): {row['verdict']}")
     return "\n".join(lines) + "\n"
 
 
-def corner_text(run: Any, args: Any) -> str:
-    """The human-readable report of one corner run."""
+def corner_text(run: Any, *, alpha: str | None, slope: str | None, phi: str, v0: str, eps1: str, eps2: str) -> str:
+    """The human-readable report of one corner run, with its inputs as given (``alpha`` or ``slope``)."""
     r = run.result
     K = r.backend
-    angle = f"alpha = {args.alpha}" if args.alpha is not None else f"slope k = {args.slope}"
+    angle = f"alpha = {alpha}" if alpha is not None else f"slope k = {slope}"
     lines = [
-        f"Disk in a corner: {angle} (k = {format_exact(run.slope)}), entrance direction phi = {args.phi}, "
-        f"v0 = {args.v0}, eps1 = {args.eps1} (S1), eps2 = {args.eps2} (S2)",
+        f"Disk in a corner: {angle} (k = {format_exact(run.slope)}), entrance direction phi = {phi}, "
+        f"v0 = {v0}, eps1 = {eps1} (S1), eps2 = {eps2} (S2)",
         f"entrance velocity: {', '.join(format_exact(v) for v in run.velocity[:2])}",
         f"backend: {K.describe()}",
     ]
@@ -416,7 +416,7 @@ def corner_text(run: Any, args: Any) -> str:
     if K.is_exact:
         lines.append(f"{label} (exact): {', '.join(_short_exact(K, x, 120) for x in r.exit_velocity[:2])}")
     lines.append(f"{label} ({_decimal_label(K)}): {', '.join(K.to_decimal(x, 30) for x in r.exit_velocity[:2])}")
-    if K.enclosure(K.one) is not None:
+    if K.encloses:
         for name, x in zip(("xd", "yd"), r.exit_velocity[:2]):
             lo, hi = K.enclosure(x, 20)
             lines.append(f"  {name} in [{lo}, {hi}]")
@@ -536,33 +536,33 @@ def oracle_text(comparison: Any) -> str:
     return "\n".join(lines) + "\n"
 
 
-def all_summary(ctx: dict) -> tuple[str, bool]:
-    """The closing summary of ``verify all``, and whether the program contradicted itself."""
+def all_summary(
+    table: Table1, cmap: Any, example: Any, claims: Any, *, profile: str, found: list, oracle_ok: bool
+) -> tuple[str, bool]:
+    """The closing summary of ``verify all`` (Table 1, the cradle map, the corner example and claims,
+    the property verdicts of ``profile``, the oracle's self-check), and whether the program
+    contradicted itself."""
     from verify.checks.paper.cradle_map import termination_boundaries
 
     lines = ["", "Summary", "======="]
-    table = ctx["table1"]
     bad = [(row.eps, c.column) for row in table.rows for c in row.checks if not c.agrees]
     lines.append(f"Table 1: {len(table.rows)} rows recomputed; {len(bad)} printed entries disagree "
                  f"({', '.join(f'eps {e} {c}' for e, c in bad)}); see reports/table1.md")  # fmt: skip
-    cmap = ctx["cradle_map"]
     bounds = termination_boundaries(cmap)
     three = next((p for p in cmap.parts if p.stop == "exit" and p.iterations == 3), None)
     lines.append(f"Cradle: threshold 3 -> 4 impulses at eps = {three.piece.lower if three else '?'} (derived); "
                  f"never exits for eps <= {bounds[0] if bounds else '?'}; see reports/cradle-map.md")  # fmt: skip
-    example, claims = ctx["corner"]
     lines.append(f"Corner example: {example.result.iterations} impulses, stop {example.result.stop}; claims: "
                  + ", ".join(f"{c.verdict}" for c in claims))  # fmt: skip
-    found = ctx["verdicts"]
     refuted = [v for v in found if v.verdict == "refuted"]
-    lines.append(f"Properties ({ctx['profile']}): {sum(v.verdict == 'proved' for v in found)} proved, "
+    lines.append(f"Properties ({profile}): {sum(v.verdict == 'proved' for v in found)} proved, "
                  f"{sum(v.verdict == 'holds' for v in found)} hold, {len(refuted)} refuted:")  # fmt: skip
     for name in dict.fromkeys(v.property for v in refuted):
         rows = [f"{v.rule}/{v.family}" for v in refuted if v.property == name]
         lines.append(f"  - {name}: {', '.join(rows)}")
     contradictions = [v for v in refuted if v.note.startswith("contradicts the proof")]
-    lines.append("Oracle self-check: " + ("passed" if ctx["oracle_ok"] else "FAILED"))
-    failed = bool(contradictions) or not ctx["oracle_ok"]
+    lines.append("Oracle self-check: " + ("passed" if oracle_ok else "FAILED"))
+    failed = bool(contradictions) or not oracle_ok
     if contradictions:
         lines.append(f"PROGRAM ERROR: {len(contradictions)} rows contradict a SymPy proof (see reports/properties.md)")
     return "\n".join(lines) + "\n", failed

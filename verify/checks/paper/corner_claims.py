@@ -82,90 +82,92 @@ def check_claims(
     every = general + symmetric + ideal + mirrored
     results = sweep(every, executor=executor, workers=workers, progress=progress, func=run_with_paper)
     rg, rs, ri, rm = (results[i * n : (i + 1) * n] for i in range(4))
-    claims = []
-
     bad = _first(general + symmetric + ideal, rg + rs + ri, lambda c, r: not r["agrees_with_paper_formulas"])
-    claims.append(
+    ideal_claim, symmetric_claim = _at_most_once_claims(ideal, ri, symmetric, rs)
+    return [
         Claim(
             "the general engine (Gram solve) agrees with the paper's closed forms (eq. 10) for V_1, V_2 and beta",
             "refuted" if bad else "holds",
             3 * n,
             "zones and exit velocities compared exactly (the betas enter both)",
             bad,
-        )
+        ),
+        _mirror_claim(general, rg, rm),
+        ideal_claim,
+        symmetric_claim,
+        _repeated_claim(general, rg),
+    ]
+
+
+def _mirrored_ok(r: dict[str, Any], m: dict[str, Any]) -> bool:
+    """Whether the run ``m`` of the mirrored case is the mirror image of the run ``r``."""
+    swap = {"Z1": "Z2", "Z2": "Z1"}
+    mirrored = [swap.get(z, z) for z in r["zones"]]
+    if r["stop"] != m["stop"]:
+        return False
+    if r["stop"] != "exit":  # a proof may fire a step earlier on one side: compare what both ran
+        common = min(len(mirrored), len(m["zones"]))
+        return mirrored[:common] == m["zones"][:common]
+    if mirrored != m["zones"]:
+        return False
+    (x, y), (mx, my) = (map(Fraction, r["exit_velocity"]), map(Fraction, m["exit_velocity"]))
+    return x == mx and y == -my
+
+
+def _mirror_claim(general: list[dict[str, Any]], rg: list[dict[str, Any]], rm: list[dict[str, Any]]) -> Claim:
+    bad = next((c for c, r, m in zip(general, rg, rm) if not _mirrored_ok(r, m)), None)
+    return Claim(
+        "mirror symmetry: phi -> -phi with eps1 <-> eps2 gives y -> -y",
+        "refuted" if bad else "holds",
+        len(general),
+        "exit velocities compared exactly; zones Z1 and Z2 swapped",
+        bad,
     )
 
-    def mirrored_ok(r: dict[str, Any], m: dict[str, Any]) -> bool:
-        swap = {"Z1": "Z2", "Z2": "Z1"}
-        mirrored = [swap.get(z, z) for z in r["zones"]]
-        if r["stop"] != m["stop"]:
-            return False
-        if r["stop"] != "exit":  # a proof may fire a step earlier on one side: compare what both ran
-            common = min(len(mirrored), len(m["zones"]))
-            return mirrored[:common] == m["zones"][:common]
-        if mirrored != m["zones"]:
-            return False
-        (x, y), (mx, my) = (map(Fraction, r["exit_velocity"]), map(Fraction, m["exit_velocity"]))
-        return x == mx and y == -my
 
-    bad = next((c for c, r, m in zip(general, rg, rm) if not mirrored_ok(r, m)), None)
-    claims.append(
-        Claim(
-            "mirror symmetry: phi -> -phi with eps1 <-> eps2 gives y -> -y",
-            "refuted" if bad else "holds",
-            n,
-            "exit velocities compared exactly; zones Z1 and Z2 swapped",
-            bad,
-        )
-    )
-
-    bad = _first(ideal, ri, lambda c, r: r["stop"] != "exit" or r["multiple_impacts"] > 1)
-    claims.append(
+def _at_most_once_claims(
+    ideal: list[dict[str, Any]], ri: list[dict[str, Any]], symmetric: list[dict[str, Any]], rs: list[dict[str, Any]]
+) -> tuple[Claim, Claim]:
+    bad_ideal = _first(ideal, ri, lambda c, r: r["stop"] != "exit" or r["multiple_impacts"] > 1)
+    bad_symmetric = _first(symmetric, rs, lambda c, r: r["multiple_impacts"] > 1)
+    return (
         Claim(
             "ideal corner (eps1 = eps2 = 1): at most one multiple impact, and the disk always leaves",
-            "refuted" if bad else "holds",
-            n,
+            "refuted" if bad_ideal else "holds",
+            len(ideal),
             "proved by Fassino and Pasquero (2019); checked here exactly",
-            bad,
-        )
-    )
-
-    bad = _first(symmetric, rs, lambda c, r: r["multiple_impacts"] > 1)
-    claims.append(
+            bad_ideal,
+        ),
         Claim(
             "symmetric non-ideal corner (eps1 = eps2 < 1): multiple impacts happen at most once",
-            "refuted" if bad else "holds",
-            n,
+            "refuted" if bad_symmetric else "holds",
+            len(symmetric),
             "the paper's numerical claim, checked exactly",
-            bad,
-        )
+            bad_symmetric,
+        ),
     )
 
+
+def _repeated_claim(general: list[dict[str, Any]], rg: list[dict[str, Any]]) -> Claim:
     repeated = [(c, r) for c, r in zip(general, rg) if r["multiple_impacts"] > 1]
     gaps = sorted(abs(Fraction(c["eps1"]) - Fraction(c["eps2"])) for c, _ in repeated)
-    note = f"{len(repeated)} of {n} asymmetric cases have repeated multiple impacts" + (
+    note = f"{len(repeated)} of {len(general)} asymmetric cases have repeated multiple impacts" + (
         f"; |eps1 - eps2| among them ranges from {gaps[0]} to {gaps[-1]}" if gaps else ""
     )
-    claims.append(
-        Claim(
-            "asymmetric corner: repeated multiple impacts occur when the CORs differ",
-            "found" if repeated else "not found",
-            n,
-            note,
-            None,
-            [c for c, _ in repeated[:5]],
-        )
+    return Claim(
+        "asymmetric corner: repeated multiple impacts occur when the CORs differ",
+        "found" if repeated else "not found",
+        len(general),
+        note,
+        None,
+        [c for c, _ in repeated[:5]],
     )
-    return claims
 
 
 def corner_findings(cases: int = 2000, *, seed: int = 0, workers: int | None = None) -> tuple:
     """Everything ``verify corner-claims`` reports: (claims, symmetric termination boundary,
     eps, rebounds by slope, float against exact), for the text and JSON views."""
-    from fractions import Fraction
-
     from verify.checks.paper.float_check import float_vs_exact
-    from verify.checks.sweep import random_corner_cases
     from verify.models.wedge import approach_slopes, rebounds_by_slope, symmetric_boundary
 
     claims = check_claims(cases, seed=seed, workers=workers)

@@ -1,6 +1,6 @@
 """The exact eps-map of Newton's cradle: every eps in an interval at once.
 
-The cradle is run once on the symbolic backend (:mod:`verify.core.symbolic`) with eps a
+The cradle is run once on the symbolic backend (:mod:`verify.core.backends.symbolic`) with eps a
 symbol ranging over [lower, upper] (default [0, 1]); whenever the rule asks a sign that
 changes inside the current range, the range is cut at the real roots of that polynomial
 (exact algebraic numbers) and each part is run again. Every part ends
@@ -30,9 +30,10 @@ from typing import Any
 import sympy as sp
 
 from verify.core.algebraic import RealAlgebraic
-from verify.core.numbers import format_exact, to_number
+from verify.core.backends.symbolic import EPS, Piece, RootCache, Split, SymbolicBackend
+from verify.core.format import format_decimal, format_exact
+from verify.core.parse import to_number
 from verify.core.rule import solve
-from verify.core.symbolic import EPS, Piece, RootCache, Split, SymbolicBackend
 from verify.errors import InvalidInput, InvalidSystem
 from verify.models.cradle import cradle_system, cradle_velocity
 
@@ -107,7 +108,7 @@ def _validate(lower: Fraction, upper: Fraction, balls: int, given: tuple[Any, An
 
 
 def cradle_map(
-    balls: int = 3,
+    balls: int | None = None,
     masses: Sequence[Any] | None = None,
     velocity: Sequence[Any] | None = None,
     *,
@@ -116,7 +117,8 @@ def cradle_map(
     upper: Any = 1,
     max_impulses: int = DEFAULT_MAX_IMPULSES,
 ) -> CradleMap:
-    """The cradle for every eps in [lower, upper] (one COR for all contacts).
+    """The cradle for every eps in [lower, upper] (one COR for all contacts); ``balls`` by default the
+    length of ``masses`` or ``velocity``, else 3.
 
     ``max_impulses`` bounds the exploration: a part still impacting after that many
     impulses, and not proved never to exit, is reported as unexplored. The interval must
@@ -128,6 +130,8 @@ def cradle_map(
     ...
     verify.errors.InvalidInput: the eps interval is reversed: lower = 0.5 > upper = 0.2
     """
+    if balls is None:
+        balls = len(masses or velocity or [0, 0, 0])
     lo, hi = to_number(lower, where="lower"), to_number(upper, where="upper")
     if not (isinstance(lo, Fraction) and isinstance(hi, Fraction)):
         raise InvalidInput("the ends of the eps interval must be rational")
@@ -137,7 +141,8 @@ def cradle_map(
     v = cradle_velocity(balls, v0, velocity)
     cache = RootCache()
     domain = Piece.closed(lo, hi)
-    work, done = [domain], []
+    work: list[Piece] = [domain]
+    done: list[Part] = []
     while work:
         piece = work.pop()
         K = SymbolicBackend(piece, cache)
@@ -145,10 +150,10 @@ def cradle_map(
         try:
             r = solve(system, v, max_iterations=max_impulses, trace=False)
         except Split as split:
-            parts = piece.cut([root for p in split.polys for root in cache.roots(p)])
-            if len(parts) < 2:
+            cuts = piece.cut([root for p in split.polys for root in cache.roots(p)])
+            if len(cuts) < 2:
                 raise RuntimeError(f"cutting {piece} made no progress ({split})") from None
-            work.extend(parts)
+            work.extend(cuts)
             continue
         done.append(
             Part(
@@ -295,8 +300,8 @@ def _ends(piece: Piece) -> dict[str, Any]:
         "upper": str(piece.upper),
         "lower_closed": piece.lower_closed,
         "upper_closed": piece.upper_closed,
-        "lower_decimal": piece.lower.decimal(30),
-        "upper_decimal": piece.upper.decimal(30),
+        "lower_decimal": format_decimal(piece.lower, 30),
+        "upper_decimal": format_decimal(piece.upper, 30),
     }
 
 
@@ -361,3 +366,26 @@ def threshold_between(cmap: CradleMap, high: int, low: int) -> RealAlgebraic | N
         if a.stop == b.stop == "exit" and a.iterations == high and b.iterations == low:
             return b.piece.lower
     return None
+
+
+@dataclass
+class MapReport:
+    """A map with what its text view shows beside it (``verify cradle-map``, the report's page)."""
+
+    cmap: CradleMap
+    aeev_rows: list[dict[str, Any]] = field(default_factory=list)
+    approach: list[tuple[Fraction, int | str]] = field(default_factory=list)
+
+
+def map_report(cmap: CradleMap, *, approach: int = 0, paper: bool = False) -> MapReport:
+    """What the text view shows beside ``cmap``: when ``paper`` (the map of the paper's cradle: three balls,
+    masses and velocity not given, eps in [0, 1]) the paper's AEEV rows read off it, and the
+    :func:`approach_counts` at eps = boundary + 10^-k for k = 2..``approach`` (none below 2).
+
+    >>> report = map_report(cradle_map(max_impulses=4), approach=2, paper=True)
+    >>> [row["eps"] for row in report.aeev_rows], [n for _, n in report.approach]
+    (['0.0743', '0.01', '0'], [9])
+    """
+    bounds = termination_boundaries(cmap)
+    counts = approach_counts(bounds[0], range(2, approach + 1), cmap) if bounds and approach >= 2 else []
+    return MapReport(cmap, aeev_rows_explained(cmap) if paper else [], counts)

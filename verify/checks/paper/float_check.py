@@ -1,11 +1,12 @@
 """Float against exact: how often does a plain float implementation take another branch?
 
 The plain implementation is the paper's eq. (10) in Python floats
-(:func:`verify.models.corner.paper_run` on floats): what an engineer would write first. Its zone
-sequence is compared with the exact one, impulse by impulse; at the first difference the
-exact rates tell why: a rate that is exactly 0 (a COR of 0 leaves the normal velocity
-exactly 0, or the velocity grazes a wall) which rounding turns into a tiny number of
-either sign, or a rate that is not 0 but too small for double precision.
+(:func:`verify.models.corner.paper_run` on floats, the float baseline of ``verify bench`` too):
+what an engineer would write first. Its zone sequence is compared with the exact one,
+impulse by impulse; at the first difference the exact rates tell why: a rate that is
+exactly 0 (a COR of 0 leaves the normal velocity exactly 0, or the velocity grazes a wall)
+which rounding turns into a tiny number of either sign, or a rate that is not 0 but too
+small for double precision.
 
 >>> from verify.checks.sweep import random_corner_cases
 >>> report = float_vs_exact(random_corner_cases(50, seed=3), workers=1)
@@ -37,8 +38,8 @@ def compare_case(case: dict[str, Any]) -> dict[str, Any]:
     k = Fraction(case["slope"])
     xd, yd = (Fraction(v) for v in case["velocity"])
     e1, e2 = Fraction(case["eps1"]), Fraction(case["eps2"])
-    steps = exact.result.iterations + (1 if exact.result.stop == "exit" else 0)
-    fz, _, _ = paper_run(float(k), float(xd), float(yd), float(e1), float(e2), max_iterations=max(steps - 1, 0))
+    steps = max(exact.result.iterations + (1 if exact.result.stop == "exit" else 0), 1)  # zones to compare
+    fz = paper_run(float(k), float(xd), float(yd), float(e1), float(e2), max_iterations=steps)[0][:steps]
     ez = zones_of(exact.result)
     common = min(len(ez), len(fz))
     first = next((w for w in range(common) if ez[w] != fz[w]), None)

@@ -30,7 +30,8 @@ from fractions import Fraction
 from importlib import resources
 from typing import Any
 
-from verify.core.numbers import format_decimal, int_to_str, to_number
+from verify.core.format import format_decimal, ilog10, int_to_str
+from verify.core.parse import to_number
 from verify.core.rule import Result
 from verify.models.cradle import run_cradle
 from verify.models.paper import (
@@ -242,7 +243,9 @@ def identify_aeev(data: dict[str, Any] | None = None) -> dict[str, Any]:
                 upper_sq = m if upper_sq is None else min(upper_sq, m)
             if stop == "aeev":
                 lower_sq = max(lower_sq, measures[count])
-        window = {
+        if upper_sq is None:  # no row has a checked state before its count
+            raise ValueError("Table 1 gives no upper bound for sigma")
+        window: dict[str, Any] = {
             "lower_sq": lower_sq / (v0 * v0),
             "upper_sq": upper_sq / (v0 * v0),
         }
@@ -288,11 +291,9 @@ def sqrt_decimal(q: Fraction, digits: int = 4, *, up: bool = False) -> str:
     """
     import math
 
-    from verify.core.numbers import _ilog10
-
     if q <= 0:
         return "0"
-    k = digits - 1 - _ilog10(q.numerator, q.denominator) // 2
+    k = digits - 1 - ilog10(q.numerator, q.denominator) // 2
     s = q * Fraction(10) ** (2 * k)
     r = math.isqrt(s.numerator // s.denominator)
     if up and Fraction(r * r) != s:

@@ -159,7 +159,7 @@ def asymmetric_is_eq7(run: Any, d: Drawn, extra: Any) -> str | None:
 
 def beta_is_one_for_one_constraint(run: Any, d: Drawn, extra: Any) -> str | None:
     """beta of the engine for J = {j}, and for {j, k} when V_k = 0 (Prop. 1 i, Sect. 3.2)."""
-    from verify.core.rule import _beta_from_rates
+    from verify.core.rule import beta_from_rates
 
     r = run(d.record, d.rule)
     s, K = r.system, r.backend
@@ -167,7 +167,7 @@ def beta_is_one_for_one_constraint(run: Any, d: Drawn, extra: Any) -> str | None
         zero = [k for k, b in enumerate(step.rates) if K.sign(b) == 0]
         for j in step.impact_set:
             for J in [(j,)] + [tuple(sorted((j, k))) for k in zero]:
-                beta = Fraction(K.to_number(_beta_from_rates(s, step.rates, J)))
+                beta = Fraction(K.to_number(beta_from_rates(s, step.rates, J)))
                 if beta != 1:
                     return f"before impulse {w}, beta for J = {list(J)} is {beta}, not 1"
     return None
@@ -242,7 +242,8 @@ def _transformed(
 ) -> dict[str, Any]:
     """The case seen after a change: x = A x', constraints relabelled (new i = perm[old i]),
     masses times ``mass``, velocity and time terms times ``scale``, a frame velocity."""
-    from verify.core.numbers import format_exact
+    from verify.core.rule import DEFAULT_MAX_ITERATIONS
+    from verify.records.results import case_record
 
     g, a, t, e = _inputs(record)
     v = Drawn("", "", record).values("velocity")
@@ -263,13 +264,15 @@ def _transformed(
     order = list(range(r))
     if perm is not None:
         order = [perm.index(i) for i in range(r)]  # new position i holds old constraint order[i]
-    out = dict(record)
-    out["mass_matrix"] = [[format_exact(x) for x in row] for row in g]
-    out["normals"] = [[format_exact(x) for x in a[i]] for i in order]
-    out["time_terms"] = [format_exact(t[i]) for i in order]
-    out["restitution"] = [format_exact(e[i]) for i in order]
-    out["velocity"] = [format_exact(x) for x in v]
-    return out
+    return case_record(
+        record["id"],
+        g,
+        [a[i] for i in order],
+        [e[i] for i in order],
+        v,
+        time_terms=[t[i] for i in order],
+        max_iterations=record.get("max_iterations", DEFAULT_MAX_ITERATIONS),
+    )
 
 
 def relabelling_changes_nothing(run: Any, d: Drawn, order: list[int]) -> str | None:
@@ -280,6 +283,7 @@ def relabelling_changes_nothing(run: Any, d: Drawn, order: list[int]) -> str | N
 
 def mirror_symmetry(run: Any, d: Drawn, extra: Any) -> str | None:
     n, r = len(d.record["velocity"]), len(d.record["normals"])
+    A: list[list[Any]]
     if d.family == "corner":  # y -> -y, theta -> -theta: the walls swap
         A = [[Fraction(1), 0, 0], [0, Fraction(-1), 0], [0, 0, Fraction(-1)]]
         label = "the mirror image y -> -y"
@@ -343,7 +347,7 @@ def _matrix_from_factors(n: int, lower: list, diagonal: list, upper: list) -> li
 def backends_agree(run: Any, d: Drawn, extra: Any) -> str | None:
     """Exact inside the interval enclosure with the same branches; mp and float close where
     they take the exact branches (counted where they do not)."""
-    from verify.core.numbers import format_decimal
+    from verify.core.format import format_decimal
     from verify.errors import NoConvergence
 
     exact = run(d.record, d.rule)

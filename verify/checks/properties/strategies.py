@@ -38,9 +38,12 @@ from hypothesis import strategies as st
 
 from verify.core.backends import RationalBackend
 from verify.core.linalg import dot, ldl, matvec, solve_spd
-from verify.core.numbers import format_exact
+from verify.core.rule import RULES as CORE_RULES
+from verify.models.corner import corner_geometry
+from verify.models.cradle import cradle_geometry
+from verify.records.results import case_record
 
-RULES = ("ideal", "symmetric", "asymmetric", "general")
+RULES = (*CORE_RULES[1:], CORE_RULES[0])  # the core's rules in the suite's order: the general rule last
 FAMILIES = ("general", "cradle", "corner")
 MAX_ITERATIONS = 200
 
@@ -219,8 +222,7 @@ def cradle_cases(draw: Any, rule: str = "general") -> Drawn:
     """Newton's cradle: N = 2..5 balls of rational masses, contacts S_(i,i+1) (N = 3 for rule (7))."""
     balls = 3 if rule == "asymmetric" else draw(st.integers(2, 5))
     masses = [draw(positive_rationals(3, 3)) for _ in range(balls)]
-    g = [[masses[i] if i == j else Fraction(0) for j in range(balls)] for i in range(balls)]
-    normals = [[Fraction(-1 if k == i else 1 if k == i + 1 else 0) for k in range(balls)] for i in range(balls - 1)]
+    g, normals = cradle_geometry(masses)
     time_terms = [Fraction(0)] * (balls - 1)
     eps = _restitution(draw, balls - 1, rule)
     v = draw(incoming_velocities(g, normals, time_terms))
@@ -231,8 +233,7 @@ def cradle_cases(draw: Any, rule: str = "general") -> Drawn:
 def corner_cases(draw: Any, rule: str = "general") -> Drawn:
     """The disk in a corner (Sect. 4.2): walls ``kx - y = 0``, ``kx + y = 0``, rational k > 0."""
     k = draw(st.one_of(st.just(Fraction(1)), positive_rationals(6, 6)))  # k = 1: a right angle, orthogonal walls
-    g = [[Fraction(int(i == j)) for j in range(3)] for i in range(3)]
-    normals = [[-k, Fraction(1), Fraction(0)], [-k, Fraction(-1), Fraction(0)]]
+    g, normals = corner_geometry(k)
     time_terms = [Fraction(0)] * 2
     eps = _restitution(draw, 2, rule)
     v = draw(incoming_velocities(g, normals, time_terms))
@@ -253,15 +254,7 @@ def make_drawn(family: str, rule: str, inputs: tuple, v: Any) -> Drawn:
     """Package exact inputs ``(g, normals, time_terms, restitution)`` and a velocity as a
     :class:`Drawn` (the record holds exact strings)."""
     g, normals, time_terms, eps = inputs
-    record = {
-        "id": f"{family}-{rule}",
-        "mass_matrix": [[format_exact(x) for x in row] for row in g],
-        "normals": [[format_exact(x) for x in row] for row in normals],
-        "time_terms": [format_exact(x) for x in time_terms],
-        "restitution": [format_exact(x) for x in eps],
-        "velocity": [format_exact(x) for x in v],
-        "max_iterations": MAX_ITERATIONS,
-    }
+    record = case_record(f"{family}-{rule}", g, normals, eps, v, time_terms=time_terms, max_iterations=MAX_ITERATIONS)
     return Drawn(family, rule, record)
 
 

@@ -26,13 +26,13 @@ from collections import Counter
 from dataclasses import dataclass, field
 from typing import Any
 
+from verify.checks.pool import map_in_processes
 from verify.checks.properties.catalogue import PROPERTIES, SKIP, Property, property_named
+from verify.checks.properties.profiles import PER_PROPERTY, PROFILES
 from verify.checks.properties.proofs import PROOFS, prove
 from verify.checks.properties.strategies import FAMILIES, RULES, Drawn, cases
 from verify.core.rule import Budget
 
-PROFILES = {"dev": 25, "ci": 100, "thorough": 100_000}
-PER_PROPERTY = {"thorough"}  #: profiles whose count is per property (shared by its rows), not per row
 BUDGET = Budget(bits=4096)
 INTERVAL_DPS, INTERVAL_MAX_DPS, MP_DPS = 30, 120, 30
 
@@ -127,7 +127,7 @@ def search(prop: Property, family: str, rule: str, examples: int) -> Verdict:
     from hypothesis.errors import NoSuchExample, Unsatisfiable
 
     runner = Runner()
-    tally = Counter()
+    tally: Counter[str] = Counter()
     shrinking = False  # once a failure is found, Hypothesis shrinks it: those calls are not counted
 
     def fails(item: Any) -> bool:
@@ -141,7 +141,7 @@ def search(prop: Property, family: str, rule: str, examples: int) -> Verdict:
         shrinking = True
         return True
 
-    strategy = cases(family, rule)
+    strategy: Any = cases(family, rule)
     if prop.extra is not None:
         strategy = st.tuples(strategy, prop.extra)
     config = settings(
@@ -158,7 +158,7 @@ def search(prop: Property, family: str, rule: str, examples: int) -> Verdict:
     except (NoSuchExample, Unsatisfiable):
         return _holds(prop, (family, rule), tally, runner.counts, proof)
     d, extra = item if prop.extra is not None else (item, None)
-    why = _check(prop, Runner(), item)
+    why = _check(prop, Runner(), item) or ""
     note = why + (f" (with {_describe(extra)})" if extra is not None else "")
     if proof:
         note = f"contradicts the proof ({proof}): the implementation is wrong: " + note
@@ -181,7 +181,7 @@ def _census(prop: Property, strategy: Any, examples: int) -> tuple[int, Counter]
     from hypothesis import HealthCheck, Phase, given, settings
 
     runner = Runner()
-    seen = Counter()
+    seen: Counter[str] = Counter()
 
     @settings(
         max_examples=examples,
@@ -248,32 +248,14 @@ def verdicts(
 ) -> list[Verdict]:
     """Every row's verdict under a profile (``workers`` > 1 runs rows in processes; None:
     one per core)."""
-    if workers is None:
-        import os
-
-        workers = os.cpu_count() or 1
     table = rows(properties, families, rules)
     per_prop = Counter(p.name for p, _, _ in table)
     jobs = [(p.name, f, r, examples_per_row(profile, per_prop[p.name])) for p, f, r in table]
-    if workers <= 1:
-        out = []
-        for job in jobs:
-            out.append(_run_row(job))
-            if progress:
-                progress(len(out), len(jobs), out[-1])
-        return out
-    from concurrent.futures import ProcessPoolExecutor
 
-    out_by_index: dict[int, Verdict] = {}
-    with ProcessPoolExecutor(max_workers=workers) as pool:
-        futures = {pool.submit(_run_row, job): i for i, job in enumerate(jobs)}
-        from concurrent.futures import as_completed
+    def done(count: int, verdict: Verdict) -> None:
+        progress(count, len(jobs), verdict)
 
-        for fut in as_completed(futures):
-            out_by_index[futures[fut]] = fut.result()
-            if progress:
-                progress(len(out_by_index), len(jobs), out_by_index[futures[fut]])
-    return [out_by_index[i] for i in range(len(jobs))]
+    return map_in_processes(_run_row, jobs, workers=workers, on_done=done if progress else None)
 
 
 def report(profile: str, found: list[Verdict]) -> dict[str, Any]:

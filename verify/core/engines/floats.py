@@ -1,6 +1,6 @@
 """The float path: many cases at once in NumPy, every branch certified, exact fallback.
 
-A batch holds N systems with the same numbers of constraints r and coordinates n. The
+A batch (:func:`systems_batch`) holds N systems with the same numbers of constraints r and coordinates n. The
 rule of :mod:`verify.core.rule` runs on all of them at once in *rate coordinates*: the state
 of a case is its rates ``b = p(F)`` (eq. 2) and its velocity v, and an impulse
 ``sum_j c_j U_j`` (eq. 8) changes them by ``b += G c`` and ``v += U^T c``, with
@@ -9,7 +9,7 @@ of a case is its rates ``b = p(F)`` (eq. 2) and its velocity v, and an impulse
   exactly ``-e_j b_j`` (so a COR of 0 gives a rate of exactly 0, as in exact arithmetic);
 - ``c_j = -beta (1 + e_j) lambda_j``, ``lambda_j = b_j / G_jj``, ``beta = sum_j b_j
   lambda_j / lambda^T G_JJ lambda`` for a multiple impact (the Gram identity of
-  :func:`verify.core.rule._beta_from_rates`).
+  :func:`verify.core.rule.beta_from_rates`).
 
 Every float carries a radius that bounds its distance to the exact value (midpoint-radius
 arithmetic: each operation adds its own rounding error, ``u |z|`` with ``u = 2^-53``, and
@@ -19,8 +19,10 @@ out of the batch and redone exactly (:func:`verify.core.rule.solve` on the ratio
 so the branch sequence of every case is the exact one; floats take a shortcut only where
 they are provably right.
 
->>> from fractions import Fraction as F
->>> batch = corner_batch([F(1, 2), F(1)], [[F(2), F(0)], [F(1), F(1, 2)]], [[F(0), F(1)], [F(1, 2), F(0)]])
+>>> from verify.core.system import System
+>>> corners = [System([[1, 0, 0], [0, 1, 0], [0, 0, 1]], [[f"-{k}", 1, 0], [f"-{k}", -1, 0]], e)
+...            for k, e in (("1/2", ["0", "1"]), ("1", ["1/2", "0"]))]
+>>> batch = systems_batch(corners, [["2", "0", "0"], ["1", "1/2", "0"]])
 >>> out = solve_batch(batch, max_iterations=100)
 >>> out.impact_sets(0), out.stop[0], out.fallback.tolist()
 ([(0, 1), (0,)], 'exit', [False, True])
@@ -37,6 +39,8 @@ from fractions import Fraction
 from typing import Any
 
 import numpy as np
+
+from verify.core.engines.policy import Limits
 
 U = 2.0**-53  # unit roundoff of binary64
 ETA = 2.0**-1074  # smallest subnormal: covers underflow
@@ -99,7 +103,7 @@ class Batch:
 
     @property
     def size(self) -> int:
-        return self.b.shape[0]
+        return int(self.b.shape[0])
 
 
 def _arrays(values: Sequence[Any], shape: tuple[int, ...]) -> tuple[np.ndarray, np.ndarray]:
@@ -135,32 +139,6 @@ def systems_batch(systems: Sequence[Any], velocities: Sequence[Sequence[Any]]) -
     return Batch(*G, *Ut, *e, *b, *v, exact=lambda i: (systems[i], list(velocities[i])))
 
 
-def corner_batch(
-    slopes: Sequence[Fraction], velocities: Sequence[Sequence[Fraction]], cors: Sequence[Sequence[Fraction]]
-) -> Batch:
-    """A batch of disks in corners (:mod:`verify.models.corner`): slope k, velocity (xd, yd), CORs.
-
-    The rates and Gram matrix are the corner's closed forms, exact in rationals:
-    ``p(F_1) = yd - k xd``, ``p(F_2) = -k xd - yd``, ``G = [[1 + k^2, k^2 - 1], [k^2 - 1,
-    1 + k^2]]``, ``U_1 = (-k, 1, 0)``, ``U_2 = (-k, -1, 0)``.
-    """
-    k = [Fraction(x) for x in slopes]
-    xs = [(Fraction(v[0]), Fraction(v[1])) for v in velocities]
-    N = len(k)
-    G = _arrays([g for kk in k for g in (1 + kk * kk, kk * kk - 1, kk * kk - 1, 1 + kk * kk)], (N, 2, 2))
-    Ut = _arrays([u for kk in k for u in (-kk, 1, 0, -kk, -1, 0)], (N, 2, 3))
-    e = _arrays([Fraction(c) for pair in cors for c in pair], (N, 2))
-    b = _arrays([x for kk, (xd, yd) in zip(k, xs) for x in (yd - kk * xd, -kk * xd - yd)], (N, 2))
-    v = _arrays([x for xd, yd in xs for x in (xd, yd, 0)], (N, 3))
-
-    def exact(i: int) -> tuple[Any, list]:
-        from verify.models.corner import corner_system
-
-        return corner_system(k[i], cors[i][0], cors[i][1]), [xs[i][0], xs[i][1], Fraction(0)]
-
-    return Batch(*G, *Ut, *e, *b, *v, exact=exact)
-
-
 @dataclass
 class BatchResult:
     """Per case: exit velocity ``v`` with radius ``r_v`` (0 for exact fallbacks, whose ``v``
@@ -185,6 +163,108 @@ class BatchResult:
         return [tuple(j for j in range(63) if int(code) >> j & 1) for code in self.codes[i, : self.iterations[i]]]
 
 
+@dataclass
+class _State:
+    """The cases of a batch while the rule runs: rates and velocities with their radii, and per
+    case the impact sets so far (as bit codes), impulses, stop reason and undecided flag."""
+
+    b: np.ndarray
+    r_b: np.ndarray
+    v: np.ndarray
+    r_v: np.ndarray
+    codes: np.ndarray
+    iterations: np.ndarray
+    stop: np.ndarray
+    undecided: np.ndarray
+
+    @classmethod
+    def of(cls, batch: Batch, max_iterations: int) -> _State:
+        N = batch.size
+        return cls(
+            batch.b.copy(),
+            batch.r_b.copy(),
+            batch.v.copy(),
+            batch.r_v.copy(),
+            np.zeros((N, max_iterations), dtype=np.int64),
+            np.zeros(N, dtype=np.int64),
+            np.full(N, "", dtype=object),
+            np.zeros(N, dtype=bool),
+        )
+
+
+def _branches(state: _State, active: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """Step b) on the active cases, where the enclosures decide it: the cases with an undecided
+    sign are marked and dropped, those with no impact end with ``"exit"``; returns the cases
+    still hit and their impact sets (a boolean row per case)."""
+    bb, rr = state.b[active], state.r_b[active]
+    negative = bb + rr < 0  # certainly p(F_i) < 0
+    decided = negative | (bb - rr >= 0)
+    unsure = ~decided.all(axis=1)
+    if unsure.any():
+        state.undecided[active[unsure]] = True
+        active, negative = active[~unsure], negative[~unsure]
+    hit = negative.any(axis=1)
+    state.stop[active[~hit]] = "exit"
+    return active[hit], negative[hit]
+
+
+def _impulses(batch: Batch, state: _State, active: np.ndarray, negative: np.ndarray, w: int) -> np.ndarray:
+    """The w-th impulse (eq. 8) on the active cases, in rate coordinates; returns the cases that
+    go on (a case whose beta cannot be certified is marked undecided)."""
+    r = batch.b.shape[1]
+    diag = np.arange(r)
+    bb, rr = state.b[active], state.r_b[active]
+    state.codes[active, w] = negative @ (1 << np.arange(r))
+    state.iterations[active] += 1
+    g, rg = batch.G[active], batch.r_G[active]
+    lam, rlam = _div(bb, rr, g[:, diag, diag], rg[:, diag, diag])
+    lam = np.where(negative, lam, 0.0)
+    rlam = np.where(negative, rlam, 0.0)
+    single = negative.sum(axis=1) == 1
+    # beta = sum b_j lambda_j / lambda^T G lambda (1 exactly for a single impact)
+    num, rnum = _mul(bb, rr, lam, rlam)
+    num, rnum = num.sum(axis=1), _radius(rnum.sum(axis=1), r * U * np.abs(num).sum(axis=1))
+    glam, rglam = _matvec(g, rg, lam, rlam)
+    den, rden = _mul(lam, rlam, glam, rglam)
+    den, rden = den.sum(axis=1), _radius(rden.sum(axis=1), r * U * np.abs(den).sum(axis=1))
+    safe = single | (den - rden > 0)
+    beta, rbeta = _div(num, rnum, np.where(safe, den, 1.0), np.where(safe, rden, 0.0))
+    beta = np.where(single, 1.0, beta)
+    rbeta = np.where(single, 0.0, rbeta)
+    if not safe.all():  # cannot happen for a certified impact set; redo exactly if it does
+        state.undecided[active[~safe]] = True
+    one_e = 1.0 + batch.e[active]  # 1 + e_j: e in [0, 1], so the sum is exact up to one rounding
+    c, rc = _mul(*_mul(beta[:, None], rbeta[:, None], one_e, _radius(batch.r_e[active], U * one_e)), lam, rlam)
+    c = -c
+    dv, rdv = _matvec(np.swapaxes(batch.Ut[active], 1, 2), np.swapaxes(batch.r_Ut[active], 1, 2), c, rc)
+    state.v[active], state.r_v[active] = _add(state.v[active], state.r_v[active], dv, rdv)
+    db, rdb = _matvec(g, rg, c, rc)
+    nb, rnb = _add(bb, rr, db, rdb)
+    # a single impact on j leaves exactly -e_j b_j on j (eq. 4): no cancellation there
+    own, rown = _mul(-batch.e[active], batch.r_e[active], bb, rr)
+    mine = negative & single[:, None]
+    state.b[active] = np.where(mine, own, nb)
+    state.r_b[active] = np.where(mine, rown, rnb)
+    return active if safe.all() else active[safe]
+
+
+def _redo_exactly(batch: Batch, state: _State, max_iterations: int, budget: Any) -> dict[int, Any]:
+    """The undecided cases run exactly (:func:`verify.core.rule.solve`, rational backend): their
+    results, by case, with the exit velocity rounded once into ``state``."""
+    from verify.core.rule import solve
+
+    out: dict[int, Any] = {}
+    for i in np.flatnonzero(state.undecided):
+        system, velocity = batch.exact(int(i))
+        res = solve(system, velocity, max_iterations=max_iterations, trace=False, certify=False, budget=budget)
+        out[int(i)] = res
+        K = res.backend
+        state.v[i], state.r_v[i] = zip(*(_exact_float(K.to_number(x)) for x in res.exit_velocity))
+        state.stop[i] = res.stop
+        state.iterations[i] = res.iterations
+    return out
+
+
 def solve_batch(
     batch: Batch, max_iterations: int = 100, *, exact_fallback: bool = True, budget: Any = None
 ) -> BatchResult:
@@ -192,90 +272,30 @@ def solve_batch(
 
     Cases whose branch cannot be certified in floats are redone exactly (with
     ``exact_fallback``, under the :class:`~verify.core.rule.Budget` ``budget``; otherwise they
-    end with stop ``"undecided"``).
+    end with stop ``"undecided"``). The cap on the impulses is the engines' (:class:`Limits`).
     """
-    N, r = batch.b.shape
-    G, rG, Ut, rUt = batch.G, batch.r_G, batch.Ut, batch.r_Ut
-    one_e = 1.0 + batch.e  # 1 + e_j: e in [0, 1], so the sum is exact up to one rounding
-    r_one_e = _radius(batch.r_e, U * one_e)
-    b, rb = batch.b.copy(), batch.r_b.copy()
-    v, rv = batch.v.copy(), batch.r_v.copy()
-    codes = np.zeros((N, max_iterations), dtype=np.int64)
-    iterations = np.zeros(N, dtype=np.int64)
-    stop = np.full(N, "", dtype=object)
-    undecided = np.zeros(N, dtype=bool)
-    active = np.arange(N)
-    weights = 1 << np.arange(r)
-    diag = np.arange(r)
+    limits = Limits(max_iterations)
+    state = _State.of(batch, max_iterations)
+    active = np.arange(batch.size)
     for w in range(max_iterations + 1):
         if active.size == 0:
             break
-        bb, rr = b[active], rb[active]
-        negative = bb + rr < 0  # certainly p(F_i) < 0
-        decided = negative | (bb - rr >= 0)
-        unsure = ~decided.all(axis=1)
-        if unsure.any():
-            undecided[active[unsure]] = True
-            keep = ~unsure
-            active, bb, rr, negative = active[keep], bb[keep], rr[keep], negative[keep]
-        hit = negative.any(axis=1)
-        stop[active[~hit]] = "exit"
-        if w == max_iterations:
-            stop[active[hit]] = "max_iterations"
+        active, negative = _branches(state, active)
+        if limits.exhausted(w):
+            state.stop[active] = "max_iterations"
             break
-        active, bb, rr, negative = active[hit], bb[hit], rr[hit], negative[hit]
         if active.size == 0:
             break
-        codes[active, w] = negative @ weights
-        iterations[active] += 1
-        g, rg = G[active], rG[active]
-        gd, rgd = g[:, diag, diag], rg[:, diag, diag]
-        lam, rlam = _div(bb, rr, gd, rgd)
-        lam = np.where(negative, lam, 0.0)
-        rlam = np.where(negative, rlam, 0.0)
-        single = negative.sum(axis=1) == 1
-        # beta = sum b_j lambda_j / lambda^T G lambda (1 exactly for a single impact)
-        num, rnum = _mul(bb, rr, lam, rlam)
-        num, rnum = num.sum(axis=1), _radius(rnum.sum(axis=1), r * U * np.abs(num).sum(axis=1))
-        glam, rglam = _matvec(g, rg, lam, rlam)
-        den, rden = _mul(lam, rlam, glam, rglam)
-        den, rden = den.sum(axis=1), _radius(rden.sum(axis=1), r * U * np.abs(den).sum(axis=1))
-        safe = single | (den - rden > 0)
-        beta, rbeta = _div(num, rnum, np.where(safe, den, 1.0), np.where(safe, rden, 0.0))
-        beta = np.where(single, 1.0, beta)
-        rbeta = np.where(single, 0.0, rbeta)
-        if not safe.all():  # cannot happen for a certified impact set; redo exactly if it does
-            undecided[active[~safe]] = True
-        oe, roe = one_e[active], r_one_e[active]
-        c, rc = _mul(*_mul(beta[:, None], rbeta[:, None], oe, roe), lam, rlam)
-        c = -c
-        dv, rdv = _matvec(np.swapaxes(Ut[active], 1, 2), np.swapaxes(rUt[active], 1, 2), c, rc)
-        v[active], rv[active] = _add(v[active], rv[active], dv, rdv)
-        db, rdb = _matvec(g, rg, c, rc)
-        nb, rnb = _add(bb, rr, db, rdb)
-        # a single impact on j leaves exactly -e_j b_j on j (eq. 4): no cancellation there
-        own, rown = _mul(-batch.e[active], batch.r_e[active], bb, rr)
-        mine = negative & single[:, None]
-        b[active] = np.where(mine, own, nb)
-        rb[active] = np.where(mine, rown, rnb)
-        if not safe.all():
-            active = active[safe]
+        active = _impulses(batch, state, active, negative, w)
+    fallback = state.undecided.copy()
     exact_results: dict[int, Any] = {}
-    fallback = undecided.copy()
     if exact_fallback:
-        from verify.core.rule import solve
-
-        for i in np.flatnonzero(undecided):
-            system, velocity = batch.exact(int(i))
-            res = solve(system, velocity, max_iterations=max_iterations, trace=False, certify=False, budget=budget)
-            exact_results[int(i)] = res
-            K = res.backend
-            v[i], rv[i] = zip(*(_exact_float(K.to_number(x)) for x in res.exit_velocity))
-            stop[i] = res.stop
-            iterations[i] = res.iterations
+        exact_results = _redo_exactly(batch, state, max_iterations, budget)
     else:
-        stop[undecided] = "undecided"
-    return BatchResult(v, rv, b, rb, list(stop), iterations, codes, fallback, exact_results)
+        state.stop[state.undecided] = "undecided"
+    return BatchResult(
+        state.v, state.r_v, state.b, state.r_b, list(state.stop), state.iterations, state.codes, fallback, exact_results
+    )
 
 
 def _matvec(M: np.ndarray, rM: np.ndarray, x: np.ndarray, rx: np.ndarray) -> tuple[np.ndarray, np.ndarray]:

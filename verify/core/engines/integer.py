@@ -24,17 +24,22 @@ trace and runs no stop test, and the tests check it against the traced path.
 
 >>> from verify.core.system import System
 >>> s = System([[1, 0, 0], [0, 1, 0], [0, 0, 1]], [[-1, 1, 0], [0, -1, 1]], ["1/2", "1/2"])
->>> out = iterate(s, s.velocity(["100", "0", "0"]), 10)
->>> [s.backend.to_exact(x) for x in out["v"]], out["impact_sets"], out["stop"]
+>>> out = iterate(s, s.velocity(["100", "0", "0"]), Limits(10))
+>>> [s.backend.to_exact(x) for x in out.v], out.impact_sets, out.stop
 (['325/16', '375/16', '225/4'], [(0,), (1,), (0,)], 'exit')
 """
 
 from __future__ import annotations
 
 import math
-import time
+import weakref
 from dataclasses import dataclass
+from functools import partial
 from typing import Any
+
+from verify.core.backends import RationalBackend
+from verify.core.engines.policy import Limits, Run
+from verify.core.system import System
 
 try:  # GMP integers when installed: faster products and gcds on long runs
     from gmpy2 import gcd as _gcd
@@ -64,9 +69,13 @@ class IntegerData:
     ELM: int  # Ed L M
 
 
-def integer_data(system: Any) -> IntegerData:
+#: the integer constants of each system, computed when first needed (held while the system lives)
+_DATA: weakref.WeakKeyDictionary[System, IntegerData] = weakref.WeakKeyDictionary()
+
+
+def integer_data(system: System) -> IntegerData:
     """The integer constants of a system on the rational backend (computed once, cached)."""
-    cached = getattr(system, "_fraction_free", None)
+    cached = _DATA.get(system)
     if cached is not None:
         return cached
     K = system.backend
@@ -98,11 +107,11 @@ def integer_data(system: Any) -> IntegerData:
         E=tuple(_int(x * Ed) for x in minus),
         ELM=_int(Ed * L * M),
     )
-    system._fraction_free = data
+    _DATA[system] = data
     return data
 
 
-def _canonical_bits(V: list, D: Any) -> int:
+def _canonical_bits(V: list[Any], D: Any) -> int:
     """The largest numerator-plus-denominator size of the components V_k / D in lowest terms."""
     out = 0
     for x in V:
@@ -111,19 +120,26 @@ def _canonical_bits(V: list, D: Any) -> int:
     return out
 
 
-def iterate(system: Any, v: tuple, max_iterations: int, *, budget: Any = None) -> dict:
+def _size_within(V: list[Any], D: Any, bits: int | None) -> int:
+    """The size :meth:`~verify.core.engines.policy.Limits.over_budget` compares with ``bits``:
+    the unreduced size bounds the canonical one, so reduce only when it may be over."""
+    unreduced = max(int(x.bit_length()) for x in V) + int(D.bit_length())
+    return unreduced if bits is None or unreduced <= bits else _canonical_bits(V, D)
+
+
+def iterate(system: System, v: tuple[Any, ...], limits: Limits) -> Run:
     """Run the rule from ``v`` (rational backend elements) as :func:`verify.core.rule.solve` does
-    without a trace or stop tests: returns ``{"v", "stop", "impact_sets", "betas"}``."""
+    without a trace or stop tests, within ``limits``."""
     K = system.backend
+    if not isinstance(K, RationalBackend):
+        raise ValueError(f"the integer engine runs on the rational backend, not on {K.describe()}")
     data = integer_data(system)
+    limits = limits.start()
     start = [K.to_number(x) for x in v]
     D = _int(math.lcm(*(x.denominator for x in start)))
     V = [_int(x.numerator * (D // x.denominator)) for x in start]
-    len(V)
     A, C, Uz, single, P, Gz, E = data.A, data.C, data.Uz, data.single, data.P, data.Gz, data.E
     moving = any(C)
-    bits = budget.bits if budget is not None else None
-    deadline = time.monotonic() + budget.seconds if budget is not None and budget.seconds is not None else None
     impact_sets: list[tuple[int, ...]] = []
     betas: list[Any] = []
     while True:
@@ -137,13 +153,9 @@ def iterate(system: Any, v: tuple, max_iterations: int, *, budget: Any = None) -
         if not J:
             stop = "exit"
             break
-        if len(impact_sets) >= max_iterations:
-            stop = "max_iterations"
-            break
-        # the unreduced size bounds the canonical one: reduce only when it may be over
-        over = bits is not None and max(x.bit_length() for x in V) + D.bit_length() > bits
-        if (over and _canonical_bits(V, D) > bits) or (deadline is not None and time.monotonic() > deadline):
-            stop = "budget"
+        reason = limits.stop(len(impact_sets), partial(_size_within, V, D, limits.bits))
+        if reason is not None:
+            stop = reason
             break
         if len(J) == 1:
             (j,) = J
@@ -173,9 +185,4 @@ def iterate(system: Any, v: tuple, max_iterations: int, *, budget: Any = None) -
         if g != 1:
             D //= g
             V = [x // g for x in V]
-    return {
-        "v": tuple(K.from_integers(x, D) for x in V),
-        "stop": stop,
-        "impact_sets": impact_sets,
-        "betas": betas,
-    }
+    return Run(tuple(K.from_integers(x, D) for x in V), stop, impact_sets, betas)

@@ -16,7 +16,7 @@ again on each part.
 >>> K.sign(e - K.convert(Fraction(1, 2)))
 Traceback (most recent call last):
 ...
-verify.core.symbolic.Split: the sign of eps - 1/2 is not constant for eps in [0, 1]
+verify.core.backends.symbolic.Split: the sign of eps - 1/2 is not constant for eps in [0, 1]
 """
 
 from __future__ import annotations
@@ -31,7 +31,7 @@ from sympy import QQ
 from sympy.polys.fields import field
 
 from verify.core.algebraic import RealAlgebraic, X
-from verify.core.backends import Backend
+from verify.core.backends.base import Backend
 from verify.errors import BadNumber, Undecided
 
 EPS = sp.Symbol("eps")

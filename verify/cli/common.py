@@ -1,0 +1,469 @@
+"""What every subcommand of ``verify`` shares: the parser class, the option types that check each
+value when it is parsed, the checks of output paths, the status line, and one-line errors.
+
+Each option type is an argparse ``type=``: a bad value ends the parse with one line naming the option
+and the value (``--dps must be an integer >= 5, got '0'``), before anything is computed or written.
+tests/test_cli_options.py walks the parser and feeds every option of these types bad values.
+"""
+
+from __future__ import annotations
+
+import argparse
+import contextlib
+import functools
+import os
+import sys
+from collections.abc import Callable, Iterator
+from fractions import Fraction
+from typing import Any
+
+from verify.errors import VerifyError
+
+PROG = "verify"
+
+
+class UsageError(VerifyError):
+    """Command-line usage that argparse rejects (reported in one line, exit code 2)."""
+
+
+class Parser(argparse.ArgumentParser):
+    """An argument parser whose errors are one line (a :class:`UsageError`), with no usage block."""
+
+    def error(self, message: str) -> None:  # type: ignore[override]  # raises instead of exiting
+        import re
+
+        # "argument --dps: must be ..." -> "--dps must be ..."; "argument --x: invalid ..." -> "--x: invalid ..."
+        found = re.match(r"argument (\S+): (.*)", message, re.DOTALL)
+        if found:
+            name, rest = found.groups()
+            message = f"{name} {rest}" if rest.startswith("must ") else f"{name}: {rest}"
+        raise UsageError(f"{self.prog}: {message}")
+
+
+def formatter(prog: str) -> argparse.HelpFormatter:
+    """The help layout of every (sub)command: descriptions and epilogs as written."""
+    return argparse.RawDescriptionHelpFormatter(prog, max_help_position=32)
+
+
+def split_option(text: str) -> list[str]:
+    """A comma-separated option value as its entries (none empty).
+
+    >>> split_option("1/2, 1")
+    ['1/2', '1']
+    """
+    from verify.core.parse import split_list
+
+    parts = split_list(text)
+    if any(p == "" for p in parts):
+        raise UsageError(f"empty entry in the list {text!r}")
+    return parts
+
+
+# -- option types: every numeric and output-path option is checked when it is parsed ----------------
+
+#: the library's lower limit on decimal digits (verify.core.backends) and a ceiling on absurd requests
+MIN_DPS, MAX_DPS = 5, 100_000
+MAX_COUNT = 10**9  # caps on impulses, bits
+MAX_SECONDS = 10**7  # about 16 weeks
+MAX_BALLS = 1000
+MAX_CASES = 10**7
+MAX_SEED = 2**63 - 1
+MAX_WORKERS = 1024
+MAX_IMPULSES_MAP = 100_000  # cradle-map --max-impulses
+MAX_APPROACH = 20  # cradle-map --approach: eps = boundary + 10^-k, k up to this
+
+
+class BoundedInt:
+    """An integer option in ``[lo, hi]`` (decimal digits only: no ``1e3``, no ``0x10``).
+
+    >>> BoundedInt(1, 8)("3")
+    3
+    >>> BoundedInt(1, 8)("0")
+    Traceback (most recent call last):
+    argparse.ArgumentTypeError: must be an integer >= 1, got '0'
+    """
+
+    def __init__(self, lo: int, hi: int):
+        self.lo, self.hi = lo, hi
+
+    def __call__(self, text: str) -> int:
+        import re
+
+        stripped = text.strip()
+        if not re.fullmatch(r"[+-]?[0-9]+", stripped):
+            raise argparse.ArgumentTypeError(f"must be an integer, got {text!r}")
+        if len(stripped.lstrip("+-").lstrip("0")) > 30:  # past every bound here (and not read as an int)
+            value = self.lo - 1 if stripped.startswith("-") else self.hi + 1
+        else:
+            value = int(stripped)
+        if value < self.lo:
+            below = f">= {self.lo}" if self.lo <= 0 else f"an integer >= {self.lo}"
+            raise argparse.ArgumentTypeError(f"must be {below}, got {text!r}")
+        if value > self.hi:
+            raise argparse.ArgumentTypeError(f"must be <= {self.hi}, got {text!r}")
+        return value
+
+    def __repr__(self) -> str:  # argparse names the type in some messages
+        return f"integer in [{self.lo}, {self.hi}]"
+
+
+class Seconds:
+    """A positive, finite duration in seconds up to ``hi``, read exactly (``90``, ``0.5``,
+    ``1/4``; not ``nan``, ``inf``, ``1e400``), returned as a float for the clock.
+
+    >>> Seconds()("1/4")
+    0.25
+    >>> Seconds()("nan")
+    Traceback (most recent call last):
+    argparse.ArgumentTypeError: must be a number of seconds > 0, got 'nan'
+    """
+
+    def __init__(self, hi: int = MAX_SECONDS):
+        self.hi = hi
+
+    def __call__(self, text: str) -> float:
+        value = rational_value(text)
+        if value is None or value <= 0:
+            raise argparse.ArgumentTypeError(f"must be a number of seconds > 0, got {text!r}")
+        if value > self.hi:
+            raise argparse.ArgumentTypeError(f"must be <= {self.hi} seconds, got {text!r}")
+        return float(value)
+
+    def __repr__(self) -> str:
+        return "seconds"
+
+
+class NonNegativeRational:
+    """A rational number >= 0, read exactly (``1e-9`` is 1/10^9), returned as a Fraction.
+
+    >>> NonNegativeRational()("1e-9")
+    Fraction(1, 1000000000)
+    """
+
+    def __call__(self, text: str) -> Fraction:
+        value = rational_value(text)
+        if value is None or value < 0:
+            raise argparse.ArgumentTypeError(f"must be a non-negative rational, got {text!r}")
+        return value
+
+    def __repr__(self) -> str:
+        return "non-negative rational"
+
+
+class ExactNumber:
+    """A real number in the restricted syntax of :mod:`verify.core.parse` (``0.5``, ``pi/6``,
+    ``3 - 2*sqrt(2)``), checked when parsed and returned as the text (the library reads it).
+
+    >>> ExactNumber()("pi/6")
+    'pi/6'
+    """
+
+    def __call__(self, text: str) -> str:
+        from verify.core.parse import parse_number
+        from verify.errors import InvalidInput
+
+        try:
+            parse_number(text)
+        except InvalidInput as exc:
+            raise argparse.ArgumentTypeError(one_line(exc)) from None
+        return text
+
+    def __repr__(self) -> str:
+        return "number"
+
+
+def rational_value(text: str) -> Fraction | None:
+    """``text`` as a Fraction through the restricted parser, or None if it is not a rational."""
+    from verify.core.parse import parse_number, to_number
+    from verify.errors import InvalidInput
+
+    try:
+        value = to_number(parse_number(text))
+    except InvalidInput:
+        return None
+    return value if isinstance(value, Fraction) else None
+
+
+class OutputDir:
+    """A folder to write into: it is a folder, or it can be created (its nearest existing
+    ancestor is a folder in which a file can be created). Nothing is left behind by the
+    check: a probe file is created and removed at once. Returns the text.
+
+    >>> import tempfile
+    >>> folder = tempfile.mkdtemp()
+    >>> OutputDir()(folder + "/new/reports") == folder + "/new/reports"
+    True
+    >>> open(folder + "/file", "w").close()
+    >>> OutputDir()(folder + "/file/reports")  # doctest: +ELLIPSIS
+    Traceback (most recent call last):
+    argparse.ArgumentTypeError: must be a folder that can be written, got '.../file/reports' (.../file is a file)
+    >>> import shutil; shutil.rmtree(folder)
+    """
+
+    what = "a folder that can be written"
+
+    def __call__(self, text: str) -> str:
+        if not text:
+            raise argparse.ArgumentTypeError(f"must be {self.what}, got ''")
+        path = os.path.abspath(text)
+        if os.path.exists(path) and not os.path.isdir(path):
+            raise argparse.ArgumentTypeError(f"must be {self.what}, got {text!r} (a file is there)")
+        check_writable(path, self.what, text)
+        return text
+
+    def __repr__(self) -> str:
+        return "folder"
+
+
+class OutputFile:
+    """A file to write: not a folder, with one of ``suffixes`` (when given), in a folder
+    that exists or can be created (checked as :class:`OutputDir` does). Returns the text.
+
+    >>> OutputFile((".png",))("map.svg")
+    Traceback (most recent call last):
+    argparse.ArgumentTypeError: must be a file name ending in .png, got 'map.svg'
+    """
+
+    def __init__(self, suffixes: tuple[str, ...] = ()):
+        self.suffixes = suffixes
+
+    def __call__(self, text: str) -> str:
+        what = "a file that can be written"
+        if self.suffixes and not text.lower().endswith(self.suffixes):
+            endings = " or ".join(self.suffixes)
+            raise argparse.ArgumentTypeError(f"must be a file name ending in {endings}, got {text!r}")
+        if not text or text.endswith(("/", os.sep)) or os.path.isdir(text):
+            raise argparse.ArgumentTypeError(f"must be {what}, got {text!r} (a folder)")
+        check_writable(os.path.dirname(os.path.abspath(text)), what, text)
+        return text
+
+    def __repr__(self) -> str:
+        return "file"
+
+
+@contextlib.contextmanager
+def writing(path: str, option: str) -> Iterator[None]:
+    """Report an OSError on ``path`` or inside it (a full disk, a folder removed since the option was
+    checked) as one line naming the option; other errors pass through."""
+    try:
+        yield
+    except OSError as exc:
+        name = exc.filename if isinstance(exc.filename, str) else None
+        if name is None or not os.path.abspath(name).startswith(os.path.abspath(path)):
+            raise
+        raise UsageError(f"{option} {path!r}: cannot write {name} ({exc.strerror or exc})") from None
+
+
+def write_output(path: str, text: str, option: str) -> None:
+    """Write ``text`` whole to ``path`` (:func:`verify.records.files.write_atomic`), an OSError
+    reported in one line naming ``option``."""
+    from verify.records.files import write_atomic
+
+    with writing(path, option):
+        write_atomic(path, text)
+
+
+def check_writable(path: str, what: str, text: str) -> None:
+    """Check that ``path`` is, or can be created as, a folder one can write into."""
+    import tempfile
+
+    ancestor = path
+    while not os.path.exists(ancestor) and os.path.dirname(ancestor) != ancestor:
+        ancestor = os.path.dirname(ancestor)
+    if not os.path.isdir(ancestor):
+        raise argparse.ArgumentTypeError(f"must be {what}, got {text!r} ({ancestor} is a file)")
+    try:
+        fd, probe = tempfile.mkstemp(prefix=".verify-probe-", dir=ancestor)
+        os.close(fd)
+        os.remove(probe)
+    except (OSError, ValueError) as exc:
+        reason = getattr(exc, "strerror", None) or str(exc)
+        raise argparse.ArgumentTypeError(
+            f"must be {what}, got {text!r} (cannot write in {ancestor}: {reason})"
+        ) from None
+
+
+# -- progress and budgets ----------------------------------------------------------------------
+
+
+class StatusLine:
+    """A live status line on stderr, on a terminal only (never in a pipe or a log file): rewritten
+    in place at most ten times a second, cut to the terminal's width, and erased by :meth:`close`.
+
+    >>> line = StatusLine(enabled=False)  # stderr is not a terminal, or --quiet: shows nothing
+    >>> line.show("case 1/3", now=True); line.close()
+    """
+
+    def __init__(self, enabled: bool):
+        self.enabled = enabled
+        self.shown = False
+        self.last = 0.0
+        self.width = 80
+        if enabled:
+            with contextlib.suppress(OSError, ValueError, AttributeError):
+                self.width = os.get_terminal_size(sys.stderr.fileno()).columns or 80  # 0: size unknown
+
+    @classmethod
+    def for_args(cls, args: argparse.Namespace) -> StatusLine:
+        """Enabled when stderr is a terminal and ``--quiet`` was not given."""
+        tty = getattr(sys.stderr, "isatty", lambda: False)()
+        return cls(enabled=tty and not getattr(args, "quiet", False) and os.environ.get("TERM") != "dumb")
+
+    def show(self, text: str, *, now: bool = False) -> None:
+        """Replace the line by ``text`` (unless it was rewritten less than 0.1 s ago and not ``now``)."""
+        if not self.enabled:
+            return
+        import time
+
+        t = time.monotonic()
+        if not now and t - self.last < 0.1:
+            return
+        self.last = t
+        sys.stderr.write("\r\x1b[K" + text[: max(self.width - 1, 10)])
+        sys.stderr.flush()
+        self.shown = True
+
+    def close(self) -> None:
+        """Erase the line."""
+        if self.shown:
+            sys.stderr.write("\r\x1b[K")
+            sys.stderr.flush()
+            self.shown = False
+
+
+def run_budget(args: argparse.Namespace) -> Any:
+    """The per-case :class:`verify.core.rule.Budget` of ``--max-bits`` and ``--case-timeout`` (None if neither)."""
+    from verify.core.rule import Budget
+
+    if args.max_bits is None and args.case_timeout is None:
+        return None
+    return Budget(bits=args.max_bits, seconds=args.case_timeout)
+
+
+def case_progress(status: StatusLine, label: str) -> Any:
+    """A ``progress`` callback for :func:`verify.core.rule.solve` that shows ``label``, the impulses so far
+    and the time (None when the status line is off: no cost at all)."""
+    if not status.enabled:
+        return None
+    import time
+
+    start = time.monotonic()
+    status.show(f"{label}: starting", now=True)
+    return lambda count: status.show(f"{label}: {count} impulses, {time.monotonic() - start:.0f} s")
+
+
+# -- the parsers of the subcommands, and the options several of them share -----------------------
+
+
+def command(sub: SubParsers, name: str, func: Callable[[argparse.Namespace], int]) -> argparse.ArgumentParser:
+    """The parser of the subcommand ``name`` (``"oracle export"`` for one of ``verify oracle``), with its
+    texts from ``commands.toml`` beside this module, run by ``func``.
+
+    >>> sub = Parser(prog=PROG).add_subparsers(parser_class=Parser)
+    >>> print(command(sub, "table1", print).epilog, end="")
+    examples:
+      verify table1
+      verify table1 --json
+    """
+    texts = command_texts()[name]
+    examples = texts["examples"]
+    label = "examples" if len(examples) > 1 else "example"
+    p = sub.add_parser(name.rsplit(maxsplit=1)[-1], help=texts["help"], formatter_class=formatter,
+                       description=texts.get("description"),
+                       epilog=f"{label}:\n" + "".join(f"  {line}\n" for line in examples))  # fmt: skip
+    p.set_defaults(func=func)
+    return p
+
+
+@functools.cache
+def command_texts() -> dict[str, Any]:
+    """The texts of every subcommand's ``--help`` (``verify/cli/commands.toml``), by subcommand.
+
+    >>> command_texts()["oracle export"]["examples"]
+    ['verify oracle export golden']
+    """
+    import tomllib
+    from importlib.resources import files
+
+    return tomllib.loads(files("verify.cli").joinpath("commands.toml").read_text(encoding="utf-8"))
+
+
+def budget_options(p: argparse.ArgumentParser, scope: str) -> None:
+    p.add_argument(
+        "--max-iterations",
+        type=BoundedInt(0, MAX_COUNT),
+        default=None,
+        metavar="N",
+        help="cap on impulses, replacing each case's max_iterations (default: the case's own, else 10000)",
+    )
+    p.add_argument(
+        "--max-bits",
+        type=BoundedInt(1, MAX_COUNT),
+        default=None,
+        metavar="BITS",
+        help=f"stop a run (stop budget) once its exact numbers pass BITS bits, {scope}: numerator plus "
+        "denominator of the largest velocity component; the same on every machine; exact backend only",
+    )
+    p.add_argument(
+        "--case-timeout",
+        type=Seconds(),
+        default=None,
+        metavar="SECONDS",
+        help=f"stop a run (stop budget) after SECONDS of wall time, {scope}: depends on the machine, so "
+        "prefer --max-bits where results must be reproducible",
+    )
+
+
+def backend_options(p: argparse.ArgumentParser) -> None:
+    from verify.core.backends import BACKENDS
+
+    p.add_argument(
+        "--backend",
+        default="exact",
+        choices=BACKENDS,
+        help="arithmetic: exact (default), mp, interval (certified), float (not rigorous)",
+    )
+    p.add_argument(
+        "--dps",
+        type=BoundedInt(MIN_DPS, MAX_DPS),
+        default=None,
+        help=f"decimal digits for mp and interval, {MIN_DPS} to {MAX_DPS} (default 50)",
+    )
+
+
+def backend_choice(args: argparse.Namespace) -> dict[str, Any]:
+    """What :func:`backend_options` parsed, as the ``backend`` and ``dps`` keyword arguments of the library.
+
+    >>> backend_choice(argparse.Namespace(backend="mp", dps=40))
+    {'backend': 'mp', 'dps': 40}
+    """
+    return {"backend": args.backend, "dps": args.dps}
+
+
+#: library parameters that error messages name, and the command line's flags for them
+_PARAMETER_FLAGS = {'backend="interval"': "--backend interval", 'backend="mp"': "--backend mp"}
+
+
+def one_line(exc: Any) -> str:
+    """The message of ``exc`` on one line, in the command line's terms.
+
+    >>> one_line(ValueError('backend="mp"  needs\\n digits'))
+    '--backend mp needs digits'
+    """
+    text = " ".join(str(exc).split())
+    for parameter, flag in _PARAMETER_FLAGS.items():  # the library's terms, in the command line's
+        text = text.replace(parameter, flag)
+    return text
+
+
+# -- the types of the numeric options (each checks its range when parsed: one line, exit code 2) -----
+
+COUNT = BoundedInt(0, MAX_COUNT)  #: caps on impulses
+BALLS = BoundedInt(2, MAX_BALLS)
+CASES = BoundedInt(1, MAX_CASES)
+SEED = BoundedInt(0, MAX_SEED)
+WORKERS = BoundedInt(1, MAX_WORKERS)
+NUMBER = ExactNumber()
+
+#: what ``add_parser`` of the subcommands' parsers returns (``sub.add_parser(...)``)
+SubParsers = Any

@@ -1,0 +1,140 @@
+"""``verify corner-claims``, ``verify sweep``, ``verify cradle-map``: many runs at once."""
+
+from __future__ import annotations
+
+import argparse
+import sys
+
+from verify.cli.common import (
+    BALLS,
+    CASES,
+    COUNT,
+    MAX_APPROACH,
+    MAX_BALLS,
+    MAX_IMPULSES_MAP,
+    NUMBER,
+    PROG,
+    SEED,
+    WORKERS,
+    BoundedInt,
+    OutputDir,
+    OutputFile,
+    UsageError,
+    split_option,
+    writing,
+)
+
+
+def batch_options(p: argparse.ArgumentParser, *, cases: int, what: str, batch: str) -> None:
+    """``--cases``, ``--seed`` and ``--workers``: a deterministic ``batch`` of random cases (``cases`` by
+    default), run on local processes."""
+    p.add_argument("--cases", type=CASES, default=cases, help=f"{what} (default {cases})")
+    p.add_argument("--seed", type=SEED, default=0, help=f"seed of the deterministic {batch}, >= 0 (default 0)")
+    p.add_argument("--workers", type=WORKERS, default=None, help="local processes (default: every core)")
+
+
+def corner_claims_options(p: argparse.ArgumentParser) -> None:
+    """The options of ``verify corner-claims``."""
+    batch_options(p, cases=2000, what="cases per sample", batch="samples")
+    p.add_argument("--figures", metavar="DIR", type=OutputDir(), help="also draw the corner's figures (PNG) into DIR")
+    p.add_argument("--json", action="store_true", help="print JSON")
+
+
+def sweep_options(p: argparse.ArgumentParser) -> None:
+    """The options of ``verify sweep``."""
+    batch_options(p, cases=10_000, what="number of cases", batch="batch")
+    p.add_argument("--max-iterations", type=COUNT, default=100, help="cap on impulses per case (default 100)")
+    p.add_argument("--json", action="store_true", help="print the results as JSON")
+
+
+def cradle_map_options(p: argparse.ArgumentParser) -> None:
+    """The options of ``verify cradle-map``."""
+    p.add_argument("--balls", type=BALLS, default=None, help=f"number of balls N, 2 to {MAX_BALLS} (default 3)")
+    p.add_argument("--masses", help="masses m1,...,mN (default all 1)")
+    p.add_argument("--velocity", help="the left velocity v1,...,vN (default v0 on ball 1)")
+    p.add_argument("--v0", default="1", type=NUMBER, help="velocity of ball 1 (default 1)")
+    p.add_argument("--interval", default="0,1", help="the eps interval LO,HI inside [0, 1] (default 0,1)")
+    p.add_argument("--max-impulses", type=BoundedInt(0, MAX_IMPULSES_MAP), default=40,
+                   help="bound on the exploration (default 40)")  # fmt: skip
+    p.add_argument(
+        "--approach",
+        type=BoundedInt(0, MAX_APPROACH),
+        default=6,
+        help="show impulse counts at eps = boundary + 10^-k for k = 2..K (default 6; 0 to skip)",
+    )
+    p.add_argument("--figure", type=OutputFile((".png",)), help="also write the staircase figure (PNG) to this path")
+    p.add_argument("--json", action="store_true", help="print the map as JSON (contracts)")
+
+
+def cmd_corner_claims(args: argparse.Namespace) -> int:
+    """``verify corner-claims``: the paper's claims about the corner checked; exit code 1 if one is refuted."""
+    from verify.checks.paper.corner_claims import corner_findings
+    from verify.records.results import dumps
+    from verify.views.text import corner_claims_json, corner_claims_text
+
+    data = corner_findings(args.cases, seed=args.seed, workers=args.workers)
+    claims = data[0]
+    sys.stdout.write(dumps(corner_claims_json(*data)) if args.json else corner_claims_text(*data))
+    if args.figures:
+        from pathlib import Path
+
+        from verify.views import figures
+
+        out = Path(args.figures)
+        for name, draw in (
+            ("corner-exit-vs-entrance.png", figures.corner_exit_vs_entrance),
+            ("corner-iterations.png", figures.corner_iterations_map),
+            ("corner-multiple-impacts.png", figures.corner_multiple_impacts_map),
+            ("wedge-boundary.png", figures.wedge_boundary),
+        ):
+            with writing(args.figures, "--figures"):
+                draw(out / name, workers=args.workers)
+            print(f"figure written to {out / name}", file=sys.stderr)
+    return 1 if any(c.verdict == "refuted" for c in claims) else 0
+
+
+def cmd_sweep(args: argparse.Namespace) -> int:
+    """``verify sweep``: random rational corner cases run exactly; the stops and the time."""
+    from verify.checks.sweep import random_sweep
+    from verify.records.results import dumps
+
+    found = random_sweep(args.cases, seed=args.seed, max_iterations=args.max_iterations, workers=args.workers)
+    if args.json:
+        sys.stdout.write(dumps(dict(found, seconds=round(found["seconds"], 3))))
+    else:
+        print(f"{found['cases']} random rational corner cases (seed {args.seed}), exact, in {found['seconds']:.1f} s")
+        for stop, count in sorted(found["stops"].items()):
+            print(f"  {stop}: {count}")
+        print(f"  with repeated multiple impacts: {found['repeated_multiple_impacts']}")
+    return 0
+
+
+def cmd_cradle_map(args: argparse.Namespace) -> int:
+    """``verify cradle-map``: the cradle for every eps of an interval (and its staircase figure)."""
+    from verify.checks.paper.cradle_map import cradle_map, map_json, map_report
+    from verify.records.results import dumps
+    from verify.views.text import cradle_map_text
+
+    interval = split_option(args.interval)
+    if len(interval) != 2:
+        raise UsageError(f"{PROG} cradle-map: --interval takes two numbers LO,HI, got {args.interval!r}")
+    masses, velocity = (split_option(x) if x else None for x in (args.masses, args.velocity))
+    cmap = cradle_map(args.balls, masses, velocity, v0=args.v0, lower=interval[0], upper=interval[1],
+                      max_impulses=args.max_impulses)  # fmt: skip
+    if args.json:
+        sys.stdout.write(dumps(map_json(cmap)))
+    else:  # the paper's AEEV rows beside the paper's own cradle
+        paper = args.balls in (None, 3) and masses is None and velocity is None and interval == ["0", "1"]
+        report = map_report(cmap, approach=args.approach, paper=paper)
+        sys.stdout.write(cradle_map_text(cmap, aeev_rows=report.aeev_rows, approach=report.approach))
+    if args.figure:
+        from verify.views.figures import cradle_staircase
+
+        with writing(args.figure, "--figure"):
+            cradle_staircase(cmap, args.figure)
+        print(f"figure written to {args.figure}", file=sys.stderr)
+    return 0
+
+
+#: this group's subcommands, in the order of ``verify --help`` (each N has ``N_options`` and ``cmd_N``)
+COMMANDS = ("corner-claims", "sweep", "cradle-map")

@@ -1,0 +1,85 @@
+"""``verify report``, ``verify all``, ``verify bench``: the reports, the main job, the throughput figures."""
+
+from __future__ import annotations
+
+import argparse
+import sys
+from typing import Any
+
+from verify.checks.properties.profiles import PROFILES
+from verify.cli.common import CASES, WORKERS, OutputDir, OutputFile, write_output, writing
+
+
+def report_options(p: argparse.ArgumentParser) -> None:
+    """The options of ``verify report``."""
+    p.add_argument("--out", default="reports", type=OutputDir(), help="the folder to write (default reports)")
+    p.add_argument("--profile", default="ci", choices=tuple(PROFILES), help="property profile (default ci)")
+    p.add_argument("--workers", type=WORKERS, default=None, help="processes (default: every core)")
+
+
+def bench_options(p: argparse.ArgumentParser) -> None:
+    """The options of ``verify bench``."""
+    p.add_argument("--json", action="store_true", help="print the figures as JSON")
+    p.add_argument("--quick", action="store_true", help="a smoke run: 500 cases, one round, up to 100 impulses")
+    p.add_argument("--size", type=CASES, default=None, help="cases in the corner batch (default 10000)")
+    p.add_argument("--save", default=None, metavar="FILE", type=OutputFile(), help="also write the JSON record to FILE")
+
+
+def all_options(p: argparse.ArgumentParser) -> None:
+    """The options of ``verify all``."""
+    p.add_argument("--out", default="reports", type=OutputDir(), help="the folder for the reports (default reports)")
+    p.add_argument("--workers", type=WORKERS, default=None, help="processes (default: every core)")
+
+
+def cmd_report(args: argparse.Namespace) -> int:
+    """``verify report``: write the reports."""
+    from verify.views.pages import write_reports
+
+    with writing(args.out, "--out"):
+        write_reports(args.out, profile=args.profile, workers=args.workers,
+                      progress=lambda line: print(line, file=sys.stderr, flush=True))  # fmt: skip
+    print(f"reports written to {args.out}/")
+    return 0
+
+
+def cmd_all(args: argparse.Namespace) -> int:
+    """``verify all``: write the reports (ci profile), then summarise; exit code 1 if the program contradicts itself."""
+    import time
+
+    from verify.views.pages import write_reports
+    from verify.views.text import all_summary
+
+    start = time.monotonic()
+    print("verify all: reproducing Pasquero (2021), then writing the reports", flush=True)
+
+    def progress(line: str) -> None:
+        print(f"{line} ({time.monotonic() - start:.0f} s)", flush=True)
+
+    with writing(args.out, "--out"):
+        found = write_reports(args.out, profile="ci", workers=args.workers, progress=progress)
+    summary, failed = all_summary(found.table1, found.cradle_map.cmap, found.corner_example, found.corner[0],
+                                  profile=found.profile, found=found.verdicts,
+                                  oracle_ok=found.oracle.self_check.ok)  # fmt: skip
+    sys.stdout.write(summary)
+    print(f"reports written to {args.out}/ in {time.monotonic() - start:.0f} s")
+    return 1 if failed else 0
+
+
+def cmd_bench(args: argparse.Namespace) -> int:
+    """``verify bench``: time the engines against their baselines; print (and ``--save``) the record."""
+    from verify.checks.bench import QUICK, bench, bench_json, bench_text
+    from verify.records.results import dumps
+
+    options: dict[str, Any] = dict(QUICK) if args.quick else {}
+    if args.size is not None:
+        options["size"] = args.size
+    figures = bench(**options, progress=lambda line: print(line, file=sys.stderr, flush=True))
+    record = bench_json(figures, quick=args.quick)
+    if args.save:
+        write_output(args.save, dumps(record), "--save")
+    sys.stdout.write(dumps(record) if args.json else bench_text(record))
+    return 0
+
+
+#: this group's subcommands, in the order of ``verify --help`` (each N has ``N_options`` and ``cmd_N``)
+COMMANDS = ("report", "bench", "all")

@@ -1,0 +1,160 @@
+"""``verify cradle``, ``verify solve``, ``verify corner``: one run (or one case file) of the rule."""
+
+from __future__ import annotations
+
+import argparse
+import sys
+
+from verify.cli.common import (
+    BALLS,
+    COUNT,
+    MAX_BALLS,
+    NUMBER,
+    PROG,
+    StatusLine,
+    UsageError,
+    backend_choice,
+    backend_options,
+    budget_options,
+    case_progress,
+    one_line,
+    run_budget,
+    split_option,
+)
+from verify.errors import InvalidInput, InvalidSystem, Undecided
+
+
+def cradle_options(p: argparse.ArgumentParser) -> None:
+    """The options of ``verify cradle``."""
+    p.add_argument("--eps", required=True, help="COR for all contacts, or one per contact: 0.5 or 0.5,0.9")
+    p.add_argument("--v0", default="100", type=NUMBER, help="velocity of ball 1, the others at rest (default 100)")
+    p.add_argument("--balls", type=BALLS, default=None, help=f"number of balls N, 2 to {MAX_BALLS} (default 3)")
+    p.add_argument("--masses", help="masses m1,m2,...,mN (default all 1)")
+    p.add_argument("--velocity", help="the whole left velocity v1,...,vN (instead of --v0)")
+    p.add_argument(
+        "--mode",
+        default="exact",
+        choices=("exact", "paper"),
+        help="exact: stop at exit; paper: the paper's 10^4 cap and AEEV stop",
+    )
+    p.add_argument("--max-iterations", type=COUNT, default=None, help="cap on impulses (default 10000)")
+    p.add_argument("--trace", action="store_true", help="print every impulse, however many")
+    p.add_argument("--json", action="store_true", help="print the result record (JSON)")
+    backend_options(p)
+
+
+def solve_options(p: argparse.ArgumentParser) -> None:
+    """The options of ``verify solve``."""
+    from verify.core.rule import RULES
+
+    p.add_argument("cases", metavar="CASES.json", help='a case file {"cases": [...]}')
+    p.add_argument(
+        "--rule",
+        default="general",
+        choices=RULES,
+        help="general (eq. 8, default), ideal (5), symmetric (6) or asymmetric (7)",
+    )
+    budget_options(p, "per case")
+    p.add_argument("--quiet", action="store_true", help="no status line on stderr")
+    p.add_argument("--json", action="store_true", help='print {"results": [...]}')
+    backend_options(p)
+
+
+def corner_options(p: argparse.ArgumentParser) -> None:
+    """The options of ``verify corner``."""
+    angle = p.add_mutually_exclusive_group(required=True)
+    angle.add_argument("--alpha", type=NUMBER, help="half the corner angle, in (0, pi/2): pi/6, 3/10 (radians)")
+    angle.add_argument("--slope", type=NUMBER, help="k = tan(alpha) > 0 instead of alpha: 1/2, sqrt(3)/3")
+    p.add_argument("--phi", required=True, type=NUMBER, help="direction of the entrance velocity: pi/12, 0, -1/5")
+    p.add_argument("--eps1", required=True, type=NUMBER, help="COR of wall S1 (kx - y = 0), in [0, 1]")
+    p.add_argument("--eps2", required=True, type=NUMBER, help="COR of wall S2 (kx + y = 0), in [0, 1]")
+    p.add_argument("--v0", default="100", type=NUMBER, help="speed of the entrance velocity (default 100)")
+    p.add_argument("--max-iterations", type=COUNT, default=10_000, help="cap on impulses (default 10000)")
+    p.add_argument("--json", action="store_true", help="print the result record with the zones (JSON)")
+    backend_options(p)
+
+
+def cmd_cradle(args: argparse.Namespace) -> int:
+    """``verify cradle``: run the cradle, print the run (or its result record)."""
+    from verify.models.cradle import cradle_balls, run_cradle
+    from verify.records.results import dumps, result_record
+    from verify.views.text import cradle_text
+
+    eps = split_option(args.eps)
+    masses, velocity = (split_option(x) if x else None for x in (args.masses, args.velocity))
+    try:
+        balls = cradle_balls(args.balls, masses, velocity)
+    except InvalidSystem as exc:  # a list of another length than the balls: name the option
+        raise UsageError(f"{PROG} cradle: --{exc}") from None
+    result = run_cradle(
+        eps if len(eps) > 1 else eps[0],
+        v0=args.v0,
+        balls=balls,
+        masses=masses,
+        velocity=velocity,
+        mode=args.mode,
+        max_iterations=args.max_iterations,
+        **backend_choice(args),
+    )
+    if args.json:
+        sys.stdout.write(dumps(result_record(result, "cradle")))
+    else:
+        sys.stdout.write(cradle_text(result, eps=eps, mode=args.mode, full_trace=args.trace))
+    return 0
+
+
+def cmd_solve(args: argparse.Namespace) -> int:
+    """``verify solve``: run every case of a case file, in order, and print one result per case."""
+    from verify.core.rule import solve
+    from verify.records.results import dumps, load_cases, result_record
+    from verify.views.text import solve_text
+
+    cases = load_cases(args.cases, **backend_choice(args))  # every case validated first
+    budget = run_budget(args)
+    status = StatusLine.for_args(args)
+    results = []
+    try:
+        for k, c in enumerate(cases, 1):
+            cap = c.max_iterations if args.max_iterations is None else args.max_iterations
+            progress = case_progress(status, f"verify solve: case {k}/{len(cases)} {c.id}")
+            try:
+                r = solve(c.system, c.velocity_source, rule=args.rule, max_iterations=cap, trace=False,
+                          budget=budget, progress=progress)  # fmt: skip
+            except (InvalidInput, Undecided) as exc:  # name the case; nothing is printed for the others
+                raise type(exc)(f"{PROG} solve: case {c.id!r} (cases[{k - 1}]): {one_line(exc)}") from None
+            results.append((c, r))
+    finally:
+        status.close()
+    if args.json:
+        sys.stdout.write(dumps({"results": [result_record(r, c.id) for c, r in results]}))
+    else:
+        sys.stdout.write("".join(solve_text(c.id, r) for c, r in results))
+    return 0
+
+
+def cmd_corner(args: argparse.Namespace) -> int:
+    """``verify corner``: run the disk in a corner, print the run (or its record with the zones)."""
+    from verify.models.corner import run_corner
+    from verify.records.results import corner_record, dumps
+    from verify.views.text import corner_text
+
+    run = run_corner(
+        alpha=args.alpha,
+        slope=args.slope,
+        phi=args.phi,
+        eps1=args.eps1,
+        eps2=args.eps2,
+        v0=args.v0,
+        max_iterations=args.max_iterations,
+        **backend_choice(args),
+    )
+    if args.json:
+        sys.stdout.write(dumps(corner_record(run)))
+    else:
+        given = {"alpha": args.alpha, "slope": args.slope, "phi": args.phi, "v0": args.v0}
+        sys.stdout.write(corner_text(run, **given, eps1=args.eps1, eps2=args.eps2))
+    return 0
+
+
+#: this group's subcommands, in the order of ``verify --help`` (each N has ``N_options`` and ``cmd_N``)
+COMMANDS = ("cradle", "solve", "corner")

@@ -1,0 +1,96 @@
+"""Arithmetic backends: the one contract that the rule is written against.
+
+The contract and the capabilities through which a backend says what it can do are
+:class:`~verify.core.backends.base.Backend`'s. Backends here: ``exact`` (rationals, gmpy2
+or python-flint when installed, pure-Python :class:`~fractions.Fraction` otherwise, same
+results: :mod:`~verify.core.backends.rational`; a real number field for algebraic inputs:
+:mod:`~verify.core.backends.field`), ``mp`` (mpmath at ``dps`` digits, heuristic signs) and
+``interval`` (mpmath intervals, certified signs, precision raised automatically), both in
+:mod:`~verify.core.backends.precision`, and ``float`` (fast, not rigorous:
+:mod:`~verify.core.backends.floating`). The symbolic-parameter backend
+(:mod:`verify.core.backends.symbolic`, imported from there: it loads SymPy) fits the same
+contract: its elements support ``+ - * /`` and its ``sign`` decides exactly or raises.
+
+>>> K = get_backend("exact")
+>>> x = K.convert(Fraction(1, 3)) - K.convert(Fraction(1, 2))
+>>> K.sign(x), K.to_decimal(x, 5), K.to_number(x)
+(-1, '-0.16667', Fraction(-1, 6))
+"""
+
+from __future__ import annotations
+
+from collections.abc import Iterable
+from fractions import Fraction
+
+from verify.core.backends.base import Backend
+from verify.core.backends.field import NumberFieldBackend, algebraic_generators
+from verify.core.backends.floating import FloatBackend
+from verify.core.backends.precision import DEFAULT_DPS, MAX_INTERVAL_DPS, MIN_DPS, IntervalBackend, MPBackend
+from verify.core.backends.rational import RationalBackend, rational_impls
+from verify.core.parse import Number
+from verify.errors import BadNumber, InvalidInput
+
+__all__ = [
+    "BACKENDS",
+    "DEFAULT_DPS",
+    "MAX_INTERVAL_DPS",
+    "MIN_DPS",
+    "Backend",
+    "FloatBackend",
+    "IntervalBackend",
+    "MPBackend",
+    "NumberFieldBackend",
+    "RationalBackend",
+    "algebraic_generators",
+    "exact_for",
+    "get_backend",
+    "rational_impls",
+]
+
+BACKENDS = ("exact", "mp", "interval", "float")  #: the backends that get_backend knows by name
+
+
+def get_backend(name: str | Backend = "exact", *, dps: int | None = None) -> Backend:
+    """A backend by name: ``exact``, ``mp``, ``interval`` or ``float``.
+
+    >>> get_backend("interval", dps=30).describe()
+    'interval, 30 digits, rigorous'
+    """
+    if isinstance(name, Backend):
+        return name
+    if name == "exact":
+        return RationalBackend()
+    if name == "mp":
+        return MPBackend(dps or DEFAULT_DPS)
+    if name == "interval":
+        return IntervalBackend(dps or DEFAULT_DPS)
+    if name == "float":
+        return FloatBackend()
+    raise InvalidInput(f"unknown backend {name!r} (choose from {', '.join(BACKENDS)})")
+
+
+def exact_for(values: Iterable[Number]) -> Backend:
+    """The exact backend for these parsed numbers: rationals when they all are, else their
+    number field; BadNumber when one is not algebraic (such as tan(3/10)).
+
+    >>> import sympy as sp
+    >>> exact_for([Fraction(1, 2)]).describe(), exact_for([sp.sqrt(2)]).describe()
+    ('exact (rationals, ...), rigorous', 'exact (number field Q(sqrt(2))), rigorous')
+    """
+    values = list(values)
+    gens = algebraic_generators(values)
+    if gens is None:
+        bad = next(v for v in values if not isinstance(v, Fraction) and v.is_algebraic is not True)
+        raise BadNumber(
+            f"{bad} is not an algebraic number, so the exact backend cannot hold it: "
+            'use backend="interval" (certified) or backend="mp"'
+        )
+    if not gens:
+        return RationalBackend()
+    key = tuple(str(g) for g in gens)
+    if key not in _FIELDS:  # building a field (primitive element, isolation) costs more than a short run
+        _FIELDS[key] = NumberFieldBackend(gens)
+    return _FIELDS[key]
+
+
+_FIELDS: dict[tuple[str, ...], NumberFieldBackend] = {}

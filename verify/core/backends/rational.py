@@ -1,0 +1,104 @@
+"""Exact rationals: gmpy2 or python-flint when installed, pure-Python Fraction otherwise.
+
+>>> K = RationalBackend("python")
+>>> x = K.convert(Fraction(1, 3)) - K.convert(Fraction(1, 2))
+>>> K.sign(x), K.to_decimal(x, 5), K.to_number(x)
+(-1, '-0.16667', Fraction(-1, 6))
+"""
+
+from __future__ import annotations
+
+import functools
+import os
+from fractions import Fraction
+from typing import Any
+
+from verify.core.backends.base import Backend
+from verify.core.format import format_decimal
+from verify.core.parse import Number
+from verify.errors import BadNumber, InvalidInput
+
+
+@functools.cache
+def rational_impls() -> dict[str, Any]:
+    """The installed rational types by name, fastest first (looked up once): ``"gmpy2"``
+    (``mpq``), ``"flint"`` (``fmpq``) when installed, and ``"python"`` (Fraction) always.
+
+    >>> list(rational_impls())[-1], rational_impls()["python"]
+    ('python', <class 'fractions.Fraction'>)
+    """
+    impls: dict[str, Any] = {}
+    try:
+        import gmpy2
+
+        impls["gmpy2"] = gmpy2.mpq
+    except ImportError:
+        pass
+    try:
+        import flint
+
+        impls["flint"] = flint.fmpq
+    except ImportError:
+        pass
+    impls["python"] = Fraction
+    return impls
+
+
+class RationalBackend(Backend):
+    """Exact rationals. ``impl`` is ``"gmpy2"``, ``"flint"``, ``"python"`` or ``"auto"``.
+
+    ``"auto"`` takes the fastest installed one (the environment variable
+    ``VERIFY_RATIONALS`` can force a choice); every implementation gives the same results.
+    Irrational inputs are refused with a clear error: run them on ``interval`` or ``mp``.
+    """
+
+    name = "exact"
+    is_exact = True
+    is_rigorous = True
+    rationals = True
+    widens_to_inputs = True
+    fraction_free = True  #: the rule may run over integers here (:mod:`verify.core.engines.integer`)
+
+    def __init__(self, impl: str = "auto"):
+        impls = rational_impls()
+        if impl == "auto":
+            impl = os.environ.get("VERIFY_RATIONALS", "") or next(iter(impls))
+        if impl not in impls:
+            raise InvalidInput(f"rational implementation {impl!r} is not installed (have: {', '.join(impls)})")
+        self.impl = impl
+        self._q = impls[impl]
+        self.zero = self._q(0)
+        self.one = self._q(1)
+        self._units = {-1: self._q(-1), 0: self.zero, 1: self.one}
+
+    def convert(self, value: Number) -> Any:
+        if type(value) is Fraction or isinstance(value, Fraction):
+            if value.denominator == 1 and -2 < value.numerator < 2:
+                return self._units[value.numerator]  # -1, 0, 1: most entries of mass matrices and normals
+            return self._q(value.numerator, value.denominator)
+        raise BadNumber(
+            f"{value} is irrational: the exact backend computes over the rationals; "
+            'use backend="interval" (certified) or backend="mp"'
+        )
+
+    def sign(self, x: Any) -> int:
+        s: int = (x > 0) - (x < 0)
+        return s
+
+    def from_integers(self, numerator: Any, denominator: Any) -> Any:
+        """The element ``numerator / denominator`` (integers, denominator non-zero)."""
+        if self.impl == "gmpy2":
+            return self._q(numerator, denominator)
+        return self._q(int(numerator), int(denominator))
+
+    def to_number(self, x: Any) -> Fraction:
+        return Fraction(int(x.numerator), int(x.denominator))
+
+    def size(self, x: Any) -> int:
+        return int(x.numerator).bit_length() + int(x.denominator).bit_length()
+
+    def to_decimal(self, x: Any, digits: int = 30) -> str:
+        return format_decimal(self.to_number(x), digits)
+
+    def describe(self) -> str:
+        return f"exact (rationals, {self.impl}), rigorous"
