@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import argparse
 import sys
+from typing import Any
 
 from verify.cli.common import (
     BALLS,
@@ -36,6 +37,13 @@ def cradle_options(p: argparse.ArgumentParser) -> None:
         default="exact",
         choices=("exact", "paper"),
         help="exact: stop at exit; paper: the paper's 10^4 cap and AEEV stop",
+    )
+    p.add_argument(
+        "--aeev",
+        metavar="READING",
+        default=None,
+        help="with --mode paper: the reading of the AEEV stop, measure/norm/when "
+        "(default l2_pair/v/before; the earlier one: max_pair/v0/before; verify table1 lists all)",
     )
     p.add_argument("--max-iterations", type=COUNT, default=None, help="cap on impulses (default 10000)")
     p.add_argument("--trace", action="store_true", help="print every impulse, however many")
@@ -77,6 +85,7 @@ def corner_options(p: argparse.ArgumentParser) -> None:
 def cmd_cradle(args: argparse.Namespace) -> int:
     """``verify cradle``: run the cradle, print the run (or its result record)."""
     from verify.models.cradle import cradle_balls, run_cradle
+    from verify.models.paper import default_sigma
     from verify.records.results import dumps, result_record
     from verify.views.text import cradle_text
 
@@ -86,8 +95,10 @@ def cmd_cradle(args: argparse.Namespace) -> int:
         balls = cradle_balls(args.balls, masses, velocity)
     except InvalidSystem as exc:  # a list of another length than the balls: name the option
         raise UsageError(f"{PROG} cradle: --{exc}") from None
+    aeev = _aeev_reading(args)
     result = run_cradle(
         eps if len(eps) > 1 else eps[0],
+        aeev=aeev,
         v0=args.v0,
         balls=balls,
         masses=masses,
@@ -99,8 +110,23 @@ def cmd_cradle(args: argparse.Namespace) -> int:
     if args.json:
         sys.stdout.write(dumps(result_record(result, "cradle")))
     else:
-        sys.stdout.write(cradle_text(result, eps=eps, mode=args.mode, full_trace=args.trace))
+        mode = f"paper (AEEV stop {aeev.name}, c = {default_sigma(aeev)})" if args.mode == "paper" else args.mode
+        sys.stdout.write(cradle_text(result, eps=eps, mode=mode, full_trace=args.trace))
     return 0
+
+
+def _aeev_reading(args: argparse.Namespace) -> Any:
+    """The reading of ``--aeev`` (the default reading without it)."""
+    from verify.models.paper import PAPER_READING, Reading
+
+    if args.aeev is None:
+        return PAPER_READING
+    if args.mode != "paper":
+        raise UsageError(f"{PROG} cradle: --aeev needs --mode paper")
+    try:
+        return Reading.parse(args.aeev)
+    except ValueError as exc:
+        raise UsageError(f"{PROG} cradle: --aeev: {exc}") from None
 
 
 def cmd_solve(args: argparse.Namespace) -> int:

@@ -55,6 +55,8 @@ DEFAULT_MAX_ITERATIONS = 10_000
 #: certificate) such as ``("non_terminating", {...})``, or None to go on. The system it is
 #: given answers ``rates(velocity)`` with the rates the rule holds (zeros known exactly
 #: included, see :func:`_rates_after`), so a stop test decides the same signs as the rule.
+#: A stop test with a true attribute ``after_impulse`` is instead called right after each
+#: impulse, before the exit check (so it can stop a run that would exit), with the system.
 Halt = Callable[[Any, tuple], Any]
 
 
@@ -511,7 +513,13 @@ def _iterate(
     minus_e = tuple(K.zero - e for e in system.restitution)
     structures: dict[tuple[int, ...], tuple] = {}
     b = system.rates(v)
+    after = [h for h in halts if getattr(h, "after_impulse", False)]  # tested before the exit check
+    halts = [h for h in halts if h not in after]
     while True:
+        reason = next((r for r in (h(system, v) for h in after) if r), None) if impact_sets else None
+        if reason:
+            stop, certificate = reason if isinstance(reason, tuple) else (reason, None)
+            break
         J, b = _impact_set_of(system, b, impact_sets, exact)
         if not J:
             stop = "exit"

@@ -27,7 +27,7 @@ from verify.core.parse import to_number
 from verify.core.rule import DEFAULT_MAX_ITERATIONS, Result, solve
 from verify.core.system import System
 from verify.errors import InvalidSystem
-from verify.models.paper import PAPER_MAX_ITERATIONS, PAPER_SIGMA_RELATIVE, aeev_halt
+from verify.models.paper import PAPER_MAX_ITERATIONS, PAPER_READING, Reading, aeev_halt
 
 MODES = ("exact", "paper")
 
@@ -195,14 +195,19 @@ def run_cradle(
     dps: int | None = None,
     max_iterations: int | None = None,
     trace: bool = True,
-    sigma_relative: Fraction = PAPER_SIGMA_RELATIVE,
+    sigma_relative: Fraction | None = None,
     certify: bool = True,
+    aeev: Reading | str = PAPER_READING,
+    sigma_squared: Fraction | None = None,
 ) -> Result:
     """Run the cradle (reduced coordinates) in ``exact`` mode or in the paper's ``paper`` mode.
 
     ``mode="paper"`` applies the paper's own termination (Sect. 4.1): at most 10^4
     impulses and the almost-equal-exit-velocities stop of :func:`verify.models.paper.aeev_halt`
-    with threshold ``sigma_relative * ||v0||`` (see :mod:`verify.models.paper` for its value).
+    under the reading ``aeev`` (a :class:`verify.models.paper.Reading` or its name, such as
+    ``"max_pair/v0/before"``) with threshold ``sigma_relative`` times the reading's norm
+    (default :func:`verify.models.paper.default_sigma`; see :mod:`verify.models.paper`), or
+    with ``sigma_squared`` its square.
     ``mode="exact"`` stops when the velocity exits, when the run is proved never to exit
     (stop ``"non_terminating"`` with a certificate, :mod:`verify.core.termination`), or at
     ``max_iterations``. ``certify=False`` turns the proofs off (to follow a run that
@@ -217,7 +222,9 @@ def run_cradle(
     v = cradle_velocity(balls, v0, velocity)
     halt = None
     if mode == "paper":
-        halt = aeev_halt([to_number(c, where=f"velocity[{i}]") for i, c in enumerate(v)], sigma_relative)
+        reading = Reading.parse(aeev) if isinstance(aeev, str) else aeev
+        v_in = [to_number(c, where=f"velocity[{i}]") for i, c in enumerate(v)]
+        halt = aeev_halt(v_in, sigma_relative, reading=reading, sigma_squared=sigma_squared)
         cap = PAPER_MAX_ITERATIONS if max_iterations is None else max_iterations
     else:
         cap = DEFAULT_MAX_ITERATIONS if max_iterations is None else max_iterations

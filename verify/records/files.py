@@ -1,6 +1,9 @@
-"""Files written whole: each to a temporary name beside it, then renamed into place.
+"""The files of verify: JSON read with one loader, files written whole.
 
-A write that fails or is interrupted leaves neither a partial file nor a temporary one of
+:func:`load_json` reads a case or result file (size limit, numbers kept as strings so that the
+field holding a bare JSON number can be named). :func:`write_atomic` and
+:func:`write_all_atomic` write each file to a temporary name beside it, then rename it into
+place: a write that fails or is interrupted leaves neither a partial file nor a temporary one of
 its own, and the file that was there before stays as it was.
 
 >>> import os, tempfile

@@ -11,10 +11,11 @@ from collections.abc import Sequence
 from fractions import Fraction
 from typing import Any
 
+from verify.checks.paper.readings import Search, Window, closed_form
 from verify.checks.paper.table1 import Table1, sqrt_decimal, threshold_brackets
 from verify.core.format import format_decimal, format_exact
 from verify.core.rule import Result
-from verify.models.paper import PAPER_SIGMA_RELATIVE, PAPER_SIGMA_STATED
+from verify.models.paper import MEASURES, NORMS, PAPER_READING, PAPER_SIGMA_RELATIVE, PAPER_SIGMA_STATED, WHENS
 from verify.records.results import result_record, value_string
 
 TRACE_LIMIT = 40
@@ -169,26 +170,94 @@ def table1_text(table: Table1) -> str:
     return "\n".join(lines) + "\n"
 
 
-def aeev_text(ident: dict[str, Any]) -> list[str]:
-    """The identification of the paper's AEEV stop test, in words and figures."""
-    lines = ["Identification of the AEEV stop (sigma relative to ||v0||):"]
-    for name, w in ident["measures"].items():
-        what = "max |v_i - v_j| over all pairs" if name == "all" else "max |v_i - v_(i+1)| over neighbours"
-        if w["consistent"]:
-            lines.append(
-                f"  {what} < sigma: reproduces every printed count iff sigma/||v0|| is in "
-                f"({sqrt_decimal(w['lower_sq'], 4)}, {sqrt_decimal(w['upper_sq'], 4, up=True)}]"
-                f" (bounds rounded outward)"
-            )
-        else:
-            lines.append(f"  {what} < sigma: no sigma reproduces every printed count")
-        where = "inside" if w["stated_inside"] else "outside"
-        lines.append(f"    the stated sigma/||v0|| = {format_decimal(PAPER_SIGMA_STATED)} is {where} this window")
-    counts = ", ".join(f"{e}: {c}" for e, c in ident["stated_counts"].items() if "AEEV" in c)
-    lines.append(f"  AEEV stops with the stated sigma = {format_decimal(PAPER_SIGMA_STATED)} ||v0||: {counts}")
-    sigma = format_decimal(PAPER_SIGMA_RELATIVE)
-    lines.append(f"  paper mode uses sigma/||v0|| = {sigma} (see verify/models/paper.py)")
+def _window_decimal(w: Window) -> str:
+    lo = sqrt_decimal(w.lower_sq, 4)
+    if w.upper_sq is None:
+        return f"({lo}, infinity)"
+    hi = sqrt_decimal(w.upper_sq, 4, up=True)
+    return f"({lo}, {hi}]" if w.consistent else f"empty (c > {lo}, c <= {hi})"
+
+
+def _short_form(q: Fraction | None, limit: int = 44) -> str:
+    if q is None:
+        return "infinity"
+    text = closed_form(q)
+    return text if len(text) <= limit else f"<{len(text)} characters: see --json>"
+
+
+def aeev_text(search: Search) -> list[str]:
+    """The search of the readings of the paper's AEEV stop, in words and figures."""
+    stated = format_decimal(PAPER_SIGMA_STATED)
+    lines = [
+        'Identification of the AEEV stop: readings of "the differences of the velocities < sigma = c * norm"',
+        f"  tried: {len(MEASURES)} measures x {len(NORMS)} norms x {len(WHENS)} moments = {len(search.windows)}"
+        " readings, named measure/norm/when; the stop fires when measure < sigma (strict), so each",
+        "  window of c that reproduces every printed count is open below and closed above (ends rounded outward)",
+        *[f"    {k:<13} {v}" for k, v in MEASURES.items()],
+        "    norms: " + ", ".join(f"{k} = {v}" for k, v in NORMS.items()),
+        *[f"    {k:<13} {v}" for k, v in WHENS.items()],
+        "",
+        f"  {'reading':<26}{'c = ' + stated:<11}{'window of c':<40}{'counts with c = ' + stated:<45}"
+        "first row that differs",
+        f"  {'':<26}{'reproduces':<11}{'':<40}{'on eps = ' + ', '.join(search.sensitive):<45}with c = {stated}",
+    ]
+    for w in search.windows:
+        verdict = "yes" if w.stated_reproduces else "no"
+        counts = ", ".join(w.stated_counts[e] for e in search.sensitive)
+        first = "none" if w.first_difference is None else f"{w.first_difference[0]} ({w.first_difference[2]})"
+        lines.append(f"  {w.reading.name:<26}{verdict:<11}{_window_decimal(w):<40}{counts:<45}{first}")
+    lines.append("")
+    good = search.reproducing
+    for w in good:
+        lines += [
+            f"  {w.reading.name} ({w.reading.description}):",
+            f"    reproduces every printed count with the printed constant c = {stated};",
+            f"    exactly, c in ({_short_form(w.lower_sq)}, {_short_form(w.upper_sq)}]",
+        ]
+    if not good:
+        lines.append(f"  Under the readings tried, c = {stated} reproduces every printed count under none"
+                     " (the last column says where each first fails)")  # fmt: skip
+    reading = PAPER_READING.name
+    lines.append(f"  paper mode uses {reading} with c = {format_decimal(PAPER_SIGMA_RELATIVE)} (see "
+                 "verify/models/paper.py; other readings: verify cradle --mode paper --aeev READING)")  # fmt: skip
     return lines
+
+
+def _reading_record(w: Window) -> dict[str, Any]:
+    r = w.reading
+    return {
+        "reading": r.name,
+        "measure": r.measure,
+        "norm": r.norm,
+        "when": r.when,
+        "description": r.description,
+        "c_squared_lower": str(w.lower_sq),
+        "c_squared_upper": None if w.upper_sq is None else str(w.upper_sq),
+        "c_lower": closed_form(w.lower_sq),
+        "c_upper": None if w.upper_sq is None else closed_form(w.upper_sq),
+        "c_lower_decimal": sqrt_decimal(w.lower_sq, 10),
+        "c_upper_decimal": None if w.upper_sq is None else sqrt_decimal(w.upper_sq, 10, up=True),
+        "consistent": w.consistent,
+        "impossible": w.impossible,
+        "stated_inside": w.stated_inside,
+        "stated_reproduces_every_count": w.stated_reproduces,
+        "counts_with_stated": w.stated_counts,
+        "first_difference_with_stated": None
+        if w.first_difference is None
+        else dict(zip(("eps", "printed", "obtained"), w.first_difference)),
+    }
+
+
+def aeev_json(search: Search) -> dict[str, Any]:
+    """The search of the readings as JSON (exact windows, as squares and closed forms)."""
+    return {
+        "comparison": "measure < c * norm (strict): the window of c is (c_lower, c_upper]",
+        "stated_c": str(PAPER_SIGMA_STATED),
+        "sensitive_rows": search.sensitive,
+        "readings": [_reading_record(w) for w in search.windows],
+        "reproducing_with_stated_c": [w.reading.name for w in search.reproducing],
+        "paper_mode": {"reading": PAPER_READING.name, "c": str(PAPER_SIGMA_RELATIVE)},
+    }
 
 
 def table1_json(table: Table1) -> dict[str, Any]:
@@ -218,20 +287,7 @@ def table1_json(table: Table1) -> dict[str, Any]:
             }
             for row in table.rows
         ],
-        "aeev_identification": {
-            "measures": {
-                name: {
-                    "sigma_relative_squared_lower": str(w["lower_sq"]),
-                    "sigma_relative_squared_upper": str(w["upper_sq"]),
-                    "sigma_relative_lower_decimal": sqrt_decimal(w["lower_sq"], 10),
-                    "sigma_relative_upper_decimal": sqrt_decimal(w["upper_sq"], 10, up=True),
-                    "consistent": w["consistent"],
-                    "stated_sigma_inside": w["stated_inside"],
-                }
-                for name, w in ident["measures"].items()
-            },
-            "counts_with_stated_sigma": ident["stated_counts"],
-        },
+        "aeev_identification": aeev_json(ident),
     }
 
 
@@ -254,13 +310,16 @@ def table1_summary(table: Table1) -> str:
             f"    3 -> 4 iterations between eps = {hi} and {lo}; the paper's threshold 3 - 2*sqrt(2) {where} "
             "between them (decided exactly)"
         )
-    ident = table.identification["measures"]["all"]
-    verdict = "reproduces" if ident["stated_inside"] else "does not reproduce"
-    window = f"({sqrt_decimal(ident['lower_sq'], 4)}, {sqrt_decimal(ident['upper_sq'], 4, up=True)}]"
-    lines.append(
-        f"    AEEV stop: the stated sigma = {format_decimal(PAPER_SIGMA_STATED)} ||v0|| {verdict} "
-        f"the printed counts; sigma/||v0|| in {window} does"
-    )
+    search = table.identification
+    stated = format_decimal(PAPER_SIGMA_STATED)
+    good = [w.reading.name for w in search.reproducing]
+    tried = f"{len(search.windows)} readings tried"
+    if good:
+        lines.append(f"    AEEV stop: the printed sigma = {stated} * norm reproduces every printed count under "
+                     f"{', '.join(good)} (of {tried}; paper mode uses {PAPER_READING.name})")  # fmt: skip
+    else:
+        lines.append(f"    AEEV stop: under the {tried}, the printed sigma = {stated} * norm "
+                     "reproduces the printed counts under none (verify table1 lists why)")  # fmt: skip
     return "\n".join(lines) + "\n"
 
 

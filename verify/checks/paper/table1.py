@@ -14,8 +14,9 @@ explains it, by how many units of the last printed digit it is off, whether anot
 state of the run matches, and whether the printed row can be a state of the rule at all
 (every impulse of the cradle conserves total momentum exactly).
 
-:func:`identify_aeev` works out which stop tests reproduce the printed iteration counts
-and for which thresholds sigma: the paper's text leaves the test loosely described.
+:func:`verify.checks.paper.readings.search_readings` works out which readings of the AEEV
+stop reproduce the printed iteration counts and for which thresholds sigma: the paper's
+text leaves the test loosely described.
 
 >>> rows = table1().rows
 >>> rows[0].eps, rows[0].exact.iterations, rows[0].exact.stop
@@ -24,41 +25,17 @@ and for which thresholds sigma: the paper's text leaves the test loosely describ
 
 from __future__ import annotations
 
-import json
 from dataclasses import dataclass, field
 from fractions import Fraction
-from importlib import resources
-from typing import Any
 
+from verify.checks.paper.readings import Search, load_table1, parse_printed_iterations, search_readings
 from verify.core.format import format_decimal, ilog10, int_to_str
 from verify.core.parse import to_number
 from verify.core.rule import Result
 from verify.models.cradle import run_cradle
-from verify.models.paper import (
-    PAPER_SIGMA_RELATIVE,
-    PAPER_SIGMA_STATED,
-    max_difference_squared,
-)
+from verify.models.paper import PAPER_READING, Reading
 
 DEFAULT_EXACT_CAP = 10_000
-
-
-def load_table1() -> dict[str, Any]:
-    """The printed Table 1 (strings as printed) with its source."""
-    text = resources.files("verify").joinpath("data/paper/table1.json").read_text(encoding="utf-8")
-    return json.loads(text)
-
-
-def parse_printed_iterations(text: str) -> tuple[str, int]:
-    """``"3"`` -> ``("exit", 3)``; ``"AEEV / 17"`` -> ``("aeev", 17)``.
-
-    >>> parse_printed_iterations("AEEV / 30")
-    ('aeev', 30)
-    """
-    if "/" in text:
-        label, _, count = text.partition("/")
-        return label.strip().lower(), int(count)
-    return "exit", int(text)
 
 
 def decimals_of(printed: str) -> int:
@@ -112,7 +89,7 @@ class Table1:
     v0: Fraction
     exact_cap: int
     rows: list[Row]
-    identification: dict[str, Any]
+    identification: Search
 
 
 def _velocities(result: Result) -> list[Fraction]:
@@ -186,14 +163,21 @@ def _row_diagnosis(printed: list[str], states: list[list[Fraction]], momentum: F
     return notes
 
 
-def table1(*, exact_cap: int = DEFAULT_EXACT_CAP, sigma_relative: Fraction = PAPER_SIGMA_RELATIVE) -> Table1:
-    """Recompute Table 1: exact and paper-mode results, and every printed entry checked."""
+def table1(
+    *, exact_cap: int = DEFAULT_EXACT_CAP, sigma_relative: Fraction | None = None, aeev: Reading = PAPER_READING
+) -> Table1:
+    """Recompute Table 1: exact and paper-mode results, and every printed entry checked.
+
+    Paper mode uses the AEEV reading ``aeev`` with constant ``sigma_relative`` (default: the
+    paper mode of :mod:`verify.models.paper`); ``identification`` searches every reading
+    (:func:`verify.checks.paper.readings.search_readings`).
+    """
     data = load_table1()
     v0 = to_number(data["v0"])
     rows = []
     for eps, *vel, iters in data["rows"]:
         exact = run_cradle(eps, v0=data["v0"], mode="exact", max_iterations=exact_cap, trace=False)
-        paper = run_cradle(eps, v0=data["v0"], mode="paper", sigma_relative=sigma_relative)
+        paper = run_cradle(eps, v0=data["v0"], mode="paper", sigma_relative=sigma_relative, aeev=aeev)
         row = Row(eps, [*vel, iters], exact, paper)
         computed = _velocities(paper)
         for i, (printed, value) in enumerate(zip(vel, computed)):
@@ -208,55 +192,7 @@ def table1(*, exact_cap: int = DEFAULT_EXACT_CAP, sigma_relative: Fraction = PAP
             states = _states(follow)
             row.row_notes = _row_diagnosis(vel, states, v0)
         rows.append(row)
-    return Table1(data["source"], v0, exact_cap, rows, identify_aeev(data))
-
-
-def _check_measures(eps: str, v0: str, until: int, pairs: str) -> tuple[list[Fraction], int | None]:
-    """The squared AEEV measure at every state where an impact remains, and the exit state."""
-    run = run_cradle(eps, v0=v0, mode="exact", max_iterations=until, certify=False)
-    states = _states(run)
-    exit_state = run.iterations if run.stop == "exit" else None
-    checked = states if exit_state is None else states[:exit_state]
-    return [max_difference_squared(v, pairs) for v in checked], exit_state
-
-
-def identify_aeev(data: dict[str, Any] | None = None) -> dict[str, Any]:
-    """Which AEEV tests reproduce every printed iteration count, and for which sigma.
-
-    The test is made before an impulse, once an impact is known to remain (a row that
-    exits is printed with its plain count). For a measure M_w of the velocity after w
-    impulses, a row printed "AEEV / k" needs ``M_k < sigma <= M_w`` for every checked
-    w < k, and a row printed "k" needs ``sigma <= M_w`` for every w < k. The result gives,
-    per measure, the window of sigma (relative to ||v0||) that satisfies every row, exactly.
-    """
-    data = data or load_table1()
-    v0 = to_number(data["v0"])
-    out: dict[str, Any] = {"measures": {}}
-    for pairs in ("all", "adjacent"):
-        lower_sq, upper_sq = Fraction(0), None
-        for eps, *_, iters in data["rows"]:
-            stop, count = parse_printed_iterations(iters)
-            measures, _ = _check_measures(eps, data["v0"], count + 1, pairs)
-            before = measures[:count]
-            if before:
-                m = min(before)
-                upper_sq = m if upper_sq is None else min(upper_sq, m)
-            if stop == "aeev":
-                lower_sq = max(lower_sq, measures[count])
-        if upper_sq is None:  # no row has a checked state before its count
-            raise ValueError("Table 1 gives no upper bound for sigma")
-        window: dict[str, Any] = {
-            "lower_sq": lower_sq / (v0 * v0),
-            "upper_sq": upper_sq / (v0 * v0),
-        }
-        window["consistent"] = window["lower_sq"] < window["upper_sq"]
-        window["stated_inside"] = window["lower_sq"] < PAPER_SIGMA_STATED**2 <= window["upper_sq"]
-        out["measures"][pairs] = window
-    out["stated_counts"] = {
-        eps: _stop_label(run_cradle(eps, v0=data["v0"], mode="paper", sigma_relative=PAPER_SIGMA_STATED))
-        for eps, *_ in data["rows"]
-    }
-    return out
+    return Table1(data["source"], v0, exact_cap, rows, search_readings(data))
 
 
 def _stop_label(result: Result) -> str:
