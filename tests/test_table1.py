@@ -195,3 +195,109 @@ def test_the_reading_on_the_command_line(capsys):
     ident = json.loads(capsys.readouterr().out)["aeev_identification"]
     assert ident["reproducing_with_stated_c"] == [PAPER_READING.name]
     assert len(ident["readings"]) == 56
+
+
+# --- the rounding readings and the paper's 38-digit binary arithmetic (issue 16, item 2) ---
+
+from decimal import ROUND_DOWN, ROUND_HALF_EVEN, ROUND_HALF_UP, Context, Decimal  # noqa: E402
+
+from verify.checks.paper.table1 import (  # noqa: E402
+    ARITHMETICS,
+    PARI_PREC,
+    READINGS,
+    reading_range,
+)
+
+_CTX = Context(prec=400)
+
+
+def _dec(q):
+    return _CTX.divide(Decimal(q.numerator), Decimal(q.denominator))
+
+
+def _printed_as(reading, q, text):
+    """Whether ``reading`` prints the rational ``q`` as ``text``, recomputed with the decimal module."""
+    places = Decimal(1).scaleb(-len(text.partition(".")[2]))
+    d = _dec(q)
+    ten = Context(prec=10, rounding=ROUND_HALF_EVEN).plus(d)
+    got = {
+        "round": lambda: d.quantize(places, ROUND_HALF_EVEN, _CTX),
+        "round_half_up": lambda: d.quantize(places, ROUND_HALF_UP, _CTX),
+        "truncate": lambda: d.quantize(places, ROUND_DOWN, _CTX),
+        "sig10": lambda: ten,
+        "sig10_then_printed": lambda: ten.quantize(places, ROUND_HALF_EVEN, _CTX),
+    }[reading]()
+    return got == Decimal(text)
+
+
+def _mpf_exact(x):
+    """An mpf as a rational from its mantissa and exponent (no float)."""
+    return F(int(x.man) * 2 ** int(x.exp)) if x.exp >= 0 else F(int(x.man), 2 ** int(-x.exp))
+
+
+def test_pari_precision_is_two_64_bit_words():
+    K = get_backend("mp", prec=PARI_PREC)
+    assert PARI_PREC == 128 and K.ctx.prec == 128 and K.dps == 38
+    assert -(-38 * 3321928 // 1000000) == 127  # ceil(38 log2 10) bits, rounded up to 2 words of 64
+
+
+def test_which_reading_and_arithmetic_explains_each_entry(table):
+    """Every (arithmetic, reading) that explains an entry at the final state, recomputed here
+    from the two paper-mode runs with the decimal module."""
+    for row in table.rows:
+        exact = run_cradle(row.eps, mode="paper", trace=False)
+        binary = run_cradle(row.eps, mode="paper", trace=False, backend=get_backend("mp", prec=128))
+        assert (binary.stop, binary.iterations) == (exact.stop, exact.iterations), row.eps
+        finals = {
+            "exact": [exact.backend.to_number(x) for x in exact.exit_velocity],
+            "binary128": [_mpf_exact(x) for x in binary.exit_velocity],
+        }
+        for i, c in enumerate(row.checks[:3]):
+            expected = {(a, r) for a in ARITHMETICS for r in READINGS if _printed_as(r, finals[a][i], c.printed)}
+            assert {(e.arithmetic, e.reading) for e in c.explained_by if e.state is None} == expected, (row.eps, i)
+            assert all(e.state is None for e in c.explained_by)  # no other state explains a whole row
+    some = {(row.eps, c.column): c for row in table.rows for c in row.checks if c.only_some}
+    assert len(some) == 21
+    # truncation is refuted by entries of the exact run, e.g. 0.0744, v_D2: 33.3333333352 printed 33.33333334
+    assert not any(e.reading == "truncate" for e in some["0.0744", "v_D2"].explained_by)
+    # the eps = 0.0743 row has 9 significant digits: not "10 significant digits" as printed
+    assert {e.reading for e in some["0.0743", "v_D1"].explained_by} == {
+        "round", "round_half_up", "truncate", "sig10_then_printed"}  # fmt: skip
+
+
+def test_the_inconsistent_entries_under_every_reading_and_arithmetic(table):
+    bad = {(row.eps, c.column) for row in table.rows for c in row.checks if not c.explained}
+    assert bad == {("0.0743", "v_D2"), ("0", "v_D1"), ("0", "v_D2"), ("0", "v_D3")}
+    for row in table.rows:
+        for c in row.checks[:3]:
+            assert len(c.tried) == len(ARITHMETICS)
+    notes = {row.eps: row.row_notes for row in table.rows}
+    assert any("no state of the run (after 0 to 36 impulses)" in n and n.startswith("binary128") for n in notes["0"])
+    assert any("no state of the run (after 0 to 18 impulses)" in n and n.startswith("exact") for n in notes["0.0743"])
+
+
+@pytest.mark.parametrize("reading", list(READINGS))
+def test_reading_ranges_against_the_decimal_module(reading):
+    """Just inside each end of the range the reading prints the entry so; just outside it does not."""
+    tiny = F(1, 10**15)
+    for text in ("33.3333335", "33.33333330", "33.3333333", "34.316164", "0.4975125", "100", "9.9"):
+        lo, hi = reading_range(reading, text)
+        assert _printed_as(reading, lo + tiny, text) and _printed_as(reading, hi - tiny, text), text
+        assert not _printed_as(reading, lo - tiny, text) and not _printed_as(reading, hi + tiny, text), text
+
+
+def test_the_zero_row_momentum_range_under_every_reading(table):
+    row = next(r for r in table.rows if r.eps == "0")
+    got = {r: (str(float(lo)), str(float(hi))) for r, (lo, hi) in row.momentum_ranges.items()}
+    expected = {
+        "round": (F("100.000000195"), F("100.000000405")),
+        "round_half_up": (F("100.000000195"), F("100.000000405")),
+        "truncate": (F("100.0000003"), F("100.00000051")),
+        "sig10": (F("100.000000285"), F("100.000000315")),
+        "sig10_then_printed": (F("100.000000205"), F("100.000000395")),
+    }
+    assert row.momentum_ranges == expected, got
+    assert all(lo > 100 for lo, _ in expected.values())  # the momentum argument holds under every reading
+    assert any("cannot be a state of the rule under any reading" in n for n in row.row_notes)
+    other = next(r for r in table.rows if r.eps == "0.0743")
+    assert all(lo <= 100 <= hi for lo, hi in other.momentum_ranges.values())

@@ -12,7 +12,15 @@ from fractions import Fraction
 from typing import Any
 
 from verify.checks.paper.readings import Search, Window, closed_form
-from verify.checks.paper.table1 import Table1, sqrt_decimal, threshold_brackets
+from verify.checks.paper.table1 import (
+    ARITHMETICS,
+    PARI_PREC,
+    READINGS,
+    EntryCheck,
+    Table1,
+    sqrt_decimal,
+    threshold_brackets,
+)
 from verify.core.format import format_decimal, format_exact
 from verify.core.rule import Result
 from verify.models.paper import MEASURES, NORMS, PAPER_READING, PAPER_SIGMA_RELATIVE, PAPER_SIGMA_STATED, WHENS
@@ -146,19 +154,22 @@ def table1_text(table: Table1) -> str:
     for row in table.rows:
         K = row.paper.backend
         lines.append(f"  {row.eps:<8}" + "".join(f"{K.to_decimal(x, 12):>18}" for x in row.paper.exit_velocity))
-    bad = [row for row in table.rows if not row.agrees]
-    n_bad = sum(not c.agrees for r in bad for c in r.checks)
-    lines += ["", f"Entries that disagree with the computation ({n_bad}):"]
+    bad = [row for row in table.rows if not all(c.explained for c in row.checks)]
+    n_bad = sum(not c.explained for r in bad for c in r.checks)
+    lines += ["", f"Entries that disagree with the computation under every reading and arithmetic ({n_bad}):"]
     if not bad:
         lines.append("  none")
     for row in bad:
         for c in row.checks:
-            if not c.agrees:
+            if not c.explained:
                 lines.append(
                     f"  eps = {row.eps}, {c.column}: printed {c.printed}, computed {c.computed[:14]}: {c.reason}"
                 )
+                if c.tried:
+                    lines.append(f"    tried: {'; '.join(c.tried)} (final state and every state of the run)")
         for note in row.row_notes:
             lines.append(f"    row {row.eps}: {note}")
+    lines += ["", *entries_explained_text(table)]
     lines += ["", *aeev_text(table.identification)]
     rows_exit_differs = [
         r for r in table.rows if (r.exact.stop, r.exact.iterations) != (r.paper.stop, r.paper.iterations)
@@ -168,6 +179,36 @@ def table1_text(table: Table1) -> str:
         for r in rows_exit_differs:
             lines.append(f"  eps = {r.eps}: paper mode {_iters(r.paper)}, exact {_iters(r.exact)}")
     return "\n".join(lines) + "\n"
+
+
+def _explained_by(c: EntryCheck) -> str:
+    """Which arithmetics and readings explain an entry, grouped by the readings."""
+    by: dict[tuple[str, ...], list[str]] = {}
+    for a in ARITHMETICS:
+        found = tuple(f"{e.reading}{'' if e.state is None else f' (state {e.state})'}"
+                      for e in c.explained_by if e.arithmetic == a)  # fmt: skip
+        by.setdefault(found, []).append(a)
+    return "; ".join(f"{' and '.join(arith)}: {', '.join(found) or 'none'}" for found, arith in by.items())
+
+
+def entries_explained_text(table: Table1) -> list[str]:
+    """The entries that only some reading or arithmetic explains, and which."""
+    some = [(row, c) for row in table.rows for c in row.checks if c.only_some]
+    lines = [
+        f"Entries explained only under some readings or arithmetics ({len(some)}; final state unless a state"
+        " is named):",
+        "  readings: " + "; ".join(f"{k} = {v}" for k, v in READINGS.items()),
+        "  arithmetics: " + "; ".join(f"{k} = {v}" for k, v in ARITHMETICS.items()),
+    ]
+    if not some:
+        lines.append("  none")
+    groups: dict[str, list[str]] = {}
+    for row, c in some:
+        groups.setdefault(_explained_by(c), []).append(f"eps {row.eps} {c.column} {c.printed}")
+    for by, entries in groups.items():
+        lines.append(f"  explained by {by} ({len(entries)}):")
+        lines += [f"    {', '.join(entries[i : i + 4])}" for i in range(0, len(entries), 4)]
+    return lines
 
 
 def _window_decimal(w: Window) -> str:
@@ -280,12 +321,29 @@ def table1_json(table: Table1) -> dict[str, Any]:
                         "computed": c.computed,
                         "agrees": c.agrees,
                         "reason": c.reason or None,
+                        "explained": c.explained,
+                        "explained_by": [
+                            {"arithmetic": e.arithmetic, "reading": e.reading, "state": e.state} for e in c.explained_by
+                        ],
+                        "readings_tried": c.tried,
                     }
                     for c in row.checks
                 ],
                 "notes": row.row_notes,
+                "momentum_ranges": {
+                    r: None if span is None else [str(span[0]), str(span[1])] for r, span in row.momentum_ranges.items()
+                },
             }
             for row in table.rows
+        ],
+        "readings": READINGS,
+        "arithmetics": ARITHMETICS,
+        "binary_precision_bits": PARI_PREC,
+        "inconsistent_entries": [
+            {"eps": row.eps, "column": c.column, "printed": c.printed, "readings_tried": c.tried}
+            for row in table.rows
+            for c in row.checks
+            if not c.explained
         ],
         "aeev_identification": aeev_json(ident),
     }

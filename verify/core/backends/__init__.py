@@ -50,8 +50,10 @@ __all__ = [
 BACKENDS = ("exact", "mp", "interval", "float")  #: the backends that get_backend knows by name
 
 
-def get_backend(name: str | Backend = "exact", *, dps: int | None = None) -> Backend:
+def get_backend(name: str | Backend = "exact", *, dps: int | None = None, prec: int | None = None) -> Backend:
     """A backend by name: ``exact``, ``mp``, ``interval`` or ``float``.
+
+    ``prec`` (``mp`` only) sets the binary precision in bits instead of ``dps``.
 
     >>> get_backend("interval", dps=30).describe()
     'interval, 30 digits, rigorous'
@@ -61,7 +63,9 @@ def get_backend(name: str | Backend = "exact", *, dps: int | None = None) -> Bac
     if name == "exact":
         return RationalBackend()
     if name == "mp":
-        return MPBackend(dps or DEFAULT_DPS)
+        return MPBackend(dps or DEFAULT_DPS, prec=prec)
+    if prec is not None:
+        raise InvalidInput(f"prec applies to the mp backend only, not {name!r}")
     if name == "interval":
         return IntervalBackend(dps or DEFAULT_DPS)
     if name == "float":

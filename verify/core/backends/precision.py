@@ -45,9 +45,27 @@ class _ContextBackend(Backend):
 
 
 class MPBackend(_ContextBackend):
-    """mpmath floating point at ``dps`` decimal digits; signs are heuristic (not rigorous)."""
+    """mpmath floating point at ``dps`` decimal digits; signs are heuristic (not rigorous).
+
+    ``prec`` sets the binary precision (bits of mantissa) instead, for a run in a given
+    binary format; ``dps`` is then the decimal precision mpmath derives from it.
+
+    >>> K = MPBackend(prec=128)
+    >>> K.ctx.prec, K.dps
+    (128, 38)
+    """
 
     name = "mp"
+
+    def __init__(self, dps: int = DEFAULT_DPS, *, prec: int | None = None):
+        super().__init__(dps)
+        if prec is not None:
+            if not isinstance(prec, int) or prec < 4 * MIN_DPS:
+                raise InvalidInput(f"prec must be an integer >= {4 * MIN_DPS}, got {prec!r}")
+            self.ctx.prec = prec
+            self.dps = int(self.ctx.dps)
+            self.zero = self.ctx.mpf(0)
+            self.one = self.ctx.mpf(1)
 
     def _context(self) -> Any:
         from mpmath import MPContext
