@@ -325,8 +325,9 @@ def _source_numbers(system: System) -> list:
 #   J only the weighted sum ``sum_j lambda_j p'(F_j) = -e sum_j lambda_j p(F_j)`` (lambda_j =
 #   p(F_j) / G_jj) is known, so its rates are left to the arithmetic. These identities are
 #   exact, so the rule uses them on every backend (exact ones get the same values).
-# - an exact check. When the inputs are rational (at once) or algebraic (only at the precision
-#   limit: number-field arithmetic can cost far more than any precision), a rate that stays undecided is
+# - an exact check. When the inputs are rational or algebraic, a rate that stays undecided (in
+#   the first impulses of a run at once, later only at the precision limit: see
+#   :meth:`_ExactRates.eager`) is
 #   recomputed exactly (:class:`_ExactRates`: the run's impact sets replayed on the exact
 #   backend, only when asked); an exact 0 then becomes the point 0. A non-zero rate is left
 #   to more precision, which separates it from 0. Transcendental inputs (tan(3/10)) have no
@@ -391,16 +392,13 @@ class _ExactRates:
         return self
 
     def eager(self, impulses: int) -> bool:
-        """Whether to check exactly now rather than raise the precision first: when every input
-        is rational, when the run is short (at most :data:`EAGER_EXACT_IMPULSES` impulses), or at
-        the precision limit. Otherwise (a long run in a number field, whose arithmetic can cost
-        far more than any precision) a tiny non-zero rate is left to more precision first."""
-        return self.rational or self.limit or impulses <= EAGER_EXACT_IMPULSES
-
-    @cached_property
-    def rational(self) -> bool:
-        """Whether every input is rational (the exact replay is then over the rationals)."""
-        return all(isinstance(x, Fraction) for x in _source_numbers(self._source[0]) + self._values)
+        """Whether to check exactly now rather than raise the precision first: when the run is
+        short (at most :data:`EAGER_EXACT_IMPULSES` impulses), or at the precision limit.
+        Otherwise a tiny non-zero rate is left to more precision first: the exact replay of a long
+        run costs as much as the exact run itself (its numbers grow with every impulse), and in a
+        number field far more (``verify bench``: interval runs of 10,000 impulses on a rational
+        corner took 21 times longer per impulse when every undecided sign was checked exactly)."""
+        return self.limit or impulses <= EAGER_EXACT_IMPULSES
 
     @cached_property
     def _values(self) -> list[Any]:
