@@ -33,3 +33,13 @@ def assert_exact_vector(expected: list[Any], K: Any, got: Any) -> None:
     assert len(expected) == len(got)
     for e, g in zip(expected, got, strict=True):
         assert_exact(e, K, g)
+
+
+def cradle_case(case_id: str, masses: list[str], restitution: list[str], velocity: list[str]) -> dict[str, Any]:
+    """A cradle's case record, built by the model (geometry) and the one case-record writer."""
+    from verify.core.parse import to_number
+    from verify.models.cradle import cradle_geometry
+    from verify.records.results import case_record
+
+    g, normals = cradle_geometry([to_number(m) for m in masses])
+    return case_record(case_id, g, normals, [to_number(e) for e in restitution], [to_number(x) for x in velocity])

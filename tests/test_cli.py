@@ -8,15 +8,10 @@ import sys
 
 import pytest
 
+from tests.helpers import cradle_case
 from verify.cli import build_parser, main
 
-GOOD_CASE = {
-    "id": "c",
-    "mass_matrix": [["1", "0", "0"], ["0", "1", "0"], ["0", "0", "1"]],
-    "normals": [["-1", "1", "0"], ["0", "-1", "1"]],
-    "restitution": ["1/2", "1/2"],
-    "velocity": ["100", "0", "0"],
-}
+GOOD_CASE = cradle_case("c", ["1", "1", "1"], ["1/2", "1/2"], ["100", "0", "0"])
 
 
 def case_file(tmp_path, **change):

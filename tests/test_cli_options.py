@@ -18,6 +18,7 @@ from pathlib import Path
 
 import pytest
 
+from tests.helpers import cradle_case
 from verify.cli import build_parser, checks, main, maps, paper, reports, run
 from verify.cli.common import (
     BoundedInt,
@@ -244,20 +245,9 @@ def test_write_file_leaves_nothing_on_failure(tmp_path):
 
 # -- budgets, progress, failing cases ---------------------------------------------------------------
 
-CRADLE_4 = {  # the newcomer's case: a 4-ball cradle, masses 1..4, small CORs; exact numbers grow ~17 bits per impulse
-    "id": "cradle-4-masses-1234",
-    "mass_matrix": [[str(int(i == j) * (i + 1)) for j in range(4)] for i in range(4)],
-    "normals": [[str(-1 if k == i else 1 if k == i + 1 else 0) for k in range(4)] for i in range(3)],
-    "restitution": ["0.01", "0.02", "0.03"],
-    "velocity": ["1", "0", "0", "0"],
-}
-SMALL = {
-    "id": "small",
-    "mass_matrix": [["1", "0", "0"], ["0", "1", "0"], ["0", "0", "1"]],
-    "normals": [["-1", "1", "0"], ["0", "-1", "1"]],
-    "restitution": ["1/3", "1/7"],
-    "velocity": ["100", "0", "0"],
-}
+#: the newcomer's case: a 4-ball cradle, masses 1..4, small CORs; exact numbers grow ~17 bits per impulse
+CRADLE_4 = cradle_case("cradle-4-masses-1234", ["1", "2", "3", "4"], ["0.01", "0.02", "0.03"], ["1", "0", "0", "0"])
+SMALL = cradle_case("small", ["1", "1", "1"], ["1/3", "1/7"], ["100", "0", "0"])
 
 
 def case_file(tmp_path: Path, *cases: dict, name: str = "cases.json") -> str:
