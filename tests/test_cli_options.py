@@ -40,6 +40,7 @@ REQUIRED = {
     ("corner",): {"--alpha": "pi/6", "--phi": "0", "--eps1": "0.5", "--eps2": "0.5"},
     ("oracle", "check"): {"CASES.json": "cases.json", "RESULTS.json": "results.json"},
     ("oracle", "export"): {"DIR": "golden-out"},
+    ("oracle", "table"): {"CASES.json": "cases.json", "RESULTS.json": "results.json"},
 }
 NUMERIC = (BoundedInt, Seconds, NonNegativeRational, ExactNumber)
 PATHS = (OutputDir, OutputFile)

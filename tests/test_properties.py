@@ -7,6 +7,9 @@
 - Each property catches a deliberately broken rule (a mutant of the engine).
 - The counterexamples found are kept as ``@example`` regressions of a test that compares
   the energy check with an independent recomputation from the printed formulas.
+
+The rows of the simultaneous law (``law`` ``simultaneous``) have their own tests in
+tests/test_properties_simultaneous.py; here they are counted, and their refutations reproduce.
 """
 
 from __future__ import annotations
@@ -27,7 +30,10 @@ from verify.core.system import System
 from verify.records.results import case_from_record
 
 #: Properties that are theorems of the rule (or of its implementation's contract): never refuted.
-THEOREMS = {p.name for p in PROPERTIES} - {"kinetic energy does not increase", "the rule exits (termination)"}
+THEOREMS = {p.name for p in PROPERTIES if "rule" in p.laws} - {
+    "kinetic energy does not increase",
+    "the rule exits (termination)",
+}
 
 
 @pytest.fixture(scope="module")
@@ -36,14 +42,19 @@ def table(property_verdicts):
 
 
 def test_every_row_has_a_verdict(table) -> None:
-    assert len(table) == 185
+    assert sum(v.law == "rule" for v in table) == 185
+    # the law: 14 properties x 3 CORs x 3 families, less mirror symmetry's general family
+    assert sum(v.law == "simultaneous" for v in table) == 123
+    assert len(table) == 185 + 123
     assert {v.verdict for v in table} <= {"proved", "holds", "refuted"}
     assert all(v.cases >= 0 and v.note for v in table)
 
 
 def test_theorems_are_never_refuted(table) -> None:
     refuted = [
-        (v.property, v.rule, v.family, v.note) for v in table if v.verdict == "refuted" and v.property in THEOREMS
+        (v.property, v.rule, v.family, v.note)
+        for v in table
+        if v.verdict == "refuted" and v.law == "rule" and v.property in THEOREMS
     ]
     assert refuted == []
 
@@ -51,6 +62,8 @@ def test_theorems_are_never_refuted(table) -> None:
 def test_energy_and_termination_where_proved(table) -> None:
     """Kinetic energy is proved for the ideal and symmetric rules; the ideal rule must exit."""
     for v in table:
+        if v.law != "rule":
+            continue
         if v.property == "kinetic energy does not increase" and v.rule in ("ideal", "symmetric"):
             assert v.verdict == "proved", v
         if v.property == "the rule exits (termination)" and v.rule == "ideal":
@@ -64,8 +77,15 @@ def test_refutations_reproduce_from_the_record_alone(table) -> None:
         record = v.counterexample
         case_from_record(record)  # loads as verify solve would
         prop = property_named(v.property)
-        why = prop.check(Runner(), Drawn(v.family, v.rule, record), v.extra)
-        assert why not in (None, SKIP), v
+        try:
+            why = prop.check(Runner(v.law), Drawn(v.family, v.rule, record), v.extra)
+        except Exception as exc:  # the row says the engine raised: it raises again, the same way
+            assert v.note.startswith(f"the engine raised {type(exc).__name__}: {' '.join(str(exc).split())}"), v
+        else:
+            assert why not in (None, SKIP), v
+        law = "" if v.law == "rule" else f" --law {v.law}"
+        assert f"; reproduce with: verify solve CASE.json --rule {v.rule}{law}" in v.note, v.note
+        assert (v.law == "rule") == ("--law" not in v.note), v.note
         if v.property == "kinetic energy does not increase":
             assert "predicts" in v.note and "Where it fails" in v.note
 
@@ -349,7 +369,7 @@ MUTANTS = {
 
 
 def test_every_property_has_a_mutant() -> None:
-    assert set(MUTANTS) == {p.name for p in PROPERTIES}
+    assert set(MUTANTS) == {p.name for p in PROPERTIES if "rule" in p.laws}
 
 
 @pytest.mark.parametrize("name", list(MUTANTS))
@@ -370,16 +390,21 @@ def test_cli_json_follows_the_contract(capsys: pytest.CaptureFixture[str]) -> No
                  "--workers", "1", "--quiet", "--json"])  # fmt: skip
     out = json.loads(capsys.readouterr().out)
     assert code == 0
-    assert out["profile"] == "dev" and len(out["properties"]) == 4
+    assert out["profile"] == "dev" and len(out["properties"]) == 4 + 3  # the rule's 4 rules, the law's 3 CORs
     for row in out["properties"]:
-        assert set(row) == {"property", "rule", "family", "verdict", "cases", "counterexample", "note"}
+        assert set(row) == {"property", "law", "rule", "family", "verdict", "cases", "counterexample", "note"}
         assert row["verdict"] == "holds" and row["counterexample"] is None
+    assert [(r["law"], r["rule"]) for r in out["properties"]] == [
+        ("rule", "ideal"), ("simultaneous", "ideal"), ("rule", "symmetric"), ("simultaneous", "symmetric"),
+        ("rule", "asymmetric"), ("rule", "general"), ("simultaneous", "general"),
+    ]  # fmt: skip
 
 
 def test_cli_refutation_is_reproduced_by_verify_solve(tmp_path, capsys: pytest.CaptureFixture[str]) -> None:
     folder = tmp_path / "found"
     code = main(["properties", "--profile", "dev", "--property", "kinetic energy", "--rule", "asymmetric",
-                 "--family", "cradle", "--workers", "1", "--quiet", "--counterexamples", str(folder)])  # fmt: skip
+                 "--family", "cradle", "--law", "rule", "--workers", "1", "--quiet",
+                 "--counterexamples", str(folder)])  # fmt: skip
     text = capsys.readouterr().out
     assert code == 1 and "REFUTED: kinetic energy does not increase (asymmetric rule, cradle)" in text
     (path,) = folder.iterdir()

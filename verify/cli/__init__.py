@@ -7,8 +7,9 @@ should use the library (:mod:`verify`) directly.
 
 The subcommands live in groups, each module with its parsers and their handlers:
 :mod:`~verify.cli.run` (cradle, solve, corner), :mod:`~verify.cli.maps` (corner-claims, sweep,
-cradle-map), :mod:`~verify.cli.paper` (table1), :mod:`~verify.cli.checks` (properties, oracle)
-and :mod:`~verify.cli.reports` (report, bench, all); what they share is in :mod:`~verify.cli.common`.
+cradle-map), :mod:`~verify.cli.paper` (table1), :mod:`~verify.cli.checks` (properties, oracle),
+:mod:`~verify.cli.engines` (engines) and :mod:`~verify.cli.reports` (report, bench, all); what
+they share is in :mod:`~verify.cli.common`.
 Each group lists its subcommands in ``COMMANDS``; a subcommand ``N`` has its options declared by
 ``N_options(parser)`` (``-`` read as ``_``) and is run by ``cmd_N(args)``; the texts of every ``--help``
 are in ``verify/cli/commands.toml``.
@@ -20,7 +21,7 @@ import argparse
 import sys
 from collections.abc import Sequence
 
-from verify.cli import checks, maps, paper, reports, run
+from verify.cli import checks, engines, maps, paper, reports, run
 from verify.cli.common import PROG, Parser, UsageError, command, formatter, one_line
 from verify.errors import InvalidInput, Undecided
 
@@ -44,7 +45,7 @@ def build_parser() -> argparse.ArgumentParser:
     )
     parser.add_argument("--version", action="version", version=f"verify {__version__}")
     sub = parser.add_subparsers(dest="command", metavar="COMMAND", parser_class=Parser)
-    for group in (run, maps, paper, checks, reports):  # the order of the subcommands in --help
+    for group in (run, maps, paper, checks, engines, reports):  # the order of the subcommands in --help
         for name in group.COMMANDS:  # found when the parser is built: the handlers are the module's then
             stem = name.replace("-", "_")
             getattr(group, f"{stem}_options")(command(sub, name, getattr(group, f"cmd_{stem}")))

@@ -4,15 +4,20 @@ from __future__ import annotations
 
 import argparse
 import json
+import os
 import sys
+from fractions import Fraction
 from typing import Any
 
+from verify.checks.impl import IMPL_NOTE
 from verify.checks.properties.profiles import PROFILES
 from verify.cli.common import (
     PROG,
     WORKERS,
+    BoundedInt,
     NonNegativeRational,
     OutputDir,
+    OutputFile,
     Parser,
     Seconds,
     StatusLine,
@@ -27,7 +32,7 @@ from verify.cli.common import (
 
 def properties_options(p: argparse.ArgumentParser) -> None:
     """The options of ``verify properties``."""
-    from verify.core.rule import RULES
+    from verify.core.rule import LAWS, RULES
 
     p.add_argument(
         "--profile",
@@ -36,7 +41,10 @@ def properties_options(p: argparse.ArgumentParser) -> None:
         help="cases per row: dev 25, ci 100 (default), thorough 100000 per property",
     )
     p.add_argument("--property", action="append", help="only this property (name or prefix; repeatable)")
-    p.add_argument("--rule", action="append", choices=RULES, help="only this rule (repeatable)")
+    p.add_argument("--rule", action="append", choices=RULES,
+                   help="only this rule, or for the simultaneous law these CORs (repeatable)")  # fmt: skip
+    p.add_argument("--law", action="append", choices=LAWS,
+                   help="only this law: rule (the paper's) or simultaneous (repeatable; default both)")  # fmt: skip
     p.add_argument(
         "--family", action="append", choices=("general", "cradle", "corner"), help="only this family (repeatable)"
     )
@@ -56,16 +64,35 @@ def oracle_options(p: argparse.ArgumentParser) -> None:
     q = command(oracle_sub, "oracle check", cmd_oracle)
     q.add_argument("cases", metavar="CASES.json")
     q.add_argument("results", metavar="RESULTS.json", nargs="?", help="the other implementation's result file")
-    q.add_argument("--impl", metavar="COMMAND", help="run COMMAND: case file on stdin, result file on stdout")
+    q.add_argument("--impl", metavar="COMMAND",
+                   help="run COMMAND: case file on stdin, result file on stdout; " + IMPL_NOTE)  # fmt: skip
     q.add_argument("--timeout", type=Seconds(), default=600.0, metavar="SECONDS",
                    help="seconds allowed to --impl (default 600)")  # fmt: skip
     q.add_argument("--rtol", default="1e-9", type=NonNegativeRational(),
                    help="relative tolerance on the exit velocity (default 1e-9)")  # fmt: skip
     q.add_argument("--atol", default="0", type=NonNegativeRational(),
                    help="absolute tolerance on the exit velocity (default 0)")  # fmt: skip
+    q.add_argument("--law", default="rule", choices=("rule", "simultaneous"),
+                   help="the law of the exact results: the paper's rule (default) or the simultaneous law")  # fmt: skip
+    q.add_argument("--junit", metavar="FILE", type=OutputFile(), default=None,
+                   help="also write the graded verdicts as JUnit XML, one test case per case")  # fmt: skip
+    q.add_argument("--tolerances", metavar="FILE", default=None,
+                   help="tolerance budgets per case (in exit speeds or binary64 ulps): docs/oracle.md")  # fmt: skip
     budget_options(q, "per case, for the exact results")
     q.add_argument("--quiet", action="store_true", help="no status line on stderr")
     q.add_argument("--json", action="store_true", help="print the comparison as JSON")
+    q = command(oracle_sub, "oracle generate", cmd_oracle)
+    q.add_argument("--level", type=BoundedInt(1, 3), default=1, help="1 (small, for CI), 2 or 3 (larger)")
+    q.add_argument("--seed", type=BoundedInt(0, 2**63 - 1), default=0, help="the seed of the random cases (default 0)")
+    q.add_argument("--out", metavar="FILE", type=OutputFile(), default=None,
+                   help="write the case file there (default stdout)")  # fmt: skip
+    q = command(oracle_sub, "oracle table", cmd_oracle)
+    q.add_argument("cases", metavar="CASES.json")
+    q.add_argument("results", metavar="RESULTS.json", nargs="+",
+                   help="result files, each NAME=FILE or FILE (named by its file name)")  # fmt: skip
+    q.add_argument("--law", default="rule", choices=("rule", "simultaneous"), help="the law of the exact results")
+    q.add_argument("--rtol", default="1e-9", type=NonNegativeRational(), help="relative tolerance (default 1e-9)")
+    q.add_argument("--json", action="store_true", help="print the table as JSON")
 
 
 def cmd_properties(args: argparse.Namespace) -> int:
@@ -77,13 +104,12 @@ def cmd_properties(args: argparse.Namespace) -> int:
     from verify.views.text import properties_text
 
     if args.list:
-        for prop in dict.fromkeys(p for p, _, _ in rows()):
-            print(f"{prop.name}  [rules: {', '.join(prop.rules)}; families: {', '.join(prop.families)}]")
+        list_properties(rows())
         return 0
     workers = args.workers if args.workers is not None else (os.cpu_count() or 1)
 
     def progress(done: int, total: int, v: Any) -> None:
-        line = f"  [{done}/{total}] {v.verdict:8} {v.cases:6} cases  {v.property} | {v.rule} | {v.family}"
+        line = f"  [{done}/{total}] {v.verdict:8} {v.cases:6} cases  {v.property} | {v.law} | {v.rule} | {v.family}"
         if v.verdict == "refuted":  # shown at once: a long run may be stopped before its table
             line += f"\n      {v.note}\n      {json.dumps(v.counterexample, sort_keys=True)}"
         print(line, file=sys.stderr, flush=True)
@@ -93,6 +119,7 @@ def cmd_properties(args: argparse.Namespace) -> int:
         properties=args.property,
         families=args.family,
         rules=args.rule,
+        laws=args.law,
         workers=workers,
         progress=None if args.quiet else progress,
     )
@@ -100,6 +127,21 @@ def cmd_properties(args: argparse.Namespace) -> int:
         write_counterexamples(args.counterexamples, found)
     sys.stdout.write(dumps(report(args.profile, found)) if args.json else properties_text(args.profile, found))
     return 1 if any(v.verdict == "refuted" for v in found) else 0
+
+
+def list_properties(table: list[tuple[Any, str, str, str]]) -> None:
+    """``verify properties --list``: each property with the rules of each law, and its families.
+
+    >>> from verify.checks.properties.verdicts import rows
+    >>> list_properties(rows(["the exit velocity"], ["corner"], ["ideal", "asymmetric"]))
+    the exit velocity is outgoing  [rule: ideal, asymmetric; simultaneous: ideal; families: general, cradle, corner]
+    """
+    for prop in dict.fromkeys(p for p, _, _, _ in table):
+        laws = "; ".join(
+            f"{law}: " + ", ".join(dict.fromkeys(r for p, _, r, x in table if p is prop and x == law))
+            for law in prop.laws
+        )
+        print(f"{prop.name}  [{laws}; families: {', '.join(prop.families)}]")
 
 
 def write_counterexamples(folder: str, found: list[Any]) -> None:
@@ -121,6 +163,17 @@ def cmd_oracle(args: argparse.Namespace) -> int:
     """``verify oracle export|check``."""
     from verify.checks import oracle
 
+    if args.action == "generate":
+        from verify.checks.hardcases import generate_file_text
+
+        text = generate_file_text(args.level, args.seed)
+        if args.out:
+            write_output(args.out, text, "--out")
+        else:
+            sys.stdout.write(text)
+        return 0
+    if args.action == "table":
+        return oracle_table(args)
     if args.action == "export":
         with writing(args.folder, "DIR"):
             paths = oracle.export(args.folder)
@@ -146,18 +199,28 @@ def oracle_check(args: argparse.Namespace) -> int:
         records = [dict(r, max_iterations=args.max_iterations) for r in records]
         case_text = dumps({"cases": records})
     status = StatusLine.for_args(args)
-    got = oracle.load_results(*other_results(args, case_text, status))
+    got, skipped = oracle.load_result_file(*other_results(args, case_text, status))
 
     def progress(k: int, case_id: str, impulses: int) -> None:
         status.show(f"verify oracle check: exact results, case {k}/{len(records)} {case_id}: {impulses} impulses",
                     now=impulses == 0)  # fmt: skip
 
     try:
-        expected = oracle.golden_results(records, budget=run_budget(args),
+        expected = oracle.golden_results(records, budget=run_budget(args), law=args.law,
                                          progress=progress if status.enabled else None)  # fmt: skip
     finally:
         status.close()
-    comparison = oracle.compare(records, expected, got, rtol=args.rtol, atol=args.atol)  # Fractions
+    budgets = None
+    if args.tolerances:
+        from verify.checks.grading import Budgets, Tolerance
+
+        budgets = Budgets.load(args.tolerances, Tolerance(rtol=args.rtol, atol=args.atol))
+    comparison = oracle.compare(records, expected, got, rtol=args.rtol, atol=args.atol, skipped=skipped,
+                                budgets=budgets)  # fmt: skip
+    if args.junit:
+        from verify.views.junit import junit_xml
+
+        write_output(args.junit, junit_xml(comparison.grades, f"verify oracle check {args.cases}"), "--junit")
     if args.json:
         sys.stdout.write(dumps(oracle.comparison_json(comparison)))
     else:
@@ -166,6 +229,29 @@ def oracle_check(args: argparse.Namespace) -> int:
             print(f"note: {len(comparison.limited)} cases checked only on the impulses the exact run made before "
                   f"reaching --max-bits or --case-timeout: {', '.join(comparison.limited)}")  # fmt: skip
     return 0 if comparison.ok else 1
+
+
+def oracle_table(args: argparse.Namespace) -> int:
+    """``verify oracle table``: several implementations' result files graded side by side."""
+    from verify.checks import oracle
+    from verify.checks.grading import table_row
+    from verify.records.results import dumps, load_cases
+    from verify.views.text import error_table_text
+
+    load_cases(args.cases)
+    with open(args.cases, encoding="utf-8") as fh:
+        records = json.loads(fh.read())["cases"]
+    expected = oracle.golden_results(records, law=args.law)
+    rows = []
+    for spec in args.results:
+        name, sep, path = spec.partition("=")
+        name, path = (name, path) if sep else (os.path.basename(spec), spec)
+        with open(path, encoding="utf-8") as fh:
+            got, skipped = oracle.load_result_file(fh.read(), path)
+        comparison = oracle.compare(records, expected, got, rtol=args.rtol, atol=Fraction(0), skipped=skipped)
+        rows.append(table_row(name, args.law, comparison))
+    sys.stdout.write(dumps({"table": [r.to_json() for r in rows]}) if args.json else error_table_text(rows))
+    return 0
 
 
 def other_results(args: argparse.Namespace, case_text: str, status: StatusLine) -> tuple[str, str]:

@@ -34,6 +34,21 @@ def int_to_str(n: int) -> str:
     return int_to_str(high) + int_to_str(low).rjust(k, "0")
 
 
+def str_to_int(text: str) -> int:
+    """The integer of a string of decimal digits of any length (the inverse of :func:`int_to_str`).
+
+    >>> str_to_int("-" + "9" * 5000) == -(10**5000 - 1)
+    True
+    """
+    if text.startswith("-"):
+        return -str_to_int(text[1:])
+    if len(text) <= 4000:
+        return int(text)
+    k = len(text) // 2
+    high: int = str_to_int(text[:-k]) * 10**k
+    return high + str_to_int(text[-k:])
+
+
 def format_exact(value: Number) -> str:
     """The simplest exact string: ``"381/8"``, ``"-2"``, ``"-sqrt(2)/4 + sqrt(6)/4"``.
 

@@ -33,21 +33,31 @@ all CORs 1, with equal CORs, and with two constraints: pick one by name in :func
 from __future__ import annotations
 
 from collections.abc import Callable, Sequence
-from dataclasses import dataclass, field
+from dataclasses import dataclass
 from fractions import Fraction
 from functools import cached_property, partial
 from typing import Any
 
-from verify.core.backends import Backend, exact_for
+from verify.core.backends import Backend
 from verify.core.engines import integer as fraction_free
 from verify.core.engines.policy import Limits, Run
 from verify.core.linalg import ldl, solve_spd
-from verify.core.parse import to_number
-from verify.core.system import System, known_zero
+from verify.core.outcome import Result, Step
+from verify.core.simultaneous import solve_simultaneous
+from verify.core.system import (
+    System,
+    exact_backend_for_velocity,
+    known_zero,
+    on_exact_field,
+    source_numbers,
+    velocity_numbers,
+)
 from verify.core.termination import non_termination_halt
 from verify.errors import InvalidInput, InvalidSystem, NoConvergence, Undecided
 
 RULES = ("general", "ideal", "symmetric", "asymmetric")
+#: the impact laws: the paper's iterative rule, and the simultaneous law of :mod:`verify.core.simultaneous`
+LAWS = ("rule", "simultaneous")
 DEFAULT_MAX_ITERATIONS = 10_000
 
 #: A stop test: called with (system, velocity) before each impulse, once an impact is
@@ -90,62 +100,6 @@ class Budget:
         """The engines' stop policy (:mod:`verify.core.engines.policy`) for this budget and
         ``max_iterations`` impulses."""
         return Limits(max_iterations, bits=self.bits, seconds=self.seconds)
-
-
-@dataclass(frozen=True)
-class Step:
-    """One impulse of the iteration: the trace entry of Sect. 3.5 d)-e).
-
-    ``kinetic_energy`` (after the impulse, in the rest frame of the constraints) is
-    computed when first asked for: on long exact runs it is the costliest quantity.
-    """
-
-    impact_set: tuple[int, ...]
-    rates: tuple  # p(F_i) of the velocity before the impulse, for every constraint
-    beta: Any  # None for a single impact
-    impulse: tuple
-    velocity: tuple  # after the impulse
-    system: System = field(repr=False, compare=False)
-
-    @cached_property
-    def kinetic_energy(self) -> Any:
-        return self.system.kinetic_energy(self.velocity)
-
-
-@dataclass(frozen=True)
-class Result:
-    """The outcome of :func:`solve`: exit velocity, stop reason and the full trace."""
-
-    system: System
-    rule: str
-    velocity_in: tuple
-    exit_velocity: tuple
-    stop: str
-    steps: tuple[Step, ...]
-    impact_sets: list[tuple[int, ...]]
-    betas: list[Any]
-    max_iterations: int
-    notes: tuple[str, ...] = ()
-    certificate: dict | None = field(default=None)
-
-    @cached_property
-    def kinetic_energy_in(self) -> Any:
-        """The kinetic energy before the impact (rest frame of the constraints)."""
-        return self.system.kinetic_energy(self.velocity_in)
-
-    @cached_property
-    def kinetic_energy_out(self) -> Any:
-        """The kinetic energy of the exit velocity."""
-        return self.system.kinetic_energy(self.exit_velocity)
-
-    @property
-    def iterations(self) -> int:
-        """The number of impulses applied (Table 1's "# Iterations")."""
-        return len(self.impact_sets)
-
-    @property
-    def backend(self) -> Any:
-        return self.system.backend
 
 
 # -- the geometric quantities ------------------------------------------------------------
@@ -276,41 +230,6 @@ def _system_for_rule(system: System, rule: str) -> System:
     raise InvalidSystem(f"unknown rule {rule!r} (choose from {', '.join(RULES)})")
 
 
-def exact_backend_for_velocity(system: System, velocity: Sequence[Any]) -> tuple[System, tuple]:
-    """On the exact backend, widen the number field when the velocity needs it; returns the
-    system and the velocity converted into its backend.
-
-    >>> from verify.core.system import System
-    >>> s, v = exact_backend_for_velocity(System([[1]], [[1]], [1]), ["sqrt(2)"])
-    >>> s.backend.describe()[:18], s.backend.to_exact(v[0])
-    ('exact (number fiel', 'sqrt(2)')
-    """
-    values = _velocity_numbers(velocity)
-    try:
-        return system, system.velocity(values)
-    except InvalidInput:  # not in this field (BadNumber): build the field of every input
-        system = _on_exact_field(system, values)
-        return system, system.velocity(values)
-
-
-def _velocity_numbers(velocity: Sequence[Any]) -> list[Any]:
-    """The components of a velocity as exact numbers."""
-    return [to_number(x, where=f"velocity[{i}]") for i, x in enumerate(velocity)]
-
-
-def _on_exact_field(system: System, values: list[Any]) -> System:
-    """The system on the exact backend of all its inputs and ``values`` (the rationals, or their
-    number field); InvalidInput (BadNumber) when one of them is not algebraic."""
-    return system.convert_to(exact_for(_source_numbers(system) + values))
-
-
-def _source_numbers(system: System) -> list:
-    """Every number the system was built from (mass matrix, normals, time terms, CORs), exactly."""
-    src = system.source
-    everything = [x for row in src["mass_matrix"] for x in row] + [x for row in src["normals"] for x in row]
-    return everything + list(src["time_terms"]) + list(src["restitution"])
-
-
 # -- signs that intervals cannot decide: zeros known by structure, or checked exactly ---------------
 #
 # A rate that is exactly 0 is an interval around 0 on the interval backend, at any precision.
@@ -402,16 +321,16 @@ class _ExactRates:
 
     @cached_property
     def _values(self) -> list[Any]:
-        return _velocity_numbers(self._source[1])
+        return velocity_numbers(self._source[1])
 
     def available(self) -> bool:
         """Whether an exact check exists (every input rational or algebraic); builds it."""
         if self._exact is None and self.unavailable is None:
             system, values = self._source[0], self._values
             try:
-                exact = _on_exact_field(system, values)
+                exact = on_exact_field(system, values)
             except InvalidInput:  # BadNumber: an input that is not algebraic
-                numbers = _source_numbers(system) + values
+                numbers = source_numbers(system) + values
                 bad = next(x for x in numbers if not isinstance(x, Fraction) and x.is_algebraic is not True)
                 self.unavailable = f"{bad} is not algebraic"
                 return False
@@ -593,11 +512,19 @@ def _no_convergence(K: Backend, exc: Undecided, exact: _ExactRates) -> NoConverg
     return NoConvergence(f"{K.describe()}: a sign stayed undecided at the precision limit ({exc}); {why}")
 
 
+def _other_law(law: str) -> bool:
+    """Whether ``law`` is the simultaneous law (False for the rule; an unknown law is an error)."""
+    if law not in LAWS:
+        raise InvalidSystem(f"unknown law {law!r} (choose from {', '.join(LAWS)})")
+    return law != "rule"
+
+
 def solve(
     system: System,
     velocity: Sequence[Any],
     *,
     rule: str = "general",
+    law: str = "rule",
     max_iterations: int = DEFAULT_MAX_ITERATIONS,
     halt: Halt | None = None,
     trace: bool = True,
@@ -609,15 +536,16 @@ def solve(
 
     ``rule`` is ``"general"`` (eq. 8, the system's own CORs), ``"ideal"`` (eq. 5, all CORs
     1), ``"symmetric"`` (eq. 6, requires equal CORs) or ``"asymmetric"`` (eq. 7, requires
-    two constraints). ``max_iterations`` caps the number of impulses (stop
+    two constraints). ``law="simultaneous"`` applies the simultaneous law instead
+    (:mod:`verify.core.simultaneous`) with the CORs that ``rule`` gives; the options of the
+    iteration are then unused. ``max_iterations`` caps the number of impulses (stop
     ``"max_iterations"``); ``halt`` is an extra stop test such as the paper's AEEV stop.
     With ``certify`` (the default) a two-constraint run also stops, with stop
     ``"non_terminating"`` and a certificate, as soon as it is proved never to exit
     (:mod:`verify.core.termination`). ``budget`` (a :class:`Budget`) ends a run whose numbers
     grow too large or which takes too long with stop ``"budget"``. ``progress``, if given,
-    is called with the number of impulses so far after every impulse (it should be cheap:
-    a progress display throttles itself); a run repeated at higher precision counts again
-    from 1.
+    is called with the number of impulses so far after every impulse (it should be cheap); a
+    run repeated at higher precision counts again from 1.
     On a backend whose signs can be undecided (intervals) the run is repeated at higher
     precision, and the result's ``notes`` say so; :class:`~verify.errors.NoConvergence` is
     raised when the precision limit is reached. A rate that is exactly 0 is not chased in
@@ -635,6 +563,8 @@ def solve(
     if not isinstance(max_iterations, int) or max_iterations < 0:
         raise InvalidSystem(f"max_iterations must be a non-negative integer, got {max_iterations!r}")
     system = _system_for_rule(system, rule)
+    if _other_law(law):
+        return solve_simultaneous(system, velocity, rule=rule, max_iterations=max_iterations)
     limits = budget.limits(max_iterations) if budget is not None else Limits(max_iterations)
     notes: list[str] = []
     exact = _ExactRates(system, velocity)  # exact checks of undecided rates: built only if one is asked

@@ -33,7 +33,7 @@ from verify.core.format import format_exact
 from verify.core.linalg import NotPositiveDefinite, dot, ldl, matvec, solve_spd
 from verify.core.numeric import certified_sign
 from verify.core.parse import Number, to_number
-from verify.errors import BadNumber, InvalidSystem, Undecided
+from verify.errors import BadNumber, InvalidInput, InvalidSystem, Undecided
 
 
 def known_zero(K: Backend, x: Any) -> bool:
@@ -529,3 +529,41 @@ class System:
             names=kept,
             coordinates=[str(q) for q in coords],
         )
+
+
+# -- widening the exact field for a velocity ---------------------------------------------------
+
+
+def exact_backend_for_velocity(system: System, velocity: Sequence[Any]) -> tuple[System, tuple]:
+    """On the exact backend, widen the number field when the velocity needs it; returns the
+    system and the velocity converted into its backend.
+
+    >>> from verify.core.system import System
+    >>> s, v = exact_backend_for_velocity(System([[1]], [[1]], [1]), ["sqrt(2)"])
+    >>> s.backend.describe()[:18], s.backend.to_exact(v[0])
+    ('exact (number fiel', 'sqrt(2)')
+    """
+    values = velocity_numbers(velocity)
+    try:
+        return system, system.velocity(values)
+    except InvalidInput:  # not in this field (BadNumber): build the field of every input
+        system = on_exact_field(system, values)
+        return system, system.velocity(values)
+
+
+def velocity_numbers(velocity: Sequence[Any]) -> list[Any]:
+    """The components of a velocity as exact numbers (errors name ``velocity[i]``)."""
+    return [to_number(x, where=f"velocity[{i}]") for i, x in enumerate(velocity)]
+
+
+def on_exact_field(system: System, values: list[Any]) -> System:
+    """The system on the exact backend of all its inputs and ``values`` (the rationals, or their
+    number field); InvalidInput (BadNumber) when one of them is not algebraic."""
+    return system.convert_to(exact_for(source_numbers(system) + values))
+
+
+def source_numbers(system: System) -> list:
+    """Every number the system was built from (mass matrix, normals, time terms, CORs), exactly."""
+    src = system.source
+    everything = [x for row in src["mass_matrix"] for x in row] + [x for row in src["normals"] for x in row]
+    return everything + list(src["time_terms"]) + list(src["restitution"])

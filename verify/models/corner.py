@@ -166,10 +166,17 @@ def run_corner(
     dps: int | None = None,
     max_iterations: int = DEFAULT_MAX_ITERATIONS,
     rule: str = "general",
+    law: str = "rule",
     trace: bool = True,
     certify: bool = True,
 ) -> CornerRun:
-    """Run the disk in the corner. Give ``alpha`` or ``slope``, and ``phi`` or ``velocity``."""
+    """Run the disk in the corner. Give ``alpha`` or ``slope``, and ``phi`` or ``velocity``;
+    ``law`` is ``"rule"`` (the paper's) or ``"simultaneous"`` (:mod:`verify.core.simultaneous`).
+
+    >>> r = run_corner(alpha="pi/6", phi="pi/12", eps1="0.999", eps2="0.001", law="simultaneous")
+    >>> r.zones, [r.result.backend.to_decimal(x, 6) for x in r.result.exit_velocity[:2]]
+    (['Z12', 'Z0'], ['-25.9267', '14.8872'])
+    """
     notes: list[str] = []
     k = slope_of(alpha, slope)
     if (phi is None) == (velocity is None):
@@ -186,7 +193,7 @@ def run_corner(
             raise InvalidSystem(f"eps{i + 1} = {(eps1, eps2)[i]} is outside [0, 1]")
     chosen = _backend_for([k, *v, *cors], backend, dps, notes)
     system = corner_system(k, cors[0], cors[1], backend=chosen, dps=dps if chosen != "exact" else None)
-    result = solve(system, v, rule=rule, max_iterations=max_iterations, trace=trace, certify=certify)
+    result = solve(system, v, rule=rule, law=law, max_iterations=max_iterations, trace=trace, certify=certify)
     return CornerRun(result, zones_of(result), k, v, notes + list(result.notes))
 
 

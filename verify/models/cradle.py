@@ -199,6 +199,7 @@ def run_cradle(
     certify: bool = True,
     aeev: Reading | str = PAPER_READING,
     sigma_squared: Fraction | None = None,
+    law: str = "rule",
 ) -> Result:
     """Run the cradle (reduced coordinates) in ``exact`` mode or in the paper's ``paper`` mode.
 
@@ -211,13 +212,18 @@ def run_cradle(
     ``mode="exact"`` stops when the velocity exits, when the run is proved never to exit
     (stop ``"non_terminating"`` with a certificate, :mod:`verify.core.termination`), or at
     ``max_iterations``. ``certify=False`` turns the proofs off (to follow a run that
-    never exits for as long as ``max_iterations``).
+    never exits for as long as ``max_iterations``). ``law="simultaneous"`` applies the
+    simultaneous law instead (:mod:`verify.core.simultaneous`; exact mode only).
 
+    >>> [str(x) for x in run_cradle("1", law="simultaneous").exit_velocity]
+    ['-100/3', '200/3', '200/3']
     >>> run_cradle("0", mode="paper").stop, run_cradle("0", mode="paper").iterations
     ('aeev', 32)
     """
     if mode not in MODES:
         raise InvalidSystem(f"unknown mode {mode!r} (choose from {', '.join(MODES)})")
+    if law != "rule" and mode == "paper":
+        raise InvalidSystem("paper mode is the paper's rule: the simultaneous law has no AEEV stop")
     system = cradle_system(eps, balls, masses, backend=backend, dps=dps)
     v = cradle_velocity(balls, v0, velocity)
     halt = None
@@ -229,4 +235,4 @@ def run_cradle(
     else:
         cap = DEFAULT_MAX_ITERATIONS if max_iterations is None else max_iterations
     # paper mode reproduces the paper's own termination, which had no proof of non-termination
-    return solve(system, v, max_iterations=cap, halt=halt, trace=trace, certify=certify and mode == "exact")
+    return solve(system, v, law=law, max_iterations=cap, halt=halt, trace=trace, certify=certify and mode == "exact")

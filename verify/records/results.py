@@ -17,8 +17,10 @@ and any run carries ``notes`` when there is something to say (precision raised).
 from __future__ import annotations
 
 import json
+import re
 from collections.abc import Sequence
 from dataclasses import dataclass
+from fractions import Fraction
 from typing import Any
 
 from verify.core.rule import DEFAULT_MAX_ITERATIONS, Result
@@ -43,6 +45,28 @@ def value_string(K: Any, x: Any, digits: int = DECIMAL_DIGITS) -> str:
     return K.to_exact(x) if K.is_exact else K.to_decimal(x, digits)
 
 
+_RATIONAL = re.compile(r"-?\d+(/\d+)?")
+
+
+def read_number(text: str, where: str | None = None) -> Fraction:
+    """A number string of a result record as a Fraction: an exact rational of any length as it
+    is (``verify``'s own records hold runs of thousands of digits), a decimal or a float's
+    shortest string exactly as written, a closed form to 40 digits; BadNumber names ``where``
+    for ``nan`` or ``inf``.
+
+    >>> read_number("0.1"), read_number("-1/3"), Fraction(14142, 10**4) < read_number("sqrt(2)") < 2
+    (Fraction(1, 10), Fraction(-1, 3), True)
+    """
+    from verify.core.format import format_decimal, str_to_int
+    from verify.core.parse import parse_number, to_number
+
+    if _RATIONAL.fullmatch(text):
+        num, _, den = text.partition("/")
+        return Fraction(str_to_int(num), str_to_int(den) if den else 1)
+    value = to_number(parse_number(text, where=where), where=where)
+    return value if isinstance(value, Fraction) else Fraction(format_decimal(value, 40))
+
+
 def result_record(result: Result, case_id: str, *, digits: int = DECIMAL_DIGITS) -> dict[str, Any]:
     """The result record of the contracts for one run."""
     K = result.backend
@@ -65,6 +89,9 @@ def result_record(result: Result, case_id: str, *, digits: int = DECIMAL_DIGITS)
         record["notes"] = list(result.notes)
     if result.certificate is not None:
         record["certificate"] = result.certificate
+    if result.law != "rule":  # the rule's records keep the contract's fields only
+        record["law"] = result.law
+        record["impulses"] = [value_string(K, x, digits) for x in result.impulses or ()]
     return record
 
 
@@ -86,7 +113,7 @@ def dumps(obj: Any) -> str:
 
 # -- case records (input) ---------------------------------------------------------------------
 
-CASE_FIELDS = {"id", "mass_matrix", "normals", "time_terms", "restitution", "velocity", "max_iterations"}
+CASE_FIELDS = {"id", "mass_matrix", "normals", "time_terms", "restitution", "velocity", "max_iterations", "why"}
 REQUIRED_FIELDS = ("id", "mass_matrix", "normals", "restitution", "velocity")
 
 
@@ -160,7 +187,7 @@ def case_from_record(record: Any, where: str = "case", *, backend: Any = "exact"
             dps=dps,
         )
         if system.backend.widens_to_inputs:  # a velocity outside the field of the system widens it
-            from verify.core.rule import exact_backend_for_velocity
+            from verify.core.system import exact_backend_for_velocity
 
             system, velocity = exact_backend_for_velocity(system, record["velocity"])
         else:

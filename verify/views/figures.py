@@ -450,3 +450,32 @@ def cradle_motion(path: str | Path, eps_values: tuple[str, ...] = ("0.9", "0.5",
     axes[-1].set_xlabel("position along the line of centres (disk radii; v0 = 1 radius per unit time)")
     fig.tight_layout()
     return _save(fig, path)
+
+
+def engines_cradle(record: dict[str, Any], path: str | Path) -> Path:
+    """The three-ball cradle (v0 = 100) against eps: each ball's exit velocity under the paper's
+    rule and the simultaneous law (exact, from the engines record; the rule only where it exits)
+    and under each engine's default settings (markers). Decimals only for drawing."""
+    plt = _pyplot()
+    from verify.checks.engines import GRID, grid_rows
+
+    rule, sim, engines = grid_rows(record)
+    fig, axes = plt.subplots(1, 3, figsize=(10.0, 3.4), sharey=True)
+    markers = ("o", "s", "^", "D", "v", "P", "X")
+    eps = [_x(e) for e in GRID]
+    for ball, ax in enumerate(axes):
+        ax.plot(eps, [_x(v[ball]) for v in sim], "-", color="black", lw=1.5, label="simultaneous law (exact)")
+        pts = [(e, v) for e, v in zip(eps, rule) if v is not None]
+        ax.plot([e for e, _ in pts], [_x(v[ball]) for _, v in pts], "--", color="tab:red", lw=1.2,
+                label="paper's rule (exact, where it exits)")  # fmt: skip
+        for k, (name, values) in enumerate(engines.items()):
+            pts = [(e, v) for e, v in zip(eps, values) if v is not None]
+            ax.plot([e for e, _ in pts], [_x(v[ball]) for _, v in pts], markers[k % len(markers)], ms=4,
+                    fillstyle="none", label=name)  # fmt: skip
+        ax.set_title(f"ball {ball + 1}")
+        ax.set_xlabel("eps (both contacts)")
+        ax.grid(alpha=0.3)
+    axes[0].set_ylabel("exit velocity (v0 = 100)")
+    axes[-1].legend(fontsize=7, loc="best")
+    fig.tight_layout()
+    return _save(fig, path)

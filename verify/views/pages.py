@@ -26,7 +26,12 @@ from typing import Any
 CORNER_CASES = 2000
 #: the paper's corner example (Sect. 4.2), as given to ``verify corner``
 CORNER_EXAMPLE: dict[str, Any] = {
-    "alpha": "pi/6", "slope": None, "phi": "pi/12", "v0": "100", "eps1": "0.999", "eps2": "0.001"
+    "alpha": "pi/6",
+    "slope": None,
+    "phi": "pi/12",
+    "v0": "100",
+    "eps1": "0.999",
+    "eps2": "0.001",
 }
 
 
@@ -176,12 +181,13 @@ def properties_page(profile: str, found: list[Any]) -> str:
     from verify.views.text import properties_text
 
     return (
-        "# Properties of the rule\n\n"
-        f"Every property x rule x family, profile `{profile}` "
-        f"(`verify properties --profile {profile}`).\n"
+        "# Properties of the rule and of the simultaneous law\n\n"
+        f"Every property x law x rule x family, profile `{profile}` "
+        f"(`verify properties --profile {profile}`); under the simultaneous law the rule column names the CORs.\n"
         "Each refutation comes with its shrunk exact counterexample; save it as a case file and rerun it\n"
         "with "
-        "`verify solve CASE.json --rule RULE` (or let `verify properties --counterexamples DIR` write the files).\n\n"
+        "`verify solve CASE.json --rule RULE` (add `--law simultaneous` for that law's rows; or let\n"
+        "`verify properties --counterexamples DIR` write the files).\n\n"
         + _block(properties_text(profile, found))
     )
 
@@ -207,7 +213,67 @@ def oracle_page(found: OracleFindings) -> str:
         ]
     else:
         lines.append("\n(The worked example `examples/float_impl.py` is in the source checkout; run from its root.)\n")
-    return "\n".join(lines)
+    return "\n".join(lines + error_tables(found))
+
+
+def _engine_rows(cases: list[dict[str, Any]], out: Path) -> list[Any]:
+    """Each engine of the engines record (``engines.json``), graded on the golden cases it ran against
+    the simultaneous law (velocity-only results; the cases it cannot build count as skipped)."""
+    import json
+
+    from verify.checks import oracle
+    from verify.checks.grading import table_row
+
+    source = out / "engines.json" if (out / "engines.json").exists() else Path("reports") / "engines.json"
+    if not source.exists():
+        return []
+    record = json.loads(source.read_text(encoding="utf-8"))
+    exact = oracle.golden_results(cases, law="simultaneous")
+    ids = {c["id"] for c in cases}
+    rows = []
+    for e in record["engines"]:
+        got = [{"id": r["id"], "exit_velocity": r["engine_exit_velocity"]} for r in e["cases"] if r["id"] in ids]
+        ran = {r["id"] for r in got}
+        skipped = {c["id"]: "not built by the engine" for c in cases if c["id"] not in ran}
+        compared = oracle.compare(cases, exact, got, rtol=oracle.DEFAULT_RTOL, atol=Fraction(0), skipped=skipped)
+        rows.append(table_row(f"{e['name']} {e['version']}", "simultaneous", compared))
+    return rows
+
+
+def error_tables(found: OracleFindings, out: Path = Path("reports")) -> list[str]:
+    """The error tables of the oracle page: the float example on the hard cases of level 1, and the
+    float example and every engine of the engines record on the golden cases."""
+    import json
+    import sys
+
+    from verify.checks import oracle
+    from verify.checks.grading import table_row
+    from verify.checks.hardcases import generate
+    from verify.views.text import error_table_text
+
+    lines = ["\n## Error tables\n"]
+    if found.example is not None:
+        hard = generate(1, 0)
+        example = Path("examples") / "float_impl.py"
+        text = oracle.run_implementation(f"{sys.executable} {example}", json.dumps({"cases": hard}), 600)
+        compared = oracle.compare(hard, oracle.golden_results(hard), oracle.load_results(text, str(example)),
+                                  rtol=oracle.DEFAULT_RTOL, atol=Fraction(0))  # fmt: skip
+        lines += [
+            "The hard cases of `verify oracle generate --level 1 --seed 0` (cases near the exact breakpoints, the",
+            "corner's boundaries, grazing contacts, runs that never exit), graded against the paper's rule",
+            "(`verify oracle table hard.json floats=RESULTS.json`):\n",
+            _block(error_table_text([table_row("float example", "rule", compared)])),
+        ]
+    rows = [table_row("float example", "rule", found.example)] if found.example is not None else []
+    rows += _engine_rows(found.cases, out)
+    if rows:
+        lines += [
+            "\nThe golden cases: the float example against the rule, and each physics engine of",
+            "[engines.md](engines.md) against the simultaneous law (the law engines implement; the cases an engine",
+            "cannot build count as skipped):\n",
+            _block(error_table_text(rows)),
+        ]
+    return lines
 
 
 def performance_page(out: Path) -> str:
@@ -277,6 +343,96 @@ def fig1_page(out: Path) -> str:
     )
 
 
+def _v(values: list[str] | None, digits: int = 6) -> str:
+    """A velocity's components to ``digits`` significant digits (a closed form evaluated), or "-"."""
+    from verify.checks.engines import short_decimal
+
+    return "-" if values is None else "(" + ", ".join(short_decimal(x, digits) for x in values) + ")"
+
+
+def engines_tables(record: dict[str, Any]) -> list[str]:
+    """The engines page's tables: the engines, the exact references, and each engine's cases."""
+    lines = ["## The engines", "", "| engine | version | combines restitution | one COR per contact | settings |",
+             "|---|---|---|---|---|"]  # fmt: skip
+    for e in record["engines"]:
+        settings = ", ".join(f"{k} = {v:g}" for k, v in e["settings"].items())
+        lines.append(f"| {e['name']} | {e['version']} | {e['combine_rule']} | {e['cor_setting']} | {settings} |")
+    lines += [f"- **{s['name']}** was not run: {s['reason']}" for s in record["skipped"]]
+    ids = {c["id"] for e in record["engines"] for c in e["cases"]}
+    lines += ["", "## The exact references", "", "| case | paper's rule | simultaneous law |", "|---|---|---|"]
+    rows = {c["id"]: c for e in record["engines"] for c in e["cases"]}
+    for case in record["cases"]:
+        if case["id"] in ids:
+            r = rows[case["id"]]
+            rule = _v(r["rule_exit_velocity"]) if r["rule_exit_velocity"] else f"no exit ({r['rule_stop']})"
+            lines.append(f"| `{case['id']}` | {rule} | {_v(r['simultaneous_exit_velocity'])} |")
+    for e in record["engines"]:
+        lines += ["", f"## {e['name']} {e['version']}, default settings", "",
+                  "| case | engine exit velocity | to the rule | to the simultaneous law | kinetic energy in -> out |",
+                  "|---|---|---|---|---|"]  # fmt: skip
+        for c in e["cases"]:
+            energy = f"{c['kinetic_energy_in']} -> {c['kinetic_energy_out']}"
+            lines.append(f"| `{c['id']}` | {_v(c['engine_exit_velocity'])} | {c['distance_to_rule'] or 'no exit'} | "
+                         f"{c['distance_to_simultaneous']} | {energy} |")  # fmt: skip
+        lines += [f"- skipped `{s['id']}`: {s['reason']}" for s in e["skipped_cases"]]
+    return lines
+
+
+def engines_page_text(record: dict[str, Any]) -> str:
+    """The engines page for a record of :func:`verify.checks.engines.engines_record`."""
+    from verify.checks.engines import AGREES, findings
+
+    names = ", ".join(e["name"] for e in record["engines"]) or "none"
+    head = [
+        "# Physics engines against the paper's rule and the simultaneous law",
+        "",
+        "Each engine runs as a subprocess adapter (`python -m verify.physics.NAME`, the `verify oracle check",
+        "--impl` protocol) with gravity and friction off, on the cradles and corners below; its exit velocity",
+        "stands beside the exact ones of the paper's rule and of the simultaneous law (Newton's restitution with",
+        "complementarity, all contacts at once: `verify solve --law simultaneous`). The distances are relative:",
+        "`max_i |engine_i - exact_i| / max_i |v_in_i|`. Written by `verify engines --report` (record:",
+        "`engines.json`, beside this page); `verify report` renders the record and runs no engine. Floats of an",
+        "engine are read exactly as printed.",
+        "",
+        f"Engines that ran: {names}.",
+        "",
+        "## Findings (measured on the record)",
+        "",
+        *[f"- {line}" for line in findings(record)],
+        "",
+        f"An engine agrees with a law on a case when the relative distance is at most {AGREES}.",
+        "",
+    ]
+    if record["engines"]:
+        head += [
+            "![The three-ball cradle against eps: the rule, the simultaneous law and each engine](engines-cradle.png)",
+            "",
+        ]
+    return "\n".join(head + engines_tables(record)) + "\n"
+
+
+def engines_page(out: Path) -> str:
+    """The page of ``out/engines.json`` (copied there from ``reports/engines.json`` when missing); draws its figure."""
+    import json
+
+    from verify.records.files import write_atomic
+    from verify.views.figures import engines_cradle
+
+    saved = out / "engines.json"
+    source = saved if saved.exists() else Path("reports") / "engines.json"
+    if not source.exists():
+        return (
+            '# Physics engines\n\nNo engines record yet: `pip install ".[engines]"`, then `verify engines --report`.\n'
+        )
+    data = source.read_bytes()
+    if source != saved:
+        write_atomic(saved, data)
+    record = json.loads(data)
+    if record["engines"]:
+        engines_cradle(record, out / "engines-cradle.png")
+    return engines_page_text(record)
+
+
 #: each page: its file name, and how it is written from the output folder and the findings
 PAGES: list[tuple[str, Callable[[Path, Findings], str]]] = [
     ("table1.md", lambda out, f: table1_page(f.table1)),
@@ -286,6 +442,7 @@ PAGES: list[tuple[str, Callable[[Path, Findings], str]]] = [
     ("oracle.md", lambda out, f: oracle_page(f.oracle)),
     ("performance.md", lambda out, f: performance_page(out)),
     ("fig1.md", lambda out, f: fig1_page(out)),
+    ("engines.md", lambda out, f: engines_page(out)),
 ]
 
 TITLES = {
@@ -296,6 +453,7 @@ TITLES = {
     "oracle.md": "The reference oracle: golden dataset and how to check an implementation",
     "performance.md": "Performance",
     "fig1.md": "The three disks after the impact (Fig. 1)",
+    "engines.md": "Physics engines against the paper's rule and the simultaneous law",
 }
 
 

@@ -47,6 +47,7 @@ def cradle_text(result: Result, *, eps: list[str], mode: str, full_trace: bool =
         f"Newton's cradle: {s.n} balls (masses {_join(masses)}), {eps_text}",
         f"left velocity: {_join([value_string(K, x) for x in result.velocity_in])}",
         f"backend: {K.describe()}; mode: {mode}",
+        *law_lines(result),
     ]
     lines += [f"note: {n}" for n in result.notes]
     steps = result.steps
@@ -85,6 +86,18 @@ def cradle_text(result: Result, *, eps: list[str], mode: str, full_trace: bool =
     return "\n".join(lines) + "\n"
 
 
+def law_lines(result: Result, indent: str = "") -> list[str]:
+    """The lines that name the simultaneous law and its impulses (none for the paper's rule)."""
+    if result.law == "rule":
+        return []
+    K = result.backend
+    lam = _join([K.to_decimal(x, 12) for x in result.impulses or ()])
+    return [
+        f"{indent}law: simultaneous (Newton's restitution with complementarity, all constraints at once)",
+        f"{indent}impulses lambda (12 digits): {lam}",
+    ]
+
+
 def solve_text(case_id: str, result: Result) -> str:
     """A few lines per solved case."""
     K = result.backend
@@ -95,6 +108,7 @@ def solve_text(case_id: str, result: Result) -> str:
     lines = [
         f"{case_id}: {result.stop} after {result.iterations} impulses ({K.describe()})",
         f"  impact sets: {sets or '-'}",
+        *law_lines(result, "  "),
     ]
     if K.is_exact:
         lines.append(f"  exit velocity: {_join([_short_exact(K, x) for x in result.exit_velocity])}")
@@ -516,6 +530,7 @@ def corner_text(run: Any, *, alpha: str | None, slope: str | None, phi: str, v0:
         f"v0 = {v0}, eps1 = {eps1} (S1), eps2 = {eps2} (S2)",
         f"entrance velocity: {', '.join(format_exact(v) for v in run.velocity[:2])}",
         f"backend: {K.describe()}",
+        *law_lines(r),
     ]
     lines += [f"note: {n}" for n in run.notes]
     lines.append(f"zones visited: {' -> '.join(run.zones)}")
@@ -613,26 +628,71 @@ def corner_summary(example: Any, claims: Any) -> str:
 
 
 def properties_text(profile: str, found: list) -> str:
-    """The verdict table of ``verify properties``, then every refutation with its case."""
+    """The verdict table of ``verify properties`` (a row per property, law, rule and family; for
+    the simultaneous law the rule column names the CORs), then every refutation with its case.
+
+    >>> from types import SimpleNamespace as Row
+    >>> print(properties_text("dev", [Row(property="p", law="simultaneous", rule="ideal", family="corner",
+    ...                                   verdict="holds", cases=25)]), end="")
+    Property suite, profile dev: 1 rows (property x law x rule x family)
+    <BLANKLINE>
+      property  law           rule        family   verdict   cases
+      p         simultaneous  ideal       corner   holds     25
+    <BLANKLINE>
+      0 proved, 1 holds, 0 refuted
+    """
     import json
 
-    lines = [f"Property suite, profile {profile}: {len(found)} rows (property x rule x family)", ""]
+    lines = [f"Property suite, profile {profile}: {len(found)} rows (property x law x rule x family)", ""]
     width = max((len(v.property) for v in found), default=10)
-    lines.append(f"  {'property':{width}}  {'rule':10}  {'family':7}  {'verdict':8}  cases")
+    lines.append(f"  {'property':{width}}  {'law':12}  {'rule':10}  {'family':7}  {'verdict':8}  cases")
     for v in found:
-        lines.append(f"  {v.property:{width}}  {v.rule:10}  {v.family:7}  {v.verdict:8}  {v.cases}")
+        lines.append(f"  {v.property:{width}}  {v.law:12}  {v.rule:10}  {v.family:7}  {v.verdict:8}  {v.cases}")
     counts = {k: sum(v.verdict == k for v in found) for k in ("proved", "holds", "refuted")}
     lines += ["", "  " + ", ".join(f"{n} {k}" for k, n in counts.items())]
     for v in found:
         if v.verdict != "refuted":
             continue
+        which = f"{v.rule} rule" if v.law == "rule" else f"simultaneous law, {v.rule} CORs"
         lines += [
             "",
-            f"REFUTED: {v.property} ({v.rule} rule, {v.family})",
+            f"REFUTED: {v.property} ({which}, {v.family})",
             f"  {v.note}",
             "  counterexample (case file):",
         ]
         lines.append("    " + json.dumps({"cases": [v.counterexample]}, sort_keys=True))
+    return "\n".join(lines) + "\n"
+
+
+def graded_lines(comparison: Any) -> list[str]:
+    """The graded verdicts: one line per case that does not pass, the count per class, and the
+    cases that need the largest tolerance (:mod:`verify.checks.grading`)."""
+    from verify.checks.grading import PASSING, hardest
+    from verify.core.format import format_decimal
+
+    lines = [f"{g.cls.upper()} {g.case_id}: {g.detail}" for g in comparison.grades if g.cls not in PASSING]
+    lines += ["", "  class                count"] if lines else ["  class                count"]
+    lines += [f"  {cls:20} {n}" for cls, n in comparison.classes().items()]
+    worst = hardest(comparison.grades, 3)
+    if worst:
+        lines += ["", "largest tolerance needed (relative to the exit speed; binary64 ulps of the exact value):"]
+        lines += [f"  {g.case_id}: {format_decimal(g.needed_speed or 0, 3)} ({g.needed_ulps} ulps)" for g in worst]
+    return [*lines, ""]
+
+
+def error_table_text(rows: Sequence[Any]) -> str:
+    """``verify oracle table``: one row per implementation, the count per class and the worst errors."""
+    from verify.checks.grading import CLASSES
+
+    used = [c for c in CLASSES if any(c in r.counts for r in rows)]
+    width = max([len(r.name) for r in rows] + [14])
+    head = f"  {'implementation':{width}}  {'law':12}" + "".join(f"  {c:>{max(len(c), 5)}}" for c in used)
+    lines = [head + "  worst relative error (case)"]
+    for r in rows:
+        counts = "".join(f"  {r.counts.get(c, 0):>{max(len(c), 5)}}" for c in used)
+        worst = "-" if r.worst_speed is None else f"{format_decimal(r.worst_speed[0], 3)} ({r.worst_speed[1]})"
+        ulp_text = "" if r.worst_ulps is None else f"; {format_decimal(r.worst_ulps[0], 3)} ulps ({r.worst_ulps[1]})"
+        lines.append(f"  {r.name:{width}}  {r.law:12}{counts}  {worst}{ulp_text}")
     return "\n".join(lines) + "\n"
 
 
@@ -648,8 +708,16 @@ def oracle_text(comparison: Any) -> str:
     lines += ["", "  what                 count", f"  cases checked        {comparison.checked}",
               f"  cases agreeing       {comparison.agreeing}"]  # fmt: skip
     lines += [f"  {k:20} {v}" for k, v in sorted(fields.items())]
+    if comparison.skipped:
+        lines.append(f"  skipped by the implementation: {len(comparison.skipped)}")
     lines.append("")
-    lines.append("OK: every case agrees" if comparison.ok else f"{len(comparison.mismatches)} mismatches")
+    for name, count in comparison.unchecked.items():
+        lines.append(f"not checked: {name} (left out of {count} results: velocity-only)")
+    for cid, reason in comparison.skipped.items():
+        lines.append(f"SKIPPED {cid}: {reason}")
+    lines += graded_lines(comparison)
+    agree = "every case agrees" if not comparison.skipped else "every case that the implementation ran agrees"
+    lines.append(f"OK: {agree}" if comparison.ok else f"{len(comparison.mismatches)} mismatches")
     return "\n".join(lines) + "\n"
 
 
@@ -675,7 +743,8 @@ def all_summary(
     lines.append(f"Properties ({profile}): {sum(v.verdict == 'proved' for v in found)} proved, "
                  f"{sum(v.verdict == 'holds' for v in found)} hold, {len(refuted)} refuted:")  # fmt: skip
     for name in dict.fromkeys(v.property for v in refuted):
-        rows = [f"{v.rule}/{v.family}" for v in refuted if v.property == name]
+        rows = [f"{v.rule}/{v.family}" + ("" if v.law == "rule" else f" ({v.law} law)") for v in refuted
+                if v.property == name]  # fmt: skip
         lines.append(f"  - {name}: {', '.join(rows)}")
     contradictions = [v for v in refuted if v.note.startswith("contradicts the proof")]
     lines.append("Oracle self-check: " + ("passed" if oracle_ok else "FAILED"))

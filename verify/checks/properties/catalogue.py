@@ -1,12 +1,14 @@
-"""What the rule promises, as checks on one drawn case.
+"""What the rule promises, as checks on one drawn case; and which of it the simultaneous law keeps.
 
 A property is a check ``check(run, drawn, extra)``: ``drawn`` is a case of
 :mod:`verify.checks.properties.strategies`, ``extra`` what the property draws besides (a permutation, a
 scale, a change of coordinates, a frame velocity), ``run`` runs a case record on the
-engine (memoised by :mod:`verify.checks.properties.verdicts`). It returns ``None`` when the property holds on
-the case, :data:`SKIP` when it does not apply (say a comparison with a run that the budget
-stopped), or a sentence saying how it fails. Outcomes worth counting (stops, branches
-taken by float) go to ``run.count``.
+engine (memoised by :mod:`verify.checks.properties.verdicts`) under the row's law: the paper's
+rule, or the simultaneous law of :mod:`verify.core.simultaneous` (a property says which laws
+it is checked for, :attr:`Property.laws`; a check reads the law off the result, ``r.law``).
+It returns ``None`` when the property holds on the case, :data:`SKIP` when it does not apply
+(say a comparison with a run that the budget stopped), or a sentence saying how it fails.
+Outcomes worth counting (stops, branches taken by float) go to ``run.count``.
 
 Every check compares exact values (Fractions) and computes its reference independently
 where it can: :mod:`verify.checks.properties.formulas` recomputes impulses from the raw inputs as printed in
@@ -15,6 +17,8 @@ the paper. The search and the verdicts are in :mod:`verify.checks.properties.ver
 
 >>> [p.name for p in PROPERTIES][:2]
 ['kinetic energy does not increase', 'the exit velocity is outgoing']
+>>> [p.name for p in PROPERTIES if p.laws == ("simultaneous",)][:1]
+['the simultaneous impulses satisfy restitution and complementarity']
 """
 
 from __future__ import annotations
@@ -58,8 +62,11 @@ def _show(xs: Any) -> str:
 
 def energy_does_not_increase(run: Any, d: Drawn, extra: Any) -> str | None:
     """Per impulse, in the rest frame of the constraints; a failure also says whether the
-    exact criterion of :func:`verify.checks.properties.proofs.energy_increase_criterion` predicts it."""
+    exact criterion of :func:`verify.checks.properties.proofs.energy_increase_criterion` predicts it
+    (for the simultaneous law: the identity of :func:`simultaneous_energy_rises`)."""
     r = run(d.record, d.rule)
+    if r.law == "simultaneous":
+        return simultaneous_energy_rises(r, d)
     K = r.backend
     before = r.kinetic_energy_in
     for w, step in enumerate(r.steps, 1):
@@ -77,6 +84,49 @@ def energy_does_not_increase(run: Any, d: Drawn, extra: Any) -> str | None:
             )
         before = after
     return None
+
+
+def _cors(d: Drawn) -> list[Fraction]:
+    """The CORs the run uses: the record's, all 1 for the ideal rule."""
+    e = _inputs(d.record)[3]
+    return [Fraction(1)] * len(e) if d.rule == "ideal" else e
+
+
+def simultaneous_energy_rises(r: Any, d: Drawn) -> str | None:
+    """Whether the simultaneous law's impulse raises the kinetic energy, with the terms of
+    ``Delta K = 1/2 sum lambda_i (w_i + w'_i)`` (:func:`verify.checks.properties.proofs.simultaneous_energy_terms`,
+    from the raw inputs) that predict it: the constraints not incoming against the incoming ones.
+
+    Three unit balls, every COR 1: ball 1 hits ball 2 while ball 3 moves slowly away; the impulse
+    also pushes the separating contact (the run is :func:`verify.core.rule.solve` with ``law=``):
+
+    >>> from fractions import Fraction
+    >>> from verify.checks.properties.strategies import make_drawn
+    >>> from verify.checks.properties.verdicts import Runner
+    >>> cradle = ([[1, 0, 0], [0, 1, 0], [0, 0, 1]], [[-1, 1, 0], [0, -1, 1]], [0, 0], [1, 1])
+    >>> d = make_drawn("cradle", "ideal", cradle, [1, 0, Fraction(1, 10)])
+    >>> print(simultaneous_energy_rises(Runner("simultaneous")(d.record, d.rule), d))  # doctest: +ELLIPSIS
+    the impulse on [0, 1] (lambda = (13/10, 3/5), ...) raises the kinetic energy from 101/200 to 107/200; ...
+    """
+    from verify.checks.properties.proofs import simultaneous_energy_terms
+
+    K = r.backend
+    before, after = r.kinetic_energy_in, r.kinetic_energy_out
+    if K.sign(after - before) <= 0:
+        return None
+    _, a, t, _ = _inputs(d.record)
+    e = _cors(d)
+    v, v_out, lam = d.values("velocity"), q(r, r.exit_velocity), q(r, r.impulses)
+    gain, loss = simultaneous_energy_terms((a, t), v, v_out, lam)
+    pushed = [i for i, x in enumerate(lam) if x != 0 and formulas.rate(a[i], t[i], v) >= 0]
+    rates = [str(formulas.rate(a[i], t[i], v)) for i in pushed]
+    change = Fraction(K.to_exact(after)) - Fraction(K.to_exact(before))
+    return (
+        f"the impulse on {list(r.impact_sets[0])} (lambda = {_show(lam)}, CORs {[str(x) for x in e]}) raises the "
+        f"kinetic energy from {K.to_exact(before)} to {K.to_exact(after)}; as Delta K = 1/2 sum lambda_i (w_i + w'_i) "
+        f"predicts: the constraints {pushed} that are not incoming (rates {rates}) take impulses and add {gain}, "
+        f"the incoming ones add {loss}, in all {gain + loss}" + ("" if gain + loss == change else f", not {change}")
+    )
 
 
 def exit_is_outgoing(run: Any, d: Drawn, extra: Any) -> str | None:
@@ -110,6 +160,75 @@ def momentum_is_conserved(run: Any, d: Drawn, extra: Any) -> str | None:
         for w, v in enumerate(vs[1:], 1):
             if formulas.phi(g, c, v) != p0:
                 return f"the momentum along {_show(c)} changes at impulse {w}: {p0} -> {formulas.phi(g, c, v)}"
+    return None
+
+
+# -- the simultaneous law ----------------------------------------------------------------------------
+
+
+def solves_complementarity(run: Any, d: Drawn, extra: Any) -> str | None:
+    """The simultaneous law's impulses ``lambda`` checked from the raw inputs (:mod:`formulas`): the
+    exit velocity is ``v + sum lambda_i g^-1 a_i^T``, and for every constraint ``lambda_i >= 0``,
+    ``w'_i + e_i min(w_i, 0) >= 0``, with equality where ``lambda_i > 0`` (w, w' the rates before and
+    after); the impact set is where ``lambda_i != 0``.
+
+    >>> from verify.checks.properties.strategies import make_drawn
+    >>> from verify.checks.properties.verdicts import Runner
+    >>> cradle = ([[1, 0, 0], [0, 1, 0], [0, 0, 1]], [[-1, 1, 0], [0, -1, 1]], [0, 0], ["1/2", 1])
+    >>> solves_complementarity(Runner("simultaneous"), make_drawn("cradle", "general", cradle, [2, 0, 1]), None) is None
+    True
+    """
+    r = run(d.record, d.rule)
+    g, a, t, _ = _inputs(d.record)
+    e, v, lam = _cors(d), d.values("velocity"), q(r, r.impulses)
+    U = [formulas.solve_linear(g, row) for row in a]
+    expected = [x + sum((c * u[k] for c, u in zip(lam, U)), Fraction(0)) for k, x in enumerate(v)]
+    got = q(r, r.exit_velocity)
+    if got != expected:
+        return (
+            f"the exit velocity {_show(got)} is not v + sum lambda_i g^-1 a_i = {_show(expected)} "
+            f"(lambda = {_show(lam)})"
+        )
+    hit = tuple(i for i, c in enumerate(lam) if c != 0)
+    if r.impact_sets != ([hit] if hit else []):
+        return f"the impact sets {r.impact_sets} are not where lambda = {_show(lam)} is non-zero"
+    for i, c in enumerate(lam):
+        w, w_out = formulas.rate(a[i], t[i], v), formulas.rate(a[i], t[i], got)
+        floor = -e[i] * min(w, Fraction(0))
+        if c < 0 or w_out < floor or (c > 0 and w_out != floor):
+            return (
+                f"constraint {i} (rate {w}, COR {e[i]}) takes lambda = {c} and leaves with rate {w_out}: "
+                f"complementarity asks lambda >= 0, a rate >= {floor}, and = {floor} where lambda > 0"
+            )
+    return None
+
+
+def laws_agree_after_one_orthogonal_impulse(run: Any, d: Drawn, extra: Any) -> str | None:
+    """Where the rule exits after one impulse on Phi-orthogonal constraints (a single impact
+    included), that impulse ``-sum (1 + e_j) V_j`` solves the simultaneous law's complementarity
+    problem, whose solution is unique: the two laws give the same exit velocity.
+
+    >>> from verify.checks.properties.strategies import make_drawn
+    >>> from verify.checks.properties.verdicts import Runner
+    >>> cradle = ([[1, 0, 0], [0, 1, 0], [0, 0, 1]], [[-1, 1, 0], [0, -1, 1]], [0, 0], ["1/2", 1])
+    >>> run, d = Runner("simultaneous"), make_drawn("cradle", "general", cradle, [1, 0, 1])
+    >>> laws_agree_after_one_orthogonal_impulse(run, d, None), run.counts
+    (None, Counter({'single impact': 1}))
+    """
+    by_rule = run(d.record, d.rule, law="rule")
+    if by_rule.stop != "exit" or by_rule.iterations != 1:
+        return SKIP
+    (J,) = by_rule.impact_sets
+    K, G = by_rule.backend, by_rule.system.gram
+    if any(K.sign(G[j][k]) != 0 for j in J for k in J if j != k):
+        return SKIP
+    run.count("single impact" if len(J) == 1 else "orthogonal impact set")
+    r = run(d.record, d.rule)
+    if r.impact_sets != by_rule.impact_sets:
+        return f"the rule's impact set {list(J)} becomes {r.impact_sets} under the simultaneous law"
+    va, vb = q(by_rule, by_rule.exit_velocity), q(r, r.exit_velocity)
+    if va != vb:
+        return f"the rule exits with {_show(va)} after one impulse on {list(J)}, the simultaneous law with {_show(vb)}"
     return None
 
 
@@ -392,7 +511,14 @@ def backends_agree(run: Any, d: Drawn, extra: Any) -> str | None:
 @dataclass(frozen=True)
 class Property:
     """A property: its name (stable: it is the key of the JSON output), its check, what it
-    draws besides the case, the rules and families it is stated for, a SymPy proof."""
+    draws besides the case, the rules, families and laws it is stated for, a SymPy proof.
+
+    ``proof`` and ``explain`` are the rule's; ``simultaneous_proof`` and ``simultaneous_explain``
+    the simultaneous law's (:meth:`statement` picks them by law).
+
+    >>> property_named("kinetic energy").statement("simultaneous")
+    (None, 'simultaneous_energy')
+    """
 
     name: str
     check: Callable[[Any, Drawn, Any], str | None]
@@ -403,17 +529,40 @@ class Property:
     census: bool = False  #: count the outcomes of every case of a refuted row, not only up to the first failure
     #: where the property fails: a proof's name in :mod:`verify.checks.properties.proofs`, or a sentence
     explain: str | None = None
+    #: the impact laws it is checked for: ``rule`` (the paper's), ``simultaneous``
+    laws: tuple[str, ...] = ("rule",)
+    simultaneous_proof: str | None = None
+    simultaneous_explain: str | None = None
+
+    def statement(self, law: str) -> tuple[str | None, str | None]:
+        """The proof and the explanation of a failure for the law (names or a sentence)."""
+        if law == "simultaneous":
+            return self.simultaneous_proof, self.simultaneous_explain
+        return self.proof, self.explain
 
 
 _ENTRIES = st.lists(small_rationals(2, 2), min_size=1, max_size=6)
 _DIAGONAL = st.lists(st.sampled_from([Fraction(1), Fraction(-1), Fraction(2), Fraction(1, 2)]), min_size=1, max_size=6)
 _SCALES = st.sampled_from([Fraction(2), Fraction(1, 3), Fraction(7, 2), Fraction(10**6), Fraction(1, 10**6)])
+BOTH = ("rule", "simultaneous")  #: the laws of a property that the simultaneous law should keep too
 
 PROPERTIES: tuple[Property, ...] = (
-    Property("kinetic energy does not increase", energy_does_not_increase, proof="energy", explain="energy_change"),
-    Property("the exit velocity is outgoing", exit_is_outgoing),
+    Property(
+        "kinetic energy does not increase",
+        energy_does_not_increase,
+        proof="energy",
+        explain="energy_change",
+        laws=BOTH,
+        simultaneous_explain="simultaneous_energy",
+    ),
+    Property("the exit velocity is outgoing", exit_is_outgoing, laws=BOTH),
     Property("each impulse is eq. (8) as printed", follows_eq8),
-    Property("a single impact gives eq. (4)", single_impact_is_eq4, proof="single"),
+    Property(
+        "the simultaneous impulses satisfy restitution and complementarity",
+        solves_complementarity,
+        laws=("simultaneous",),
+    ),
+    Property("a single impact gives eq. (4)", single_impact_is_eq4, proof="single", laws=BOTH),
     Property("beta = 1 for one constraint", beta_is_one_for_one_constraint, proof="beta_one"),
     Property("all CORs 1 give the ideal rule (5)", ideal_is_eq5, rules=("ideal",), proof="ideal"),
     Property("equal CORs give the symmetric rule (6)", symmetric_is_eq6, rules=("symmetric",), proof="symmetric"),
@@ -427,20 +576,35 @@ PROPERTIES: tuple[Property, ...] = (
         "orthogonal constraints give the codimension > 1 rule (Prop. 1)",
         orthogonal_is_codimension_rule,
         proof="orthogonal",
+        laws=BOTH,
     ),
     Property(
-        "relabelling the constraints changes nothing", relabelling_changes_nothing, extra=st.permutations(range(4))
+        "relabelling the constraints changes nothing",
+        relabelling_changes_nothing,
+        extra=st.permutations(range(4)),
+        laws=BOTH,
     ),
-    Property("mirror symmetry (corner y -> -y; cradle read backwards)", mirror_symmetry, families=("cradle", "corner")),
-    Property("homogeneity: scaling the velocity by lambda > 0 scales the result", homogeneous, extra=_SCALES),
-    Property("scaling all masses changes nothing", mass_scaling_changes_nothing, extra=_SCALES),
     Property(
-        "covariance under a linear change of coordinates", covariant, extra=st.tuples(_ENTRIES, _DIAGONAL, _ENTRIES)
+        "mirror symmetry (corner y -> -y; cradle read backwards)",
+        mirror_symmetry,
+        families=("cradle", "corner"),
+        laws=BOTH,
+    ),
+    Property(
+        "homogeneity: scaling the velocity by lambda > 0 scales the result", homogeneous, extra=_SCALES, laws=BOTH
+    ),
+    Property("scaling all masses changes nothing", mass_scaling_changes_nothing, extra=_SCALES, laws=BOTH),
+    Property(
+        "covariance under a linear change of coordinates",
+        covariant,
+        extra=st.tuples(_ENTRIES, _DIAGONAL, _ENTRIES),
+        laws=BOTH,
     ),
     Property(
         "frame independence (constraints in uniform motion)",
         frame_independent,
         extra=st.lists(small_rationals(2, 3), min_size=6, max_size=6),
+        laws=BOTH,
     ),
     Property(
         "the rule exits (termination)",
@@ -452,8 +616,13 @@ PROPERTIES: tuple[Property, ...] = (
             "the symmetric corner tan(alpha) <= (1 - sqrt(e))/(1 + sqrt(e)) (verify corner-claims)"
         ),
     ),
-    Property("momentum along directions free of constraints is conserved", momentum_is_conserved),
-    Property("backends agree (exact, interval, mp, float)", backends_agree),
+    Property("momentum along directions free of constraints is conserved", momentum_is_conserved, laws=BOTH),
+    Property("backends agree (exact, interval, mp, float)", backends_agree, laws=BOTH),
+    Property(
+        "the laws agree where the rule exits after one impulse on orthogonal constraints",
+        laws_agree_after_one_orthogonal_impulse,
+        laws=("simultaneous",),
+    ),
 )
 
 

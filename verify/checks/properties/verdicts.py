@@ -1,9 +1,14 @@
-"""Verdicts: each property x rule x family proved, holding on N cases, or refuted.
+"""Verdicts: each property x law x rule x family proved, holding on N cases, or refuted.
+
+The law is the paper's iterative rule (``rule``) or the simultaneous law (``simultaneous``,
+:mod:`verify.core.simultaneous`); the rule column is then the COR variant (the general rule's
+own CORs, the symmetric rule's equal ones, the ideal rule's 1), see :data:`LAW_RULES`.
 
 For every row, Hypothesis searches for a counterexample (``hypothesis.find``, derandomised:
 the same verdicts on every run): ``holds`` with the number of cases where the property
 applied, none failing, or ``refuted`` with the shrunk, exact counterexample (a case
-record of the contracts, which ``verify solve --rule R`` reproduces) and what fails. Where
+record of the contracts, which ``verify solve --rule R`` reproduces, with ``--law simultaneous``
+for the law's rows) and what fails. Where
 SymPy proves the property (:mod:`verify.checks.properties.proofs`) the verdict is ``proved``, and the search
 still runs: it tests that the implementation agrees with the proof (a counterexample then
 means the code is wrong, and the verdict is ``refuted``).
@@ -11,11 +16,14 @@ means the code is wrong, and the verdict is ``refuted``).
 Every run has a size budget (:data:`BUDGET`) and the record's ``max_iterations`` (200), so
 that a search never hangs on cases whose exact numbers explode; such runs are counted in
 the note. Profiles: ``dev`` (25 cases a row), ``ci`` (100), ``thorough`` (100,000 cases per
-property, shared evenly between its rows).
+property and law, shared evenly between its rows).
 
 >>> v = search(property_named("the exit velocity is outgoing"), "corner", "ideal", 10)
 >>> v.verdict, v.cases > 0
 ('holds', True)
+>>> v = search(property_named("the exit velocity is outgoing"), "corner", "ideal", 10, law="simultaneous")
+>>> v.law, v.verdict
+('simultaneous', 'holds')
 """
 
 from __future__ import annotations
@@ -31,33 +39,40 @@ from verify.checks.properties.catalogue import PROPERTIES, SKIP, Property, prope
 from verify.checks.properties.profiles import PER_PROPERTY, PROFILES
 from verify.checks.properties.proofs import PROOFS, prove
 from verify.checks.properties.strategies import FAMILIES, RULES, Drawn, cases
-from verify.core.rule import Budget
+from verify.core.rule import LAWS, Budget
 
 BUDGET = Budget(bits=4096)
 INTERVAL_DPS, INTERVAL_MAX_DPS, MP_DPS = 30, 120, 30
+#: the COR variants each law is checked with: every rule for the rule; for the simultaneous law
+#: the general, symmetric and ideal CORs (the asymmetric rule's cases are general ones with r = 2)
+LAW_RULES = {"rule": RULES, "simultaneous": tuple(r for r in RULES if r != "asymmetric")}
 
 
 class Runner:
-    """Runs case records on the engine, memoised (a property compares several runs)."""
+    """Runs case records on the engine under one law (``rule`` by default), memoised (a property
+    compares several runs). A check may ask another law's run with ``law=``."""
 
-    def __init__(self) -> None:
+    def __init__(self, law: str = "rule") -> None:
+        self.law = law
         self.memo: dict[str, Any] = {}
         self.counts: Counter[str] = Counter()
 
     def count(self, what: str) -> None:
         self.counts[what] += 1
 
-    def __call__(self, record: dict[str, Any], rule: str, backend: str = "exact") -> Any:
-        key = json.dumps([record, rule, backend], sort_keys=True)
+    def __call__(self, record: dict[str, Any], rule: str, backend: str = "exact", *, law: str | None = None) -> Any:
+        law = self.law if law is None else law
+        key = json.dumps([record, rule, backend, law], sort_keys=True)
         if key not in self.memo:
             if len(self.memo) > 512:
                 self.memo.clear()
-            self.memo[key] = run_record(record, rule, backend)
+            self.memo[key] = run_record(record, rule, backend, law=law)
         return self.memo[key]
 
 
-def run_record(record: dict[str, Any], rule: str, backend: str = "exact") -> Any:
-    """Solve one case record with the rule, the suite's budget and backend settings."""
+def run_record(record: dict[str, Any], rule: str, backend: str = "exact", *, law: str = "rule") -> Any:
+    """Solve one case record with the rule (or, with ``law="simultaneous"``, the simultaneous law
+    with the rule's CORs), the suite's budget and backend settings."""
     from verify.core.backends import IntervalBackend, get_backend
     from verify.core.rule import solve
     from verify.core.system import System
@@ -69,7 +84,13 @@ def run_record(record: dict[str, Any], rule: str, backend: str = "exact") -> Any
     )
     system = System(record["mass_matrix"], record["normals"], record["restitution"], record["time_terms"], backend=K)
     return solve(
-        system, record["velocity"], rule=rule, max_iterations=record["max_iterations"], budget=BUDGET, trace=True
+        system,
+        record["velocity"],
+        rule=rule,
+        law=law,
+        max_iterations=record["max_iterations"],
+        budget=BUDGET,
+        trace=True,
     )
 
 
@@ -85,10 +106,12 @@ class Verdict:
     counterexample: dict[str, Any] | None = None
     note: str = ""
     extra: Any = field(default=None, repr=False)
+    law: str = "rule"  #: ``rule`` or ``simultaneous``; ``rule`` is then the COR variant
 
     def record(self) -> dict[str, Any]:
         return {
             "property": self.property,
+            "law": self.law,
             "rule": self.rule,
             "family": self.family,
             "verdict": self.verdict,
@@ -98,8 +121,15 @@ class Verdict:
         }
 
 
-def rows(properties: Any = None, families: Any = None, rules: Any = None) -> list[tuple[Property, str, str]]:
-    """The (property, family, rule) rows, in a fixed order."""
+def rows(
+    properties: Any = None, families: Any = None, rules: Any = None, laws: Any = None
+) -> list[tuple[Property, str, str, str]]:
+    """The (property, family, rule, law) rows, in a fixed order: a property's row for the
+    simultaneous law right after its row for the rule (same rule variant and family).
+
+    >>> [(f, r, law) for p, f, r, law in rows(["the exit velocity"], ["cradle"], ["ideal", "asymmetric"])]
+    [('cradle', 'ideal', 'rule'), ('cradle', 'ideal', 'simultaneous'), ('cradle', 'asymmetric', 'rule')]
+    """
     chosen = [property_named(p) for p in properties] if properties else list(PROPERTIES)
     out = []
     for prop in chosen:
@@ -107,8 +137,11 @@ def rows(properties: Any = None, families: Any = None, rules: Any = None) -> lis
             if rule not in prop.rules or (rules and rule not in rules):
                 continue
             for family in FAMILIES:
-                if family in prop.families and (not families or family in families):
-                    out.append((prop, family, rule))
+                if family not in prop.families or (families and family not in families):
+                    continue
+                for law in LAWS:
+                    if law in prop.laws and rule in LAW_RULES[law] and (not laws or law in laws):
+                        out.append((prop, family, rule, law))
     return out
 
 
@@ -120,13 +153,13 @@ def _check(prop: Property, runner: Runner, item: Any) -> str | None:
         return f"the engine raised {type(exc).__name__}: {' '.join(str(exc).split())}"
 
 
-def search(prop: Property, family: str, rule: str, examples: int) -> Verdict:
-    """Search one row for a counterexample with ``examples`` cases."""
+def search(prop: Property, family: str, rule: str, examples: int, *, law: str = "rule") -> Verdict:
+    """Search one row for a counterexample with ``examples`` cases (the law's runs)."""
     from hypothesis import HealthCheck, Phase, find, settings
     from hypothesis import strategies as st
     from hypothesis.errors import NoSuchExample, Unsatisfiable
 
-    runner = Runner()
+    runner = Runner(law)
     tally: Counter[str] = Counter()
     shrinking = False  # once a failure is found, Hypothesis shrinks it: those calls are not counted
 
@@ -152,35 +185,37 @@ def search(prop: Property, family: str, rule: str, examples: int) -> Verdict:
         phases=[Phase.generate, Phase.shrink],
         suppress_health_check=list(HealthCheck),
     )
-    proof = prove(prop.proof, rule) if prop.proof else None
+    proof_name, explain = prop.statement(law)
+    proof = prove(proof_name, rule) if proof_name else None
     try:
         item = find(strategy, fails, settings=config)
     except (NoSuchExample, Unsatisfiable):
-        return _holds(prop, (family, rule), tally, runner.counts, proof)
+        return _holds(prop, (family, rule, law), tally, runner.counts, proof)
     d, extra = item if prop.extra is not None else (item, None)
-    why = _check(prop, Runner(), item) or ""
+    why = _check(prop, Runner(law), item) or ""
     note = why + (f" (with {_describe(extra)})" if extra is not None else "")
     if proof:
         note = f"contradicts the proof ({proof}): the implementation is wrong: " + note
-    elif prop.explain:
-        where = prove(prop.explain, rule) if prop.explain in PROOFS else prop.explain
+    elif explain:
+        where = prove(explain, rule) if explain in PROOFS else explain
         note += f". Where it fails: {where}" if where else ""
-    record = dict(d.record, id=f"{family}-{rule}-{_slug(prop.name)}")
-    note += f"; reproduce with: verify solve CASE.json --rule {rule}"
+    law_part = "" if law == "rule" else f"{law}-"
+    record = dict(d.record, id=f"{family}-{rule}-{law_part}{_slug(prop.name)}")
+    note += f"; reproduce with: verify solve CASE.json --rule {rule}" + ("" if law == "rule" else f" --law {law}")
     tried = tally["applied"]
     if prop.census:
-        tried, counts = _census(prop, strategy, examples)
+        tried, counts = _census(prop, strategy, examples, law)
         note += f"; a separate census of {tried} cases ends: " + ", ".join(
             f"{k}: {v}" for k, v in sorted(counts.items())
         )
-    return Verdict(prop.name, rule, family, "refuted", tried, record, note, extra)
+    return Verdict(prop.name, rule, family, "refuted", tried, record, note, extra, law=law)
 
 
-def _census(prop: Property, strategy: Any, examples: int) -> tuple[int, Counter]:
+def _census(prop: Property, strategy: Any, examples: int, law: str) -> tuple[int, Counter]:
     """How the runs of a refuted row end, over all its cases (the search stops at the first failure)."""
     from hypothesis import HealthCheck, Phase, given, settings
 
-    runner = Runner()
+    runner = Runner(law)
     seen: Counter[str] = Counter()
 
     @settings(
@@ -200,15 +235,16 @@ def _census(prop: Property, strategy: Any, examples: int) -> tuple[int, Counter]
     return seen["cases"], runner.counts
 
 
-def _holds(prop: Property, row: tuple[str, str], tally: Counter, counts: Counter, proof: str | None) -> Verdict:
-    family, rule = row
+def _holds(prop: Property, row: tuple[str, str, str], tally: Counter, counts: Counter, proof: str | None) -> Verdict:
+    family, rule, law = row
     parts = [f"no counterexample in {tally['applied']} cases"]
     if tally["skipped"]:
         parts.append(f"{tally['skipped']} of {tally['drawn']} drawn cases did not apply")
     parts += [f"{k}: {v}" for k, v in sorted(counts.items())]
     if proof:
-        return Verdict(prop.name, rule, family, "proved", tally["applied"], None, proof + "; " + "; ".join(parts))
-    return Verdict(prop.name, rule, family, "holds", tally["applied"], None, "; ".join(parts))
+        note = proof + "; " + "; ".join(parts)
+        return Verdict(prop.name, rule, family, "proved", tally["applied"], None, note, law=law)
+    return Verdict(prop.name, rule, family, "holds", tally["applied"], None, "; ".join(parts), law=law)
 
 
 def _describe(extra: Any) -> str:
@@ -222,7 +258,8 @@ def _slug(name: str) -> str:
 
 
 def examples_per_row(profile: str, n_rows: int) -> int:
-    """Cases per row: the profile's count, or its per-property count shared between rows."""
+    """Cases per row: the profile's count, or its per-property count shared between rows (the
+    ``n_rows`` rows of one property and law)."""
     if profile not in PROFILES:
         from verify.errors import InvalidInput
 
@@ -232,9 +269,9 @@ def examples_per_row(profile: str, n_rows: int) -> int:
     return PROFILES[profile]
 
 
-def _run_row(args: tuple[str, str, str, int]) -> Verdict:
-    name, family, rule, examples = args
-    return search(property_named(name), family, rule, examples)
+def _run_row(args: tuple[str, str, str, int, str]) -> Verdict:
+    name, family, rule, examples, law = args
+    return search(property_named(name), family, rule, examples, law=law)
 
 
 def verdicts(
@@ -243,14 +280,15 @@ def verdicts(
     properties: Any = None,
     families: Any = None,
     rules: Any = None,
+    laws: Any = None,
     workers: int | None = 1,
     progress: Any = None,
 ) -> list[Verdict]:
     """Every row's verdict under a profile (``workers`` > 1 runs rows in processes; None:
-    one per core)."""
-    table = rows(properties, families, rules)
-    per_prop = Counter(p.name for p, _, _ in table)
-    jobs = [(p.name, f, r, examples_per_row(profile, per_prop[p.name])) for p, f, r in table]
+    one per core); ``laws`` selects the laws (default both)."""
+    table = rows(properties, families, rules, laws)
+    per_prop = Counter((p.name, law) for p, _, _, law in table)
+    jobs = [(p.name, f, r, examples_per_row(profile, per_prop[p.name, law]), law) for p, f, r, law in table]
 
     def done(count: int, verdict: Verdict) -> None:
         progress(count, len(jobs), verdict)

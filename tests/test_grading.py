@@ -1,0 +1,189 @@
+"""Graded verdicts of the oracle (issue 18, items 2, 3, 5): every class reached, each as expected.
+
+The float example reaches some classes; deliberately wrong implementations (transformations of
+the exact results, each breaking one thing) reach the others.
+"""
+
+from __future__ import annotations
+
+import copy
+import json
+import subprocess
+import sys
+import xml.etree.ElementTree as ET
+from fractions import Fraction
+from pathlib import Path
+from typing import Any
+
+import pytest
+
+from tests.helpers import cradle_case
+from verify.checks import oracle
+from verify.checks.grading import CLASSES, free_directions, ulp, ulps
+from verify.core.rule import Budget
+
+ROOT = Path(__file__).resolve().parents[1]
+RTOL = Fraction(1, 10**9)
+
+
+def cases() -> list[dict[str, Any]]:
+    return [
+        cradle_case("c3", ["1", "1", "1"], ["1/2", "1/2"], ["100", "0", "0"]),  # exits after 3 impulses
+        cradle_case("c3-masses", ["1", "2", "3"], ["1/3", "1/5"], ["7", "0", "-1"]),
+        cradle_case("never", ["1", "1", "1"], ["1/100", "1/100"], ["100", "0", "0"]),  # proved never to exit
+    ]
+
+
+def exact_results(cs: list[dict[str, Any]]) -> list[dict[str, Any]]:
+    return oracle.golden_results(cs)
+
+
+def grade_of(cs: list[dict[str, Any]], got: list[dict[str, Any]], **kw: Any) -> dict[str, str]:
+    c = oracle.compare(cs, exact_results(cs), got, rtol=RTOL, atol=Fraction(0), **kw)
+    return {g.case_id: g.cls for g in c.grades}
+
+
+def with_velocity(r: dict[str, Any], v: list[Fraction]) -> dict[str, Any]:
+    out = copy.deepcopy(r)
+    out["exit_velocity"] = [f"{x.numerator}/{x.denominator}" for x in v]
+    return out
+
+
+def velocity(r: dict[str, Any]) -> list[Fraction]:
+    return [oracle.approx(x) for x in r["exit_velocity"]]
+
+
+def energy(case: dict[str, Any], v: list[Fraction]) -> Fraction:
+    m = [oracle.approx(case["mass_matrix"][i][i]) for i in range(len(v))]
+    return sum((mi * x * x for mi, x in zip(m, v)), Fraction(0)) / 2
+
+
+def test_the_exact_results_grade_exact() -> None:
+    cs = cases()
+    assert set(grade_of(cs, exact_results(cs)).values()) == {"exact"}
+
+
+def test_a_tiny_error_is_within_tolerance_and_measured() -> None:
+    cs = cases()[:1]
+    (r,) = exact_results(cs)
+    v = velocity(r)
+    got = with_velocity(r, [v[0] + Fraction(1, 10**12), v[1], v[2]])
+    c = oracle.compare(cs, [r], [got], rtol=RTOL, atol=Fraction(0))
+    (g,) = c.grades
+    assert g.cls == "within_tolerance"
+    speed = max(abs(x) for x in v)
+    assert g.needed_speed == Fraction(1, 10**12) / speed
+    assert g.needed_ulps == ulps(v[0], v[0] + Fraction(1, 10**12))
+
+
+def test_momentum_drift_energy_error_and_out_of_tolerance() -> None:
+    cs = cases()[:1]
+    (r,) = exact_results(cs)
+    v = velocity(r)
+    # a momentum change: every ball faster by the same amount (the free direction (1, 1, 1))
+    drift = with_velocity(r, [x + Fraction(1, 10**3) for x in v])
+    # momentum kept (delta = t (1, -2, 1)), energy raised or lowered by the sign of t
+    delta = [Fraction(1), Fraction(-2), Fraction(1)]
+    slope = sum(x * d for x, d in zip(v, delta))  # d/dt of the energy at t = 0 (unit masses)
+    up = Fraction(1, 10**3) * (1 if slope >= 0 else -1)
+    gain = with_velocity(r, [x + up * d for x, d in zip(v, delta)])
+    lose = with_velocity(r, [x - up * d for x, d in zip(v, delta)])
+    assert energy(cs[0], velocity(gain)) > energy(cs[0], v) > energy(cs[0], velocity(lose))
+    for got, expected in ((drift, "momentum_drift"), (gain, "energy_error"), (lose, "out_of_tolerance")):
+        assert grade_of(cs, [got]) == {"c3": expected}
+
+
+def test_wrong_branch_names_the_first_impulse_and_the_exact_rates_there() -> None:
+    cs = cases()[:1]
+    (r,) = exact_results(cs)
+    wrong = copy.deepcopy(r)
+    wrong["impact_sets"][1] = [0, 1]
+    c = oracle.compare(cs, [r], [wrong], rtol=RTOL, atol=Fraction(0))
+    (g,) = c.grades
+    assert g.cls == "wrong_branch"
+    assert "impulse 2" in g.detail and "rates p(F) = (" in g.detail and "beta = -" in g.detail
+
+
+def test_a_wrong_beta_is_a_wrong_branch() -> None:
+    cs = [cradle_case("both", ["1", "2", "1"], ["1/2", "1"], ["1", "0", "-1"])]
+    (r,) = exact_results(cs)
+    assert r["betas"][0] is not None  # a multiple impact first
+    wrong = copy.deepcopy(r)
+    wrong["betas"][0] = str(oracle.approx(r["betas"][0]) * 2)
+    assert grade_of(cs, [wrong]) == {"both": "wrong_branch"}
+
+
+def test_stops_gave_up_and_non_terminating_claims() -> None:
+    cs = cases()
+    exact = exact_results(cs)
+    never = exact[2]
+    assert never["stop"] == "non_terminating"
+    claim = {"id": "never", "exit_velocity": never["exit_velocity"], "stop": "non_terminating",
+             "iterations": never["iterations"], "impact_sets": never["impact_sets"]}  # fmt: skip
+    gave_up = dict(claim, stop="max_iterations")
+    exit_claim = dict(claim, stop="exit")
+    assert grade_of(cs[2:], [claim])["never"] == "exact"
+    assert grade_of(cs[2:], [gave_up])["never"] == "gave_up"
+    assert grade_of(cs[2:], [exit_claim])["never"] == "wrong_stop"
+    done = exact[0]
+    false_claim = dict(done, stop="non_terminating")
+    assert grade_of(cs[:1], [false_claim])["c3"] == "wrong_stop"
+
+
+def test_bad_numbers_missing_skipped_and_limited() -> None:
+    cs = cases()
+    exact = exact_results(cs)
+    nan = dict(exact[0], exit_velocity=["nan", "0", "inf"])
+    grades = grade_of(cs, [nan, exact[2]], skipped={"c3-masses": "not built"})
+    assert grades == {"c3": "bad_number", "c3-masses": "skipped", "never": "exact"}
+    assert grade_of(cs[:2], [exact[0]])["c3-masses"] == "missing"
+    c = oracle.compare(cs[:1], oracle.golden_results(cs[:1], budget=Budget(bits=4)), exact[:1], rtol=RTOL,
+                       atol=Fraction(0))  # fmt: skip
+    assert [g.cls for g in c.grades] == ["limited"]
+
+
+def test_free_directions_and_ulps_are_exact() -> None:
+    assert free_directions([[Fraction(1), Fraction(0)]]) == [[Fraction(0), Fraction(1)]]
+    assert ulp(Fraction(2)) == 2 * ulp(Fraction(1)) and ulp(Fraction(-3, 4)) == ulp(Fraction(1)) / 2
+    assert ulps(Fraction(1), Fraction(1)) == 0
+
+
+def test_every_class_is_named_once() -> None:
+    assert len(set(CLASSES)) == len(CLASSES)
+
+
+# -- the command line: summary counts, JUnit XML -------------------------------------------------------
+
+
+def run_check(*args: str) -> subprocess.CompletedProcess[str]:
+    return subprocess.run([sys.executable, "-m", "verify", "oracle", "check", *args], capture_output=True, text=True,
+                          cwd=ROOT, check=False)  # fmt: skip
+
+
+def test_the_float_example_is_graded_and_the_counts_agree(tmp_path: Path) -> None:
+    junit = tmp_path / "oracle.xml"
+    done = run_check("golden/cases.json", "--impl", f"{sys.executable} examples/float_impl.py", "--json",
+                     "--junit", str(junit))  # fmt: skip
+    assert done.returncode == 1
+    out = json.loads(done.stdout)
+    per_case: dict[str, int] = {}
+    for g in out["grades"]:
+        per_case[g["class"]] = per_case.get(g["class"], 0) + 1
+    assert per_case == out["classes"] and sum(per_case.values()) == out["checked"]
+    assert out["classes"]["wrong_stop"] == len(out["mismatches"])
+    suite = ET.parse(junit).getroot()
+    assert suite.tag == "testsuite" and int(suite.get("tests", "0")) == out["checked"]
+    assert int(suite.get("failures", "0")) == out["classes"]["wrong_stop"]
+    assert [c.get("name") for c in suite] == [g["id"] for g in out["grades"]]
+
+
+@pytest.mark.parametrize("text", ["not a number", "nan"])
+def test_one_bad_number_is_a_mismatch_of_that_case_only(tmp_path: Path, text: str) -> None:
+    results = json.loads((ROOT / "golden" / "results.json").read_text(encoding="utf-8"))
+    results["results"][0]["exit_velocity"][0] = text
+    path = tmp_path / "r.json"
+    path.write_text(json.dumps(results), encoding="utf-8")
+    done = run_check("golden/cases.json", str(path), "--json")
+    out = json.loads(done.stdout)
+    assert done.returncode == 1 and out["classes"]["bad_number"] == 1
+    assert out["classes"]["exact"] + out["classes"].get("within_tolerance", 0) == out["checked"] - 1

@@ -1,0 +1,371 @@
+"""Graded verdicts of the oracle: one class per case, the tolerance each case needs, error tables.
+
+:func:`verify.checks.oracle.compare` lists every field that differs; this module reads those
+mismatches, with the exact and the implementation's results, and gives each case one class,
+the most telling first:
+
+- ``exact``: every number given equals the exact value (a float equal to a rational, say);
+- ``within_tolerance``: the same run (stop, impulses, impact sets, betas when given), the exit
+  velocity within the tolerance;
+- ``gave_up``: the implementation stopped at its own cap (stop ``max_iterations`` with fewer
+  impulses than the exact run, whose impact sets it followed), where the exact run goes on or is
+  proved never to exit: the documented way for a float implementation to say so;
+- ``wrong_branch``: the runs part at some impulse (the first impact set that differs is shown,
+  with the exact rates and beta there);
+- ``wrong_stop``: an exit reported for a run proved never to exit, or the reverse;
+- ``momentum_drift``: the momentum along the directions that no constraint touches (which every
+  impulse keeps) differs from the entrance's beyond the tolerance;
+- ``energy_error``: the kinetic energy of the exit velocity exceeds the law's beyond the tolerance;
+- ``out_of_tolerance``: the same run, the exit velocity off by more than the tolerance;
+- ``bad_number``: a number of the result cannot be read (``nan``, ``inf``);
+- ``missing`` and ``skipped`` (listed by the implementation as not run), ``limited`` (the exact
+  run reached its budget: compared only on its first impulses).
+
+For each case that exits under both, the tolerance it needs to pass is measured in two units:
+relative to the exit speed (``max_i |got_i - exact_i| / max_i |exact_i|``) and in binary64 ulps
+of the exact components.
+
+>>> from fractions import Fraction
+>>> ulps(Fraction(1), Fraction(1) + Fraction(1, 2**52))
+1
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from fractions import Fraction
+from typing import Any
+
+#: the classes, from the best to the worst (the order of the summary table)
+CLASSES = (
+    "exact",
+    "within_tolerance",
+    "gave_up",
+    "wrong_branch",
+    "wrong_stop",
+    "momentum_drift",
+    "energy_error",
+    "out_of_tolerance",
+    "bad_number",
+    "missing",
+    "skipped",
+    "limited",
+)
+#: the classes that pass
+PASSING = ("exact", "within_tolerance")
+
+
+@dataclass(frozen=True)
+class Grade:
+    """One case's class, what shows it, and the tolerance it needs (None when not measured)."""
+
+    case_id: str
+    cls: str
+    detail: str = ""
+    needed_speed: Fraction | None = None  # max_i |got_i - exact_i| / max_i |exact_i|
+    needed_ulps: int | None = None  # max_i of the error in binary64 ulps of exact_i
+
+    def to_json(self) -> dict[str, Any]:
+        """The grade as JSON (numbers as strings)."""
+        from verify.core.format import format_decimal
+
+        return {
+            "id": self.case_id,
+            "class": self.cls,
+            "detail": self.detail,
+            "needed_speed_tolerance": None if self.needed_speed is None else format_decimal(self.needed_speed, 3),
+            "needed_ulps": self.needed_ulps,
+        }
+
+
+def ulp(x: Fraction) -> Fraction:
+    """The binary64 unit in the last place at ``x`` (exact; subnormal spacing near 0).
+
+    >>> ulp(Fraction(1)), ulp(Fraction(3, 2)), ulp(Fraction(0)) == Fraction(1, 2**1074)
+    (Fraction(1, 4503599627370496), Fraction(1, 4503599627370496), True)
+    """
+    a = abs(x)
+    if a == 0:
+        return Fraction(1, 2**1074)
+    e = a.numerator.bit_length() - a.denominator.bit_length()
+    if Fraction(2) ** e > a:
+        e -= 1
+    return Fraction(2) ** (max(e, -1022) - 52)
+
+
+def ulps(exact: Fraction, got: Fraction, scale: Fraction = Fraction(0)) -> int:
+    """``|got - exact|`` in binary64 ulps of ``exact``, rounded up; a component much smaller than
+    the vector's ``scale`` (its largest component), such as an exact 0, is measured in ulps of
+    ``scale * 2^-53`` instead (otherwise the ulp of 0, 2^-1074, would make any error astronomical).
+
+    >>> ulps(Fraction(0), Fraction(1, 2**105), Fraction(1)), ulps(Fraction(0), Fraction(1, 2**53), Fraction(1))
+    (1, 4503599627370496)
+    """
+    q = abs(got - exact) / ulp(max(abs(exact), scale / 2**53))
+    return -((-q.numerator) // q.denominator)
+
+
+def _numbers(values: list[str], where: str) -> list[Fraction]:
+    from verify.records.results import read_number
+
+    return [read_number(x, f"{where}[{i}]") for i, x in enumerate(values)]
+
+
+def needed(exact: dict[str, Any], mine: dict[str, Any], cid: str) -> tuple[Fraction, int]:
+    """The tolerance a case needs: relative to the exit speed, and in ulps."""
+    e = _numbers(exact["exit_velocity"], f"{cid}.exit_velocity")
+    g = _numbers(mine["exit_velocity"], f"results[{cid}].exit_velocity")
+    speed = max(abs(x) for x in e) or Fraction(1)
+    return max(abs(a - b) for a, b in zip(e, g)) / speed, max(ulps(a, b, speed) for a, b in zip(e, g))
+
+
+def free_directions(normals: list[list[Fraction]]) -> list[list[Fraction]]:
+    """A basis of the vectors u with ``dF_i . u = 0`` for every constraint (exact: the kernel of
+    :func:`verify.checks.properties.formulas.kernel`): ``u . g v`` is kept by every impulse, whose
+    momentum change lies in the span of the dF_i.
+
+    >>> free_directions([[Fraction(-1), Fraction(1), Fraction(0)], [Fraction(0), Fraction(-1), Fraction(1)]])
+    [[Fraction(1, 1), Fraction(1, 1), Fraction(1, 1)]]
+    """
+    from verify.checks.properties.formulas import kernel
+
+    return kernel(normals)
+
+
+def _conservation(case: dict[str, Any], exact: dict[str, Any], mine: dict[str, Any], tol: Fraction) -> str | None:
+    """``momentum_drift`` or ``energy_error`` when the exit velocity breaks what the law keeps."""
+    cid = case["id"]
+    g = [_numbers(row, f"{cid}.mass_matrix") for row in case["mass_matrix"]]
+    normals = [_numbers(row, f"{cid}.normals") for row in case["normals"]]
+    v_in = _numbers(case["velocity"], f"{cid}.velocity")
+    got = _numbers(mine["exit_velocity"], f"results[{cid}].exit_velocity")
+    diff = [a - b for a, b in zip(got, v_in)]
+    scale = max(abs(x) for x in v_in) or Fraction(1)
+    for u in free_directions(normals):
+        drift = sum(
+            (ui * sum((gij * d for gij, d in zip(row, diff)), Fraction(0)) for ui, row in zip(u, g)), Fraction(0)
+        )
+        size = (
+            sum((abs(ui) * sum((abs(gij) for gij in row), Fraction(0)) for ui, row in zip(u, g)), Fraction(0)) * scale
+        )
+        if abs(drift) > tol * size:
+            return "momentum_drift"
+    if any(_numbers(case.get("time_terms") or ["0"], f"{cid}.time_terms")):
+        return None  # moving constraints: energies are measured in their rest frame, not checked here
+    energy = sum(got[i] * g[i][j] * got[j] for i in range(len(got)) for j in range(len(got))) / 2
+    allowed = _numbers([exact["kinetic_energy_out"]], f"{cid}.kinetic_energy_out")[0]
+    e_in = _numbers([exact["kinetic_energy_in"]], f"{cid}.kinetic_energy_in")[0]
+    if energy - allowed > tol * max(e_in, Fraction(1, 10**30)):
+        return "energy_error"
+    return None
+
+
+def _sets(result: dict[str, Any]) -> list[list[int]] | None:
+    return [sorted(J) for J in result["impact_sets"]] if "impact_sets" in result else None
+
+
+def _gave_up(exact: dict[str, Any], mine: dict[str, Any]) -> bool:
+    """Stop ``max_iterations`` after fewer impulses than the exact run made or needs, on its path."""
+    if mine.get("stop") != "max_iterations" or exact["stop"] not in ("exit", "non_terminating", "max_iterations"):
+        return False
+    sets_e, sets_m = exact["impact_sets"], _sets(mine)
+    if sets_m is None:
+        return exact["stop"] != "exit"  # no impulses given: only an endless run can be given up on
+    n = mine.get("iterations", len(sets_m))
+    longer = exact["stop"] == "non_terminating" or n < exact["iterations"]
+    return longer and sets_e[: len(sets_m)] == sets_m[: len(sets_e)]
+
+
+def grade_case(
+    case: dict[str, Any], exact: dict[str, Any], mine: dict[str, Any], found: list[Any], tol: Fraction
+) -> Grade:
+    """The class of one case, from the mismatches that :func:`verify.checks.oracle.compare` found
+    (``found``) and the two results; ``tol`` is the relative tolerance of the conservation checks."""
+    cid = case["id"]
+    kinds = {m.field.split("[")[0] for m in found}
+    first = found[0].detail if found else ""
+    if "bad_number" in kinds:
+        return Grade(cid, "bad_number", first)
+    if _gave_up(exact, mine):
+        return Grade(
+            cid, "gave_up", f"stopped at its cap after {mine.get('iterations', '?')} impulses on the exact path"
+        )
+    if "impact_sets" in kinds or "betas" in kinds:
+        detail = next(m.detail for m in found if m.field.split("[")[0] in ("impact_sets", "betas"))
+        return Grade(cid, "wrong_branch", detail + divergence(case, exact, found))
+    if "stop" in kinds or "iterations" in kinds:
+        return Grade(cid, "wrong_stop", first)
+    both_exit = exact["stop"] == "exit" and mine.get("stop", "exit") == "exit"
+    speed, ulp_count = needed(exact, mine, cid) if both_exit else (None, None)
+    if "exit_velocity" in kinds:
+        cls = _conservation(case, exact, mine, tol) or "out_of_tolerance"
+        return Grade(cid, cls, first, needed_speed=speed, needed_ulps=ulp_count)
+    cls = "exact" if speed == 0 or (speed is None and not found) else "within_tolerance"
+    return Grade(cid, cls, needed_speed=speed, needed_ulps=ulp_count)
+
+
+def divergence(case: dict[str, Any], exact: dict[str, Any], found: list[Any]) -> str:
+    """Where the exact run stands at the first impulse the runs part: its rates and beta there."""
+    import re
+
+    from verify.core.rule import solve
+    from verify.records.results import case_from_record
+
+    detail = next((m.detail for m in found if m.field.split("[")[0] in ("impact_sets", "betas")), "")
+    match = re.search(r"impulse (\d+)", detail)
+    if not match:
+        return ""
+    w = int(match.group(1))
+    if w > len(exact["impact_sets"]):
+        return ""
+    c = case_from_record({k: v for k, v in case.items() if k in CASE_KEYS}, f"case {case['id']}")
+    run = solve(c.system, c.velocity_source, max_iterations=w, certify=False)
+    step = run.steps[w - 1]
+    K = run.backend
+    rates = ", ".join(K.to_decimal(x, 6) for x in step.rates)
+    beta = "-" if step.beta is None else K.to_decimal(step.beta, 12)
+    return f"; the exact run there: rates p(F) = ({rates}), beta = {beta}"
+
+
+#: the fields of a case record that :func:`verify.records.results.case_from_record` reads
+CASE_KEYS = ("id", "mass_matrix", "normals", "time_terms", "restitution", "velocity", "max_iterations")
+
+
+@dataclass(frozen=True)
+class TableRow:
+    """One implementation in an error table: its counts per class and its worst errors."""
+
+    name: str
+    law: str
+    counts: dict[str, int]
+    worst_speed: tuple[Fraction, str] | None  # (needed tolerance relative to the exit speed, case)
+    worst_ulps: tuple[int, str] | None
+
+    def to_json(self) -> dict[str, Any]:
+        from verify.core.format import format_decimal
+
+        return {
+            "name": self.name,
+            "law": self.law,
+            "classes": self.counts,
+            "worst_relative_error": None
+            if self.worst_speed is None
+            else {"value": format_decimal(self.worst_speed[0], 3), "id": self.worst_speed[1]},
+            "worst_ulps": None if self.worst_ulps is None else {"value": self.worst_ulps[0], "id": self.worst_ulps[1]},
+        }
+
+
+def table_row(name: str, law: str, comparison: Any) -> TableRow:
+    """The error-table row of one implementation's comparison (:func:`verify.checks.oracle.compare`)."""
+    measured = [g for g in comparison.grades if g.needed_speed is not None]
+    speed = max(((g.needed_speed, g.case_id) for g in measured), default=None)
+    ulp_worst = max(((g.needed_ulps, g.case_id) for g in measured if g.needed_ulps is not None), default=None)
+    return TableRow(name, law, comparison.classes(), speed, ulp_worst)
+
+
+def hardest(grades: list[Grade], count: int = 5) -> list[Grade]:
+    """The cases that need the largest tolerance to pass (relative to the exit speed), largest first."""
+    measured = [g for g in grades if g.needed_speed]  # a case that needs no tolerance is not listed
+    return sorted(measured, key=lambda g: (-(g.needed_speed or 0), g.case_id))[:count]
+
+
+@dataclass(frozen=True)
+class Tolerance:
+    """What the exit velocity and the betas of one case may be off by: a component passes within
+    ``atol + rtol * |v_in|`` (the entrance speed), or ``speed * |v_exit|`` (the exact exit speed),
+    or ``ulps`` binary64 ulps of the exact component, whichever is largest; a beta within ``beta``
+    times its exact value.
+
+    >>> t = Tolerance(rtol=Fraction(0), ulps=4)
+    >>> t.allows(Fraction(1) + 4 * ulp(Fraction(1)), Fraction(1), Fraction(1), Fraction(1))
+    True
+    """
+
+    rtol: Fraction = Fraction(1, 10**9)
+    atol: Fraction = Fraction(0)
+    speed: Fraction = Fraction(0)
+    ulps: int = 0
+    beta: Fraction | None = None  # default: rtol
+
+    def bound(self, exact: Fraction, entrance: Fraction, exit_speed: Fraction) -> Fraction:
+        """The largest error allowed on a component whose exact value is ``exact``."""
+        return max(
+            self.atol + self.rtol * entrance,
+            self.speed * exit_speed,
+            self.ulps * ulp(max(abs(exact), exit_speed / 2**53)),
+        )
+
+    def allows(self, got: Fraction, exact: Fraction, entrance: Fraction, exit_speed: Fraction) -> bool:
+        return abs(got - exact) <= self.bound(exact, entrance, exit_speed)
+
+    @property
+    def beta_rtol(self) -> Fraction:
+        return self.rtol if self.beta is None else self.beta
+
+
+def _tolerance(spec: Any, where: str, base: Tolerance) -> Tolerance:
+    """A tolerance from its JSON object (``rtol``, ``atol``, ``speed``: number strings; ``ulps``: an
+    integer; ``beta``: a number string), the fields not given taken from ``base``."""
+    from verify.errors import InvalidInput
+    from verify.records.results import read_number
+
+    if not isinstance(spec, dict):
+        raise InvalidInput(f"{where}: expected an object")
+    known = {"rtol", "atol", "speed", "ulps", "beta"}
+    unknown = sorted(set(spec) - known)
+    if unknown:
+        raise InvalidInput(f"{where}: unknown field {unknown[0]!r} (known: {', '.join(sorted(known))})")
+    values: dict[str, Any] = {}
+    for key in ("rtol", "atol", "speed", "beta"):
+        if key in spec:
+            if not isinstance(spec[key], str):
+                raise InvalidInput(f'{where}.{key}: expected a number string such as "1e-9"')
+            values[key] = read_number(spec[key], f"{where}.{key}")
+            if values[key] < 0:
+                raise InvalidInput(f"{where}.{key}: must not be negative, got {spec[key]}")
+    if "ulps" in spec:
+        if isinstance(spec["ulps"], bool) or not isinstance(spec["ulps"], int) or not 0 <= spec["ulps"] <= 2**60:
+            raise InvalidInput(f"{where}.ulps: expected a non-negative integer, got {spec['ulps']!r}")
+        values["ulps"] = spec["ulps"]
+    return Tolerance(**{**base.__dict__, **values})
+
+
+@dataclass(frozen=True)
+class Budgets:
+    """Tolerances as data: a default, and others for the cases whose id matches a pattern (shell-style,
+    ``cradle3-*``; the first pattern that matches wins). Read from a file by :meth:`load`:
+
+        {"default": {"rtol": "1e-9", "ulps": 4},
+         "cases": {"cradle3-eps-*": {"speed": "1e-12"}, "corner-*": {"ulps": 4096, "beta": "1e-6"}}}
+
+    >>> b = Budgets.parse({"default": {"ulps": 4}, "cases": {"c*": {"ulps": 64}}})
+    >>> b.for_case("c3").ulps, b.for_case("d").ulps
+    (64, 4)
+    """
+
+    default: Tolerance = Tolerance()
+    cases: tuple[tuple[str, Tolerance], ...] = ()
+
+    def for_case(self, case_id: str) -> Tolerance:
+        from fnmatch import fnmatchcase
+
+        return next((t for pattern, t in self.cases if fnmatchcase(case_id, pattern)), self.default)
+
+    @classmethod
+    def parse(cls, data: Any, source: str = "tolerances", base: Tolerance | None = None) -> Budgets:
+        from verify.errors import InvalidInput
+
+        if not isinstance(data, dict) or set(data) - {"default", "cases"}:
+            raise InvalidInput(f'{source}: expected {{"default": {{...}}, "cases": {{"PATTERN": {{...}}}}}}')
+        default = _tolerance(data.get("default", {}), f"{source}.default", base or Tolerance())
+        patterns = data.get("cases", {})
+        if not isinstance(patterns, dict):
+            raise InvalidInput(f"{source}.cases: expected an object of id patterns")
+        return cls(default, tuple((p, _tolerance(t, f"{source}.cases[{p!r}]", default)) for p, t in patterns.items()))
+
+    @classmethod
+    def load(cls, path: str, base: Tolerance | None = None) -> Budgets:
+        """Read a tolerance file (errors name the file and the field)."""
+        from verify.records.files import load_json
+
+        return cls.parse(load_json(path, path=path), path, base)

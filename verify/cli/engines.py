@@ -1,0 +1,65 @@
+"""``verify engines``: physics engines through the oracle, against both laws."""
+
+from __future__ import annotations
+
+import argparse
+import sys
+
+from verify.cli.common import WORKERS, OutputDir, writing
+
+
+def engines_options(p: argparse.ArgumentParser) -> None:
+    """The options of ``verify engines``."""
+    from verify.physics import ENGINES
+
+    p.add_argument("--engine", action="append", choices=tuple(ENGINES), default=None, metavar="NAME",
+                   help=f"run only this engine (repeatable): {', '.join(ENGINES)}")  # fmt: skip
+    p.add_argument("--report", action="store_true",
+                   help="write engines.json, engines.md and engines-cradle.png into --out")  # fmt: skip
+    p.add_argument("--out", default="reports", type=OutputDir(), help="the folder of --report (default reports)")
+    p.add_argument("--workers", type=WORKERS, default=None, help="engines run at once (default 2)")
+    p.add_argument("--quiet", action="store_true", help="no progress lines on stderr")
+    p.add_argument("--json", action="store_true", help="print the record (JSON)")
+
+
+def cmd_engines(args: argparse.Namespace) -> int:
+    """``verify engines``: run every installed engine's adapter; print the findings (or the record)."""
+    from verify.checks.engines import engines_record, findings
+    from verify.records.results import dumps
+
+    def progress(line: str) -> None:
+        if not args.quiet:
+            print(f"verify engines: {line}", file=sys.stderr, flush=True)
+
+    record = engines_record(args.engine, progress=progress, workers=args.workers or 2)
+    if args.report:
+        write_engines_report(args.out, record)
+    if args.json:
+        sys.stdout.write(dumps(record))
+        return 0
+    lines = [f"{e['name']} {e['version']}: {len(e['cases'])} cases" for e in record["engines"]]
+    lines += [f"{s['name']}: skipped ({s['reason']})" for s in record["skipped"]]
+    lines += ["", *[f"- {line}" for line in findings(record)]]
+    if args.report:
+        lines += ["", f"wrote {args.out}/engines.md, engines.json and engines-cradle.png"]
+    sys.stdout.write("\n".join(lines) + "\n")
+    return 0
+
+
+def write_engines_report(out: str, record: dict) -> None:
+    """``engines.json`` (the record), then the page and its figure, into ``out``."""
+    from pathlib import Path
+
+    from verify.records.files import write_atomic
+    from verify.records.results import dumps
+    from verify.views.pages import engines_page
+
+    with writing(out, "--out"):
+        folder = Path(out)
+        folder.mkdir(parents=True, exist_ok=True)
+        write_atomic(folder / "engines.json", dumps(record))
+        write_atomic(folder / "engines.md", engines_page(folder))
+
+
+#: this group's subcommands, in the order of ``verify --help`` (each N has ``N_options`` and ``cmd_N``)
+COMMANDS = ("engines",)

@@ -1,0 +1,81 @@
+"""What a run of an impact law returns: :class:`Result`, with its trace of :class:`Step`.
+
+Both laws (the paper's rule, :mod:`verify.core.rule`, and the simultaneous law,
+:mod:`verify.core.simultaneous`) return a :class:`Result`; the rule's trace has one step per
+impulse, the simultaneous law's one step (its single impulse) or none.
+
+>>> from verify.core.rule import solve
+>>> from verify.core.system import System
+>>> r = solve(System([[1, 0], [0, 1]], [[-1, 1]], [1]), ["1", "0"])
+>>> r.law, r.iterations, [r.backend.to_exact(x) for x in r.exit_velocity]
+('rule', 1, ['0', '1'])
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+from functools import cached_property
+from typing import Any
+
+from verify.core.system import System
+
+
+@dataclass(frozen=True)
+class Step:
+    """One impulse of the iteration: the trace entry of Sect. 3.5 d)-e).
+
+    ``kinetic_energy`` (after the impulse, in the rest frame of the constraints) is
+    computed when first asked for: on long exact runs it is the costliest quantity.
+    """
+
+    impact_set: tuple[int, ...]
+    rates: tuple  # p(F_i) of the velocity before the impulse, for every constraint
+    beta: Any  # None for a single impact
+    impulse: tuple
+    velocity: tuple  # after the impulse
+    system: System = field(repr=False, compare=False)
+
+    @cached_property
+    def kinetic_energy(self) -> Any:
+        return self.system.kinetic_energy(self.velocity)
+
+
+@dataclass(frozen=True)
+class Result:
+    """The outcome of :func:`solve`: exit velocity, stop reason and the full trace."""
+
+    system: System
+    rule: str
+    velocity_in: tuple
+    exit_velocity: tuple
+    stop: str
+    steps: tuple[Step, ...]
+    impact_sets: list[tuple[int, ...]]
+    betas: list[Any]
+    max_iterations: int
+    notes: tuple[str, ...] = ()
+    certificate: dict | None = field(default=None)
+    #: the impact law: ``"rule"`` (the paper's iterative rule) or ``"simultaneous"``
+    #: (:mod:`verify.core.simultaneous`)
+    law: str = "rule"
+    #: the simultaneous law's impulse magnitudes lambda_i, one per constraint (None for the rule)
+    impulses: tuple | None = None
+
+    @cached_property
+    def kinetic_energy_in(self) -> Any:
+        """The kinetic energy before the impact (rest frame of the constraints)."""
+        return self.system.kinetic_energy(self.velocity_in)
+
+    @cached_property
+    def kinetic_energy_out(self) -> Any:
+        """The kinetic energy of the exit velocity."""
+        return self.system.kinetic_energy(self.exit_velocity)
+
+    @property
+    def iterations(self) -> int:
+        """The number of impulses applied (Table 1's "# Iterations")."""
+        return len(self.impact_sets)
+
+    @property
+    def backend(self) -> Any:
+        return self.system.backend
