@@ -187,3 +187,81 @@ def test_one_bad_number_is_a_mismatch_of_that_case_only(tmp_path: Path, text: st
     out = json.loads(done.stdout)
     assert done.returncode == 1 and out["classes"]["bad_number"] == 1
     assert out["classes"]["exact"] + out["classes"].get("within_tolerance", 0) == out["checked"] - 1
+
+
+# -- tolerance budgets, hard cases through the command line, error tables --------------------------------
+
+
+def test_a_budget_in_ulps_lets_a_case_pass_and_only_that_case(tmp_path: Path) -> None:
+    from verify.checks.grading import Budgets, ulp
+
+    cs = cases()[:2]
+    exact = exact_results(cs)
+    v = velocity(exact[0])
+    off = [v[0] + 3 * ulp(v[0]), v[1], v[2]]
+    got = [
+        with_velocity(exact[0], off),
+        with_velocity(exact[1], [x * (1 + Fraction(1, 10**6)) for x in velocity(exact[1])]),
+    ]
+    strict = oracle.compare(cs, exact, got, rtol=Fraction(0), atol=Fraction(0))
+    assert strict.grades[0].cls == "momentum_drift"  # one component off by 3 ulps: the total momentum moved
+    budgets = Budgets.parse({"default": {"rtol": "0"}, "cases": {"c3": {"ulps": 3}}})
+    graded = oracle.compare(cs, exact, got, rtol=Fraction(0), atol=Fraction(0), budgets=budgets)
+    assert graded.grades[0].cls == "within_tolerance"
+    assert graded.grades[1].cls != "within_tolerance"  # the pattern names c3 only
+    assert Budgets.parse({"cases": {"c3": {"ulps": 2}}}).for_case("c3").ulps == 2
+
+
+@pytest.mark.parametrize(
+    ("text", "message"),
+    [
+        ('{"default": {"ulps": -1}}', "ulps: expected a non-negative integer"),
+        ('{"default": {"rtol": 0.1}}', "number"),
+        ('{"default": {"speed": "nan"}}', "nan"),
+        ('{"defaults": {}}', "expected"),
+        ('{"default": {"rtol": "1e-9", "tolerance": "1"}}', "unknown field 'tolerance'"),
+    ],
+)
+def test_a_bad_tolerance_file_is_one_line_and_exit_2(tmp_path: Path, text: str, message: str) -> None:
+    path = tmp_path / "tol.json"
+    path.write_text(text, encoding="utf-8")
+    done = run_check("golden/cases.json", "golden/results.json", "--tolerances", str(path))
+    assert done.returncode == 2 and message in done.stderr
+    assert len(done.stderr.strip().splitlines()) == 1 and "Traceback" not in done.stderr
+
+
+def test_hard_cases_graded_through_the_command_line(tmp_path: Path) -> None:
+    """verify oracle generate, then the float example graded on it: the per-case lines of the text
+    output and the summary counts agree, and the same counts come out of --json."""
+    hard = tmp_path / "hard.json"
+    gen = subprocess.run([sys.executable, "-m", "verify", "oracle", "generate", "--level", "1", "--seed", "0",
+                          "--out", str(hard)], capture_output=True, text=True, cwd=ROOT, check=False)  # fmt: skip
+    assert gen.returncode == 0, gen.stderr
+    impl = f"{sys.executable} examples/float_impl.py"
+    text = run_check(str(hard), "--impl", impl).stdout
+    lines = text.splitlines()
+    table = lines.index("  class                count")
+    counts = {}
+    for line in lines[table + 1 :]:
+        if not line.strip():
+            break
+        name, n = line.split()
+        counts[name] = int(n)
+    per_case = {cls: sum(line.startswith(cls.upper() + " ") for line in lines[:table]) for cls in CLASSES}
+    for cls in CLASSES:
+        if cls not in ("exact", "within_tolerance"):
+            assert per_case[cls] == counts.get(cls, 0), cls
+    out = json.loads(run_check(str(hard), "--impl", impl, "--json").stdout)
+    assert out["classes"] == counts and sum(counts.values()) == out["checked"]
+    assert counts.get("wrong_stop", 0) > 0 and counts.get("wrong_branch", 0) > 0  # where floats go wrong
+
+
+def test_the_error_table_has_one_row_per_file(tmp_path: Path) -> None:
+    done = subprocess.run([sys.executable, "-m", "verify", "oracle", "table", "golden/cases.json",
+                           "exact=golden/results.json", "golden/results-simultaneous.json", "--json"],
+                          capture_output=True, text=True, cwd=ROOT, check=False)  # fmt: skip
+    assert done.returncode == 0, done.stderr
+    rows = json.loads(done.stdout)["table"]
+    assert [r["name"] for r in rows] == ["exact", "results-simultaneous.json"]
+    assert rows[0]["classes"] == {"exact": 49} and rows[0]["worst_relative_error"]["value"] == "0"
+    assert rows[1]["classes"].get("exact", 0) < 49  # the other law's results are graded against the rule

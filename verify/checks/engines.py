@@ -299,7 +299,34 @@ def departures(entry: dict[str, Any], cases: dict[str, dict[str, Any]]) -> list[
             f"{name} gains kinetic energy (a relative rise above {_d(GAIN)}) {_worst(gains)}: "
             f"{c['kinetic_energy_in']} -> {c['kinetic_energy_out']} ({c['energy_change']})."
         )
-    return out + _threshold(entry) + [_moved(entry, v, cases) for v in entry["variants"]]
+    return out + _threshold(entry) + _dropped_cor(entry, cases) + [_moved(entry, v, cases) for v in entry["variants"]]
+
+
+#: the case whose small COR (0.001 on wall S2) an engine may drop
+SMALL_COR_CASE = "paper-corner-pi6-pi12"
+
+
+def _dropped_cor(entry: dict[str, Any], cases: dict[str, dict[str, Any]]) -> list[str]:
+    """Whether the engine's answer on the paper's corner is nearer the simultaneous law with the small
+    COR 0.001 as given, or with it set to 0 (both exact): a nearer 0 shows the COR dropped."""
+    row = next((c for c in entry["cases"] if c["id"] == SMALL_COR_CASE), None)
+    if row is None or SMALL_COR_CASE not in cases:
+        return []
+    case = cases[SMALL_COR_CASE]
+    zero = dict(case, restitution=[case["restitution"][0], "0"])
+    as_given, dropped = (references([c])[c["id"]]["simultaneous"] for c in (case, zero))
+    got = [Fraction(x) for x in row["engine_exit_velocity"]]
+    scale = max(abs(approx(x)) for x in case["velocity"])
+    d_given = Fraction(_distance(got, as_given, scale) or "0")
+    d_zero = Fraction(_distance(got, dropped, scale) or "0")
+    if min(d_given, d_zero) > abs(d_given - d_zero):
+        verdict = "too far from both to tell"
+    else:
+        verdict = "nearer the COR set to 0: the engine drops it" if d_zero < d_given else "nearer the COR as given"
+    return [
+        f"{entry['name']} on `{SMALL_COR_CASE}` (COR {case['restitution'][1]} on S2): {_d(d_given)} from the "
+        f"simultaneous law as given, {_d(d_zero)} with that COR set to 0: {verdict}."
+    ]
 
 
 #: the slow cases, their fast twins and the speed ratio between them

@@ -680,6 +680,18 @@ def graded_lines(comparison: Any) -> list[str]:
     return [*lines, ""]
 
 
+def ulps_text(n: int) -> str:
+    """A count of ulps: all its digits below a million, else its first three digits (truncated).
+
+    >>> ulps_text(4049), ulps_text(938012345678901234567890123456)
+    ('4049', '9.38e+29')
+    """
+    digits = str(n)
+    if n < 10**6:
+        return digits
+    return f"{digits[0]}.{digits[1:3]}e+{len(digits) - 1}"
+
+
 def error_table_text(rows: Sequence[Any]) -> str:
     """``verify oracle table``: one row per implementation, the count per class and the worst errors."""
     from verify.checks.grading import CLASSES
@@ -691,7 +703,7 @@ def error_table_text(rows: Sequence[Any]) -> str:
     for r in rows:
         counts = "".join(f"  {r.counts.get(c, 0):>{max(len(c), 5)}}" for c in used)
         worst = "-" if r.worst_speed is None else f"{format_decimal(r.worst_speed[0], 3)} ({r.worst_speed[1]})"
-        ulp_text = "" if r.worst_ulps is None else f"; {format_decimal(r.worst_ulps[0], 3)} ulps ({r.worst_ulps[1]})"
+        ulp_text = "" if r.worst_ulps is None else f"; {ulps_text(r.worst_ulps[0])} ulps ({r.worst_ulps[1]})"
         lines.append(f"  {r.name:{width}}  {r.law:12}{counts}  {worst}{ulp_text}")
     return "\n".join(lines) + "\n"
 
