@@ -25,6 +25,7 @@ from __future__ import annotations
 import os
 import platform
 import resource
+import shutil
 import time
 from collections.abc import Callable, Sequence
 from dataclasses import asdict, dataclass
@@ -38,6 +39,10 @@ BATCH_SIZE = 10_000
 BATCH_SEED = 0
 MAX_IMPULSES = 100
 IMPULSES = (10, 100, 1000, 10_000)
+#: the short-run batch: corner cases of 1 to 3 impulses, a new slope every case (a sweep over
+#: geometries, a property run), drawn with this seed and kept when the exact run is that short
+SHORT_SEED = 1
+SHORT_IMPULSES = 3
 #: ``verify bench --quick``: a smoke run (CI runs it), not a measurement
 QUICK = {"size": 500, "repeats": 1, "impulses": (10, 100), "table": False}
 #: the long run of the cost-per-impulse figures: the ideal rule in a corner of slope
@@ -74,6 +79,23 @@ def batch(size: int = BATCH_SIZE, seed: int = BATCH_SEED) -> list[tuple[Fraction
     for c in random_corner_cases(size, seed=seed, max_iterations=MAX_IMPULSES):
         xd, yd = (Fraction(x) for x in c["velocity"])
         out.append((Fraction(c["slope"]), xd, yd, Fraction(c["eps1"]), Fraction(c["eps2"])))
+    return out
+
+
+def short_batch(size: int = BATCH_SIZE, seed: int = SHORT_SEED) -> list[tuple[Fraction, ...]]:
+    """``size`` corner cases ``(k, xd, yd, e1, e2)`` whose exact run makes 1 to
+    :data:`SHORT_IMPULSES` impulses (decided by the plain Fraction loop, before any clock starts).
+
+    >>> [len(paper_run(*c)[0]) - 1 for c in short_batch(3)]
+    [2, 1, 2]
+    """
+    out: list[tuple[Fraction, ...]] = []
+    draws = 0
+    while len(out) < size:
+        for c in batch(max(2 * size, 100), seed=seed * 1_000_003 + draws):
+            if 1 <= len(paper_run(*c, max_iterations=MAX_IMPULSES)[0]) - 1 <= SHORT_IMPULSES and len(out) < size:
+                out.append(c)
+        draws += 1
     return out
 
 
@@ -162,6 +184,24 @@ def _corner_figures(cases: list[tuple], repeats: int) -> list[Figure]:
     ]
 
 
+def _short_figures(cases: list[tuple], repeats: int) -> list[Figure]:
+    """The short runs with a new geometry per case: the general exact engine (one System and one
+    solve a case) against the plain Fraction loop; their branch sequences must agree."""
+    from verify.core.backends import RationalBackend
+
+    n, fast = len(cases), RationalBackend()
+    times, res = _best({"fraction_loop": lambda: _baseline(cases), "exact_engine": lambda: _exact_engine(cases, fast)},
+                       repeats)  # fmt: skip
+    if [zones_of(r) for r in res["exact_engine"]] != res["fraction_loop"]:
+        raise AssertionError("the exact engine and the Fraction loop disagree on the short batch")
+    base = "corner_short.fraction_loop"
+    return [
+        _speed(base, times["fraction_loop"], n, base, times["fraction_loop"]),
+        _speed("corner_short.exact_engine", times["exact_engine"], n, base, times["fraction_loop"]),
+        Figure("corner_short.size", n, "cases", "corner_short.size", 1.0),
+    ]
+
+
 def _table_figures(repeats: int) -> list[Figure]:
     from verify.checks.paper.table1 import table1
 
@@ -239,6 +279,8 @@ def bench(
     start_rss = _rss_mib()
     say(f"corner batch: {size} cases, best of {repeats}")
     figures = _corner_figures(batch(size), repeats)
+    say(f"short corner runs, a new geometry per case: {size} cases, best of {repeats}")
+    figures += _short_figures(short_batch(size), repeats)
     if table:
         say("Table 1, exact and paper mode")
         figures += _table_figures(repeats)
@@ -286,6 +328,12 @@ def requirements(record: dict[str, Any]) -> list[str]:
     if "corner_batch.exact_engine" in f:
         r = f["corner_batch.exact_engine"]["ratio"]
         line(f"exact engine / plain Fraction loop on the corner batch = {r:.2f} (at least 2.0)", r >= 2.0)
+    if "corner_short.exact_engine" in f:
+        r = f["corner_short.exact_engine"]["ratio"]
+        line(f"exact engine / plain Fraction loop on short runs, a new geometry per case = {r:.2f} (at least 2.2)",
+             r >= 2.2)  # fmt: skip
+    if shutil.which("gp") is None:
+        out.append("PARI/GP (gp) is not installed here: no ratio against the paper's own tool")
     if "corner_batch.float_path" in f:
         r = f["corner_batch.float_path"]["ratio"]
         line(f"float path with exact fallback / plain float loop = {r:.2f} (at least 10)", r >= 10)
