@@ -182,7 +182,9 @@ def test_cradle_and_corner_commands_take_the_law() -> None:
     assert done.returncode == 0 and json.loads(done.stdout)["zones"] == ["Z12", "Z0"]
     done = verify_cli("cradle", "--eps", "1", "--law", "simultaneous", "--mode", "paper")
     assert done.returncode == 2 and "Traceback" not in done.stderr and len(done.stderr.splitlines()) == 1
-    assert run_cradle("0", law="simultaneous").exit_velocity == run_cradle("0", law="simultaneous").exit_velocity
+    plastic = run_cradle("0", law="simultaneous")  # every COR 0: the balls leave together, momentum kept
+    v = [plastic.backend.to_number(x) for x in plastic.exit_velocity]
+    assert len(set(v)) == 1 and sum(v) == 100
 
 
 # -- the oracle with the second law ---------------------------------------------------------------
