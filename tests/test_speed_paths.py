@@ -95,7 +95,12 @@ def _assert_batch_matches_exact(systems_and_velocities, result) -> None:
 
 
 def test_float_path_takes_the_exact_branches_on_the_bench_batch() -> None:
-    cases_ = batch(400)
+    F = Fraction  # and two corners of slope 1 of the bench batch (cases 4434, 4574), whose zeros need exact arithmetic
+    cases_ = [
+        *batch(400),
+        (F(1), F(137, 18), F(-98777, 18000), F(1), F(0)),
+        (F(1), F(181, 11), F(181, 2200), F(0), F(1)),
+    ]
     out = solve_batch(corner_batch([c[0] for c in cases_], [c[1:3] for c in cases_], [c[3:] for c in cases_]))
     pairs = [
         (System([[1, 0, 0], [0, 1, 0], [0, 0, 1]], [[-c[0], 1, 0], [-c[0], -1, 0]], list(c[3:])), [c[1], c[2], 0])
@@ -130,11 +135,18 @@ def test_bench_quick_smoke(capsys, tmp_path) -> None:
     assert main(["bench", "--quick", "--size", "40", "--json", "--save", str(target)]) == 0
     record = json.loads(capsys.readouterr().out)
     assert json.loads(target.read_text()) == record
-    assert set(record) >= {"figures", "machine"}
+    assert set(record) >= {"figures", "machine", "batches"}
     for f in record["figures"]:
-        assert set(f) == {"name", "value", "unit", "baseline", "ratio"}
+        assert set(f) == {"name", "value", "unit", "baseline", "ratio", "batch"}
+        assert f["batch"] in record["batches"], f
     names = [f["name"] for f in record["figures"]]
     assert len(names) == len(set(names)) and "corner_batch.exact_engine" in names
+    batches = {f["batch"] for f in record["figures"]}
+    assert {"corner", "corner_short", "cradle", "general", "impulse_cost"} <= batches  # --quick leaves out table1
+    by_name = {f["name"]: f for f in record["figures"]}
+    for kind in ("cradle", "general"):  # each contestant against its own baseline, measured in the run
+        assert by_name[f"{kind}.exact_engine"]["baseline"] == f"{kind}.fraction_loop"
+        assert by_name[f"{kind}.fraction_loop"]["ratio"] == 1.0
 
 
 def test_bench_bad_size_is_a_usage_error(capsys) -> None:

@@ -1,7 +1,8 @@
 """verify: exact verification of the multiple-impact rule of Pasquero (2021).
 
 The public API: build a :class:`System` (mass matrix, constraint normals, time terms,
-CORs) on a backend, and :func:`solve` it from a left velocity.
+CORs) on a backend, and :func:`solve` it from a left velocity (:func:`solve_many` for many
+velocities or CORs over one geometry).
 
 >>> from verify import System, solve
 >>> s = System([[1, 0, 0], [0, 1, 0], [0, 0, 1]], [[-1, 1, 0], [0, -1, 1]], ["0.5", "0.5"])
@@ -23,6 +24,7 @@ from verify.core.rule import (
     impulse,
     orthogonal_component,
     solve,
+    solve_many,
 )
 from verify.core.system import System
 from verify.errors import (
@@ -64,4 +66,5 @@ __all__ = [
     "parse_number",
     "run_cradle",
     "solve",
+    "solve_many",
 ]

@@ -81,22 +81,26 @@ def _family_cases() -> list[dict]:
     ]
 
 
-def _random_cases(count: int = 16) -> tuple[list[dict], int]:
-    """General systems: SPD mass matrices, r = 2..4 independent normals, some moving,
-    velocities with exact target rates (several hit, some grazing), CORs with 0 and 1.
+def random_cases(
+    count: int = 16, *, seed: int | None = None, keep: Callable[[dict], bool] | None = None
+) -> tuple[list[dict], int]:
+    """General systems (:func:`random_case`): SPD mass matrices, r = 2..4 independent normals,
+    some moving, velocities with exact target rates (several hit, some grazing), CORs with 0
+    and 1, drawn with ``seed`` (default the golden dataset's).
 
-    A drawn system whose exact run has not ended (exit or proved never to exit) before its
-    numbers reach :data:`GENERATION_BITS` bits is replaced by the next draw: the dataset
-    checks answers, and such a run has none yet. Returns the cases and how many draws were
-    replaced (the README of the export counts them).
+    A draw that ``keep`` refuses is replaced by the next one; by default a system whose exact run
+    has not ended (exit or proved never to exit) before its numbers reach
+    :data:`GENERATION_BITS` bits: the dataset checks answers, and such a run has none yet.
+    Returns the cases and how many draws were replaced (the README of the export counts them).
     """
-    rng = random.Random(SEED)
+    rng = random.Random(SEED if seed is None else seed)
+    keep = _ends if keep is None else keep
     out: list[dict] = []
     k = 0
     while len(out) < count:
-        record = _random_case(rng, len(out), k)
+        record = random_case(rng, len(out), k)
         k += 1
-        if _ends(record):
+        if keep(record):
             out.append(record)
     return out, k - count
 
@@ -136,7 +140,17 @@ def random_geometry(
     return g, normals
 
 
-def _random_case(rng: random.Random, index: int, k: int) -> dict:
+def random_case(rng: random.Random, index: int, k: int) -> dict:
+    """A random general system and velocity as a case record, drawn from ``rng``: r = 2..4
+    constraints (``2 + index % 3``) in n = r+1 or r+2 coordinates (``k``), moving constraints
+    for every fourth index, CORs with 0 and 1 drawn often, a velocity that hits two or three
+    constraints with exact target rates (one grazing for every fifth index).
+
+    >>> record = random_case(random.Random(0), 1, 0)
+    >>> record["id"], len(record["normals"]), len(record["velocity"])
+    ('general-01-r3-n4-fixed', 3, 4)
+    """
+
     def q(lo: int, hi: int, den: int = 4) -> Fraction:
         return Fraction(rng.randint(lo * den, hi * den), rng.randint(1, den))
 
@@ -159,7 +173,7 @@ def _random_case(rng: random.Random, index: int, k: int) -> dict:
 def golden_dataset() -> tuple[list[dict], int]:
     """The golden dataset's case records in a fixed order, and the number of random draws
     replaced because their numbers grew past :data:`GENERATION_BITS`."""
-    randoms, skipped = _random_cases()
+    randoms, skipped = random_cases()
     return _paper_cases() + _family_cases() + randoms, skipped
 
 

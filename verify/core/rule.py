@@ -40,7 +40,9 @@ from typing import Any
 
 from verify.core.backends import Backend
 from verify.core.engines import integer as fraction_free
+from verify.core.engines import rates as rate_form
 from verify.core.engines.policy import Limits, Run
+from verify.core.engines.rates import beta_from_rates, coefficients
 from verify.core.linalg import ldl, solve_spd
 from verify.core.outcome import Result, Step
 from verify.core.simultaneous import solve_simultaneous
@@ -140,35 +142,6 @@ def _gram_solve(system: System, rhs: Sequence[Any], J: Sequence[int]) -> tuple:
     return solve_spd(K, ldl(K, G_J), rhs)
 
 
-def beta_from_rates(system: System, b: Sequence[Any], J: Sequence[int]) -> Any:
-    """beta of step c) from the rates ``b = p(F)``, computed in the basis (U_j) without solving
-    the Gram system (:func:`beta` from a velocity).
-
-    With ``lambda_j = p(F_j)/G_jj``, ``sum V_j = sum lambda_j U_j``, so
-    ``||sum V_j||^2 = lambda^T G_JJ lambda``; and ``Phi(V_J, U_k) = p(F_k)`` for k in J
-    (``V_J = sum mu_k U_k`` with ``G_JJ mu = p(F_J)``), so ``Phi(V_J, sum V_j) = sum_j
-    p(F_j) lambda_j``: the Gram solve of V_J is not needed for beta.
-
-    >>> from verify.core.system import System
-    >>> s = System([[1, 0, 0], [0, 1, 0], [0, 0, 1]], [[-1, 1, 0], [0, -1, 1]], [1, 1])
-    >>> str(beta_from_rates(s, s.rates(s.velocity(["1", "0", "-1"])), (0, 1)))
-    '2'
-    """
-    inv = system.inverse_gram_diag
-    lam = [b[j] * inv[j] for j in J]
-    numerator: Any = None
-    norm: Any = None
-    for a, (j, lj) in enumerate(zip(J, lam)):
-        term = b[j] * lj
-        numerator = term if numerator is None else numerator + term
-        row = system.gram[j]
-        g_lam = row[j] * lj  # the j-th entry of G_JJ lambda, times lambda_j below
-        for k, lk in zip(J[a + 1 :], lam[a + 1 :]):
-            g_lam = g_lam + (row[k] + row[k]) * lk  # G symmetric: off-diagonal terms twice
-        norm = lj * g_lam if norm is None else norm + lj * g_lam
-    return numerator / norm
-
-
 def beta(system: System, v: Sequence[Any], J: Sequence[int]) -> Any:
     """The coefficient beta of Sect. 3.5 c) for the impact set J (|J| >= 2).
 
@@ -186,14 +159,11 @@ def _impulse_from_rates(system: System, b: Sequence[Any], J: Sequence[int]) -> t
     """Eq. (8) given the rates p(F_i): returns (impulse, beta or None).
 
     The impulse is ``sum_j c_j U_j`` with ``c_j = -(1 + e_j) p(F_j) / G_jj`` for a single
-    impact and ``c_j = -beta (1 + e_j) p(F_j) / G_jj`` for a multiple one.
+    impact and ``c_j = -beta (1 + e_j) p(F_j) / G_jj`` for a multiple one
+    (:func:`verify.core.engines.rates.coefficients`).
     """
-    if len(J) == 1:
-        (j,) = J
-        return system.combine_normals([(j, system.single_coefficient[j] * b[j])]), None
-    bt = beta_from_rates(system, b, J)
-    m, inv = system.minus_one_plus_e, system.inverse_gram_diag
-    return system.combine_normals([(j, bt * m[j] * (b[j] * inv[j])) for j in J]), bt
+    pairs, bt = coefficients(system, b, tuple(J))
+    return system.combine_normals(pairs), bt
 
 
 def impulse(system: System, v: Sequence[Any], J: Sequence[int] | None = None) -> tuple:
@@ -389,23 +359,6 @@ def _impact_set_of(
     return tuple(J), tuple(out)
 
 
-class _KnownRates:
-    """The system as the stop tests see it: ``rates(v)`` of the current velocity returns the
-    rates the rule holds (zeros known exactly included), so a stop test asks the signs the
-    rule decided; everything else is the system's own."""
-
-    __slots__ = ("_b", "_system", "_v")
-
-    def __init__(self, system: System, v: tuple, b: tuple):
-        self._system, self._v, self._b = system, v, b
-
-    def rates(self, v: Sequence[Any]) -> tuple:
-        return self._b if v is self._v else self._system.rates(v)
-
-    def __getattr__(self, name: str) -> Any:
-        return getattr(self._system, name)
-
-
 def _largest_size(K: Backend, v: tuple) -> int:
     return max(K.size(x) for x in v)
 
@@ -441,7 +394,7 @@ def _iterate(
         if not J:
             stop = "exit"
             break
-        view = _KnownRates(system, v, b) if halts else system
+        view = rate_form.KnownRates(system, v, b) if halts else system
         reason = next((r for r in (h(view, v) for h in halts) if r), None)
         if reason:
             stop, certificate = reason if isinstance(reason, tuple) else (reason, None)
@@ -469,16 +422,21 @@ def _iterate(
 FRACTION_FREE_AFTER = 3
 
 
-def _iterate_untraced(system: System, v: tuple, limits: Limits) -> Run:
-    """:func:`_iterate` without trace or stop tests, on a rational backend: the first
-    impulses on the rationals, the rest of a long run over integers (same values, same
-    deadline)."""
+def _iterate_untraced(
+    system: System, v: tuple, limits: Limits, halts: list[Halt], progress: Callable[[int], None] | None
+) -> Run:
+    """:func:`_iterate` without a trace, on an exact backend: in rate coordinates
+    (:mod:`verify.core.engines.rates`), and on the rationals, when no stop test or progress needs
+    the velocity at every impulse, the rest of a long run over integers after the first impulses
+    (same values, same deadline)."""
     limits = limits.start()
-    first = min(limits.max_iterations, FRACTION_FREE_AFTER)
-    out = _iterate(system, v, limits.capped(first), [], False)
-    if out.stop != "max_iterations" or first == limits.max_iterations:
+    if halts or progress is not None or not system.backend.fraction_free:
+        return rate_form.iterate(system, v, limits, halts=halts, progress=progress)
+    out = rate_form.iterate(system, v, limits, cap=FRACTION_FREE_AFTER)
+    if out.stop != "max_iterations" or len(out.impact_sets) == limits.max_iterations:
         return out
-    return out.then(fraction_free.iterate(system, out.v, limits.capped(limits.max_iterations - first)))
+    rest = limits.capped(limits.max_iterations - len(out.impact_sets))
+    return out.then(fraction_free.iterate(system, out.v, rest))
 
 
 def _run(
@@ -489,13 +447,14 @@ def _run(
     *,
     trace: bool,
     progress: Callable[[int], None] | None,
-    exact: _ExactRates,
+    exact: _ExactRates | None,
 ) -> Run:
-    """One run at the system's backend: over integers when nothing is traced or tested."""
+    """One run at the system's backend: in rate coordinates (and over integers) when the backend
+    is exact and nothing is traced."""
     K = system.backend
-    if K.fraction_free and not trace and not halts and progress is None:
-        return _iterate_untraced(system, v0, limits)
-    checks = exact.at(limit=K.refined() is None) if K.refinable else None
+    if K.is_exact and not K.is_parametric and not trace:
+        return _iterate_untraced(system, v0, limits, halts, progress)
+    checks = exact.at(limit=K.refined() is None) if exact is not None else None
     return _iterate(system, v0, limits, halts, trace, progress=progress, exact=checks)
 
 
@@ -567,7 +526,7 @@ def solve(
         return solve_simultaneous(system, velocity, rule=rule, max_iterations=max_iterations)
     limits = budget.limits(max_iterations) if budget is not None else Limits(max_iterations)
     notes: list[str] = []
-    exact = _ExactRates(system, velocity)  # exact checks of undecided rates: built only if one is asked
+    exact = _ExactRates(system, velocity) if system.backend.refinable else None  # checks of undecided signs
     while True:
         try:
             if system.backend.widens_to_inputs:
@@ -583,7 +542,7 @@ def solve(
                 raise
             finer = K.refined()
             if finer is None:
-                raise _no_convergence(K, exc, exact) from None
+                raise _no_convergence(K, exc, exact or _ExactRates(system, velocity)) from None
             notes.append(f"precision raised from {K.dps} to {finer.dps} digits after an undecided sign")
             system = system.convert_to(finer)
     return Result(
@@ -599,3 +558,40 @@ def solve(
         notes=tuple(notes),
         certificate=out.certificate,
     )
+
+
+def solve_many(
+    system: System,
+    velocities: Sequence[Sequence[Any]],
+    *,
+    restitutions: Sequence[Sequence[Any]] | None = None,
+    **options: Any,
+) -> list[Result]:
+    """Run the rule on many cases over one geometry: case i is ``velocities[i]`` with the CORs
+    ``restitutions[i]`` (default: the system's own), each as :func:`solve` runs it with
+    ``options``.
+
+    The geometry is built and checked once: a new COR vector shares it
+    (:meth:`~verify.core.system.System.with_restitution`), and a COR vector repeated between
+    cases is converted once. To run one velocity over many CORs, repeat the velocity.
+
+    >>> from verify.core.system import System
+    >>> s = System([[1, 0, 0], [0, 1, 0], [0, 0, 1]], [[-1, 1, 0], [0, -1, 1]], [1, 1])
+    >>> out = solve_many(s, [["1", "0", "0"]] * 2, restitutions=[[1, 1], ["1/2", "1/2"]], trace=False)
+    >>> [[s.backend.to_exact(x) for x in r.exit_velocity] for r in out]
+    [['0', '0', '1'], ['13/64', '15/64', '9/16']]
+    """
+    if restitutions is not None and len(restitutions) != len(velocities):
+        raise InvalidSystem(
+            f"solve_many: {len(velocities)} velocities but {len(restitutions)} restitution vectors (one per case)"
+        )
+    systems: dict[tuple, System] = {}
+    out = []
+    for i, v in enumerate(velocities):
+        case = system
+        if restitutions is not None:
+            cors = tuple(restitutions[i])
+            key = tuple((type(x), x) for x in cors)  # equal values of one type share a system
+            case = systems.get(key) or systems.setdefault(key, system.with_restitution(cors))
+        out.append(solve(case, v, **options))
+    return out

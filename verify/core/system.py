@@ -33,7 +33,7 @@ from verify.core.format import format_exact
 from verify.core.linalg import NotPositiveDefinite, dot, ldl, matvec, solve_spd
 from verify.core.numeric import certified_sign
 from verify.core.parse import Number, to_number
-from verify.errors import BadNumber, InvalidInput, InvalidSystem, Undecided
+from verify.errors import BadNumber, InvalidInput, InvalidSystem
 
 
 def known_zero(K: Backend, x: Any) -> bool:
@@ -45,26 +45,11 @@ def known_zero(K: Backend, x: Any) -> bool:
     >>> known_zero(K, K.zero), known_zero(K, K.one - third - third - third)
     (True, False)
     """
-    try:
-        return K.sign(x) == 0
-    except Undecided:
-        return False
-
-
-def _nonzero(K: Backend, row: Sequence[Any]) -> tuple:
-    return tuple((k, x) for k, x in enumerate(row) if not known_zero(K, x))
-
-
-def _sparse_dot(K: Backend, sparse_row: Sequence[tuple[int, Any]], v: Sequence[Any]) -> Any:
-    """``a . v`` for a row given by its non-zero entries ``(k, a_k)`` (the same sum as a full dot)."""
-    total = K.zero
-    for k, a in sparse_row:
-        total = total + a * v[k]
-    return total
+    return K.known_zero(x)
 
 
 def _equal(a: Number, b: Number) -> bool:
-    if a == b:
+    if a is b or a == b:
         return True
     if isinstance(a, Fraction) and isinstance(b, Fraction):
         return False
@@ -200,12 +185,30 @@ def _contacts(
     return kept, normals, time_terms, cors
 
 
+_ZERO = Fraction(0)
+
+
 def _check_vector(values: Any, length: int | None, field: str) -> list:
     if type(values) not in (list, tuple) and (isinstance(values, (str, bytes)) or not isinstance(values, Sequence)):
         raise InvalidSystem(f"{field}: expected a list of numbers, got {type(values).__name__}")
     if length is not None and len(values) != length:
         raise InvalidSystem(f"{field}: expected {length} numbers, got {len(values)}")
+    if set(map(type, values)) <= {Fraction}:  # already exact numbers: nothing to parse
+        return list(values)
     return [x if type(x) is Fraction else to_number(x, where=f"{field}[{i}]") for i, x in enumerate(values)]
+
+
+def _check_cors(e: list[Number]) -> None:
+    """Every COR that is a number lies in [0, 1] (those with a parameter are checked on the backend)."""
+    for i, ei in enumerate(e):
+        if type(ei) is Fraction:
+            if 0 <= ei.numerator <= ei.denominator:  # a Fraction's denominator is positive
+                continue
+        elif getattr(ei, "free_symbols", None):
+            continue  # a parameter such as eps: checked by the backend over its range
+        elif certified_sign(ei) >= 0 and certified_sign(1 - ei) >= 0:
+            continue
+        raise InvalidSystem(f"restitution[{i}] = {format_exact(ei)} is outside [0, 1]")
 
 
 class System:
@@ -226,6 +229,7 @@ class System:
         "U",
         "__weakref__",
         "_energy_terms",
+        "_gram_columns",
         "_inverse_gram_diag",
         "_minus_one_plus_e",
         "_moving",
@@ -246,6 +250,7 @@ class System:
         "source",
         "time_terms",
     )
+    _energy_terms: tuple[tuple[int, int, Any], ...] | None  # computed by kinetic_energy when first asked
 
     def __init__(
         self,
@@ -269,7 +274,7 @@ class System:
         r = len(normals)
         a = [_check_vector(row, n, f"normals[{i}]") for i, row in enumerate(normals)]
         e = _check_vector(restitution, r, "restitution")
-        c = _check_vector(time_terms, r, "time_terms") if time_terms is not None else [Fraction(0)] * r
+        c = _check_vector(time_terms, r, "time_terms") if time_terms is not None else [_ZERO] * r
         for i in range(n):
             for j in range(i + 1, n):
                 if not _equal(g[i][j], g[j][i]):
@@ -277,11 +282,7 @@ class System:
                         f"mass_matrix is not symmetric: entry [{i}][{j}] = {format_exact(g[i][j])} "
                         f"but [{j}][{i}] = {format_exact(g[j][i])}"
                     )
-        for i, ei in enumerate(e):
-            if getattr(ei, "free_symbols", None):
-                continue  # a parameter such as eps: checked by the backend over its range, below
-            if not (0 <= ei <= 1) if type(ei) is Fraction else (certified_sign(ei) < 0 or certified_sign(1 - ei) < 0):
-                raise InvalidSystem(f"restitution[{i}] = {format_exact(ei)} is outside [0, 1]")
+        _check_cors(e)
         self.names = tuple(names) if names is not None else tuple(f"S{i + 1}" for i in range(r))
         if len(self.names) != r:
             raise InvalidSystem(f"names: expected {r} names, got {len(self.names)}")
@@ -289,8 +290,8 @@ class System:
         if len(self.coordinates) != n:
             raise InvalidSystem(f"coordinates: expected {n} names, got {len(self.coordinates)}")
         self.source = {
-            "mass_matrix": tuple(tuple(row) for row in g),
-            "normals": tuple(tuple(row) for row in a),
+            "mass_matrix": tuple(map(tuple, g)),
+            "normals": tuple(map(tuple, a)),
             "time_terms": tuple(c),
             "restitution": tuple(e),
         }
@@ -298,43 +299,70 @@ class System:
             K = _exact_backend(g, a, e, c)  # algebraic inputs: exact too
         self.backend, self.n, self.r = K, n, r
         self._derive()
-        for i, ei in enumerate(e):
-            if getattr(ei, "free_symbols", None):
+        self._check_parameter_cors()
+
+    def _check_parameter_cors(self) -> None:
+        """The CORs that depend on a parameter (eps) lie in [0, 1] over its whole range."""
+        K = self.backend
+        for i, ei in enumerate(self.source["restitution"]):
+            if type(ei) is not Fraction and getattr(ei, "free_symbols", None):
                 x = self.restitution[i]
                 if not (K.nonnegative(x) and K.nonnegative(K.one - x)):
                     raise InvalidSystem(f"restitution[{i}] = {ei} is outside [0, 1] for some parameter value")
 
     def _derive(self) -> None:
-        """Convert the source numbers into the backend and compute U, G and H."""
-        K, src = self.backend, self.source
-        self.g = tuple(tuple(K.convert(x) for x in row) for row in src["mass_matrix"])
-        self.normals = tuple(tuple(K.convert(x) for x in row) for row in src["normals"])
-        self.time_terms = tuple(K.convert(x) for x in src["time_terms"])
-        self.restitution = tuple(K.convert(x) for x in src["restitution"])
-        for i, row in enumerate(self.normals):
-            if all(K.sign(x) == 0 for x in row):
+        """Convert the source numbers into the backend and compute U, G and H.
+
+        Built once per system, so written for short runs too: zeros are found once (the
+        sparse rows), G is computed on its upper triangle (it is symmetric), and what only
+        some callers need (the kinetic-energy terms) is computed when first asked for.
+        """
+        K, src, n, r = self.backend, self.source, self.n, self.r
+        zero = K.known_zero
+        flat = K.convert_all([x for row in src["mass_matrix"] for x in row] + [x for row in src["normals"] for x in row]
+                             + list(src["time_terms"]) + list(src["restitution"]))  # fmt: skip
+        nn, nr = n * n, n * (n + r)
+        g = tuple([tuple(flat[i : i + n]) for i in range(0, nn, n)])
+        self.g = g
+        self.normals = tuple([tuple(flat[i : i + n]) for i in range(nn, nr, n)])
+        self.time_terms = tuple(flat[nr : nr + r])
+        self.restitution = tuple(flat[nr + r :])
+        sparse = tuple([tuple([(k, x) for k, x in enumerate(row) if not zero(x)]) for row in self.normals])
+        for i, row in enumerate(sparse):
+            if not row and all(K.sign(x) == 0 for x in self.normals[i]):
                 raise InvalidSystem(f"normals[{i}] is zero: a constraint needs a non-zero gradient")
-        self._sparse_normals = tuple(_nonzero(K, row) for row in self.normals)
-        n = self.n
-        diagonal = all(known_zero(K, self.g[i][j]) for i in range(n) for j in range(n) if i != j)
+        self._sparse_normals = sparse
+        diagonal = all([zero(x) for i, row in enumerate(g) for j, x in enumerate(row) if i != j])
         if diagonal:  # U_i = dF_i / diag(g), entry by entry, on the non-zero pattern of dF_i
             for i in range(n):
-                if K.sign(self.g[i][i]) <= 0:
-                    self._not_positive_definite(i, self.g[i][i])
-            U = []
-            for row in self._sparse_normals:
-                u = [K.zero] * n
-                for k, a in row:
-                    u[k] = a / self.g[k][k]
+                if K.sign(g[i][i]) <= 0:
+                    self._not_positive_definite(i, g[i][i])
+            U, sparse_U, none = [], [], K.zero
+            for row in sparse:
+                pairs = tuple([(k, a / g[k][k]) for k, a in row])
+                u = [none] * n
+                for k, x in pairs:
+                    u[k] = x
                 U.append(tuple(u))
+                sparse_U.append(pairs)
             self.U = tuple(U)
+            self._sparse_U = tuple(sparse_U)
         else:
             try:
-                g_factors = ldl(K, self.g)
+                g_factors = ldl(K, g)
             except NotPositiveDefinite as exc:
                 self._not_positive_definite(exc.index, exc.pivot)
             self.U = tuple(solve_spd(K, g_factors, row) for row in self.normals)
-        self.gram = tuple(tuple(_sparse_dot(K, ai, uj) for uj in self.U) for ai in self._sparse_normals)
+            self._sparse_U = tuple([tuple([(k, x) for k, x in enumerate(row) if not zero(x)]) for row in self.U])
+        gram = [[K.zero] * r for _ in range(r)]
+        for i, ai in enumerate(sparse):
+            for j in range(i, r):
+                uj = self.U[j]
+                total = None
+                for k, a in ai:
+                    total = a * uj[k] if total is None else total + a * uj[k]
+                gram[i][j] = gram[j][i] = K.zero if total is None else total
+        self.gram = tuple([tuple(row) for row in gram])
         try:
             gram_factors = ldl(K, self.gram)
         except NotPositiveDefinite as exc:
@@ -342,26 +370,26 @@ class System:
                 f"normals are dependent: normals[{exc.index}] is a combination of the normals before it "
                 "(the paper requires independent constraints, Sect. 2.3 (iii))"
             ) from None
-        self.gram_diag = tuple(self.gram[i][i] for i in range(self.r))
-        # the rule's inner loop skips the entries that are exactly zero (sparse rows)
-        self._sparse_U = tuple(_nonzero(K, row) for row in self.U)
-        # constants of eq. (8), computed once: -(1 + e_j), 1 / G_jj and -(1 + e_j) / G_jj
-        self._minus_one_plus_e = tuple(K.zero - (K.one + e) for e in self.restitution)
-        self._inverse_gram_diag = tuple(K.one / d for d in self.gram_diag)
-        self._single_coefficient = tuple(m / d for m, d in zip(self._minus_one_plus_e, self.gram_diag))
-        half = K.convert(Fraction(1, 2))
-        self._energy_terms = tuple(
-            (i, j, half * self.g[i][j] if i == j else self.g[i][j])
-            for i in range(self.n)
-            for j in range(i, self.n)
-            if not known_zero(K, self.g[i][j])
+        self.gram_diag = tuple([self.gram[i][i] for i in range(r)])
+        self._gram_columns = tuple(
+            [tuple([(i, gram[i][j]) for i in range(r) if i != j and not zero(gram[i][j])]) for j in range(r)]
         )
-        self._moving = not all(K.sign(ci) == 0 for ci in self.time_terms)
+        self._inverse_gram_diag = tuple([K.one / d for d in self.gram_diag])
+        self._cor_constants()
+        self._energy_terms = None  # computed by kinetic_energy when first needed
+        self._moving = not all(zero(ci) or K.sign(ci) == 0 for ci in self.time_terms)
         if not self._moving:
-            self.rest_frame = (K.zero,) * self.n
+            self.rest_frame = (K.zero,) * n
         else:
             mu = solve_spd(K, gram_factors, self.time_terms)
-            self.rest_frame = tuple(K.zero - dot(K, mu, [u[k] for u in self.U]) for k in range(self.n))
+            self.rest_frame = tuple(K.zero - dot(K, mu, [u[k] for u in self.U]) for k in range(n))
+
+    def _cor_constants(self) -> None:
+        """The constants of eq. (8) that depend on the CORs, computed once: ``-(1 + e_j)`` and
+        ``-(1 + e_j) / G_jj``."""
+        K = self.backend
+        self._minus_one_plus_e = tuple([K.zero - (K.one + e) for e in self.restitution])
+        self._single_coefficient = tuple([m / d for m, d in zip(self._minus_one_plus_e, self.gram_diag)])
 
     # -- the constants of eq. (8), computed once (read-only) -------------------------------
     @property
@@ -382,6 +410,17 @@ class System:
         ['-3']
         """
         return self._single_coefficient
+
+    @property
+    def sparse_U(self) -> tuple[tuple[tuple[int, Any], ...], ...]:
+        """For each constraint j, the entries ``(k, U_jk)`` of U_j not known to be 0 (read-only)."""
+        return self._sparse_U
+
+    @property
+    def gram_columns(self) -> tuple[tuple[tuple[int, Any], ...], ...]:
+        """For each constraint j, the entries ``(i, G_ij)``, i != j, not known to be 0 (read-only):
+        the rates that an impulse on j changes besides its own."""
+        return self._gram_columns
 
     @property
     def moving(self) -> bool:
@@ -411,24 +450,36 @@ class System:
     def with_restitution(self, restitution: Sequence[Any]) -> System:
         """The same system with other CORs (validated like the constructor's).
 
+        Only what depends on the CORs is computed again: the geometry (U, G and its
+        factorisation, checked once) is shared with this system, so a sweep over CORs costs
+        little per value (:func:`verify.core.rule.solve_many`).
+
         >>> [str(e) for e in System([[1]], [[1]], ["1/2"]).with_restitution([1]).restitution]
         ['1']
         """
-        src = self.source
-        return System(
-            src["mass_matrix"],
-            src["normals"],
-            restitution,
-            src["time_terms"],
-            backend=self.backend,
-            names=self.names,
-            coordinates=self.coordinates,
-        )
+        e = _check_vector(restitution, self.r, "restitution")
+        _check_cors(e)
+        new = object.__new__(System)
+        for slot in System.__slots__:
+            if slot != "__weakref__" and hasattr(self, slot):
+                setattr(new, slot, getattr(self, slot))
+        new.source = {**self.source, "restitution": tuple(e)}
+        try:
+            new.restitution = tuple(self.backend.convert_all(e))
+        except InvalidInput:  # BadNumber: a COR outside the number field of an exact system
+            if not self.backend.widens_to_inputs:
+                raise
+            src = self.source  # the exact field of every input, new CORs included
+            return System(src["mass_matrix"], src["normals"], e, src["time_terms"], names=self.names,
+                          coordinates=self.coordinates)  # fmt: skip
+        new._cor_constants()
+        new._check_parameter_cors()
+        return new
 
     # -- the quantities the rule needs --------------------------------------------------
     def velocity(self, values: Sequence[Any], field: str = "velocity") -> tuple:
         """Parse and convert a velocity vector (n components) into the backend."""
-        return tuple(self.backend.convert(x) for x in _check_vector(values, self.n, field))
+        return tuple(self.backend.convert_all(_check_vector(values, self.n, field)))
 
     def rates(self, v: Sequence[Any]) -> tuple:
         """``p(F_i) = dF_i/dt + dF_i . v`` for every constraint (negative: an impact, eq. 2)."""
@@ -456,8 +507,17 @@ class System:
     def kinetic_energy(self, v: Sequence[Any]) -> Any:
         """``1/2 Phi(v - H, v - H)`` in the rest frame H of the constraints (Sect. 2.1)."""
         rel = tuple(x - h for x, h in zip(v, self.rest_frame))
-        total = self.backend.zero
-        for i, j, c in self._energy_terms:  # 1/2 g_ii r_i^2 and g_ij r_i r_j (i < j)
+        K = self.backend
+        if self._energy_terms is None:
+            half = K.convert(Fraction(1, 2))
+            self._energy_terms = tuple(
+                (i, j, half * self.g[i][j] if i == j else self.g[i][j])
+                for i in range(self.n)
+                for j in range(i, self.n)
+                if not K.known_zero(self.g[i][j])
+            )
+        total = K.zero
+        for i, j, c in self._energy_terms or ():  # 1/2 g_ii r_i^2 and g_ij r_i r_j (i < j)
             total = total + c * rel[i] * rel[j]
         return total
 
@@ -553,7 +613,7 @@ def exact_backend_for_velocity(system: System, velocity: Sequence[Any]) -> tuple
 
 def velocity_numbers(velocity: Sequence[Any]) -> list[Any]:
     """The components of a velocity as exact numbers (errors name ``velocity[i]``)."""
-    return [to_number(x, where=f"velocity[{i}]") for i, x in enumerate(velocity)]
+    return [x if type(x) is Fraction else to_number(x, where=f"velocity[{i}]") for i, x in enumerate(velocity)]
 
 
 def on_exact_field(system: System, values: list[Any]) -> System:

@@ -226,23 +226,42 @@ def non_termination_halt(system: System, memory: int = 8) -> Any:
     number of constraints), or rates inside invariant cones (two constraints)."""
     cone = cone_halt(system)
     history: list[tuple[int, Any, tuple[int, ...]]] = []  # (impulses so far, rates, impact set taken)
+    # the earlier states by the direction of their rates (b / b_pivot): only a state in the same
+    # direction can be a positive multiple, so one lookup replaces a scan of the last ``memory``
+    directions: dict[tuple, list[int]] = {}
 
     def halt(system: System, v: Sequence[Any]) -> Any:
         K = system.backend
-        if K.is_parametric:  # rational functions of a parameter: the cones alone (equalities cost too much there)
+        if K.is_parametric or not K.is_exact:
+            # rational functions of a parameter: the cones alone (equalities cost too much there);
+            # enclosures: equal directions cannot be told (repeating_certificate needs exact elements)
             return cone(system, v) if cone is not None else None
         b = system.rates(v)
         count = len(history)
-        for w, earlier, _ in reversed(history[-memory:]):
+        key = _direction(K, b)
+        for w in reversed(directions.get(key, ())):
+            if w < count - memory:
+                break
             cycle = [J for _, _, J in history[w:]]
-            cert = repeating_certificate(system, earlier, b, count - w, cycle)
+            cert = repeating_certificate(system, history[w][1], b, count - w, cycle)
             if cert:
                 return ("non_terminating", cert)
         J = tuple(i for i, x in enumerate(b) if K.sign(x) < 0)
         history.append((count, b, J))
+        directions.setdefault(key, []).append(count)
         return cone(system, v) if cone is not None else None
 
     return halt
+
+
+def _direction(K: Any, b: Sequence[Any]) -> tuple:
+    """The rates divided by their first non-zero entry (and its index): equal for two rate
+    vectors exactly when one is a non-zero multiple of the other (exact elements are canonical)."""
+    pivot = next((i for i, x in enumerate(b) if x != K.zero), None)
+    if pivot is None:
+        return ()
+    p = b[pivot]
+    return (pivot, *(x / p for x in b))
 
 
 def cone_halt(system: System) -> Any:

@@ -38,6 +38,7 @@ from verify.core.rule import DEFAULT_MAX_ITERATIONS, Result, solve
 from verify.core.system import System
 from verify.errors import InvalidInput, InvalidSystem
 
+_ONE, _ZERO, _MINUS_ONE = Fraction(1), Fraction(0), Fraction(-1)
 ZONES = {(False, False): "Z0", (True, False): "Z1", (False, True): "Z2", (True, True): "Z12"}
 
 
@@ -99,9 +100,9 @@ def corner_geometry(k: Any) -> tuple[list[list[Fraction]], list[list[Any]]]:
     >>> [[str(a) for a in row] for row in normals], [str(x) for x in g[2]]
     ([['-1/2', '1', '0'], ['-1/2', '-1', '0']], ['0', '0', '1'])
     """
-    one, zero = Fraction(1), Fraction(0)
-    g = [[one if i == j else zero for j in range(3)] for i in range(3)]
-    return g, [[-k, one, zero], [-k, -one, zero]]
+    minus_k = -k
+    g = [[_ONE if i == j else _ZERO for j in range(3)] for i in range(3)]
+    return g, [[minus_k, _ONE, _ZERO], [minus_k, _MINUS_ONE, _ZERO]]
 
 
 def corner_system(
@@ -132,8 +133,9 @@ def zone(system: System, v: Any) -> str:
     return ZONES[(K.sign(b[0]) < 0, K.sign(b[1]) < 0)]
 
 
-def zones_of(result: Result) -> list[str]:
-    """The zones visited: one per impulse, then the zone of the exit velocity."""
+def zones_of(result: Any) -> list[str]:
+    """The zones visited: one per impulse, then the zone of the exit velocity (of a
+    :class:`~verify.core.outcome.Result`, or anything with its ``impact_sets`` and ``stop``)."""
     out = [ZONES[(0 in J, 1 in J)] for J in result.impact_sets]
     if result.stop == "exit":
         out.append("Z0")

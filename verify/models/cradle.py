@@ -24,7 +24,7 @@ from typing import Any
 
 from verify.core.backends import Backend
 from verify.core.parse import to_number
-from verify.core.rule import DEFAULT_MAX_ITERATIONS, Result, solve
+from verify.core.rule import DEFAULT_MAX_ITERATIONS, Result, solve_many
 from verify.core.system import System
 from verify.errors import InvalidSystem
 from verify.models.paper import PAPER_MAX_ITERATIONS, PAPER_READING, Reading, aeev_halt
@@ -220,11 +220,42 @@ def run_cradle(
     >>> run_cradle("0", mode="paper").stop, run_cradle("0", mode="paper").iterations
     ('aeev', 32)
     """
+    return run_cradle_many([eps], v0=v0, balls=balls, masses=masses, velocity=velocity, mode=mode, backend=backend,
+                           dps=dps, max_iterations=max_iterations, trace=trace, sigma_relative=sigma_relative,
+                           certify=certify, aeev=aeev, sigma_squared=sigma_squared, law=law)[0]  # fmt: skip
+
+
+def run_cradle_many(
+    eps_values: Sequence[Any],
+    *,
+    v0: Any = "100",
+    balls: int = 3,
+    masses: Sequence[Any] | None = None,
+    velocity: Sequence[Any] | None = None,
+    mode: str = "exact",
+    backend: str | Backend = "exact",
+    dps: int | None = None,
+    max_iterations: int | None = None,
+    trace: bool = True,
+    sigma_relative: Fraction | None = None,
+    certify: bool = True,
+    aeev: Reading | str = PAPER_READING,
+    sigma_squared: Fraction | None = None,
+    law: str = "rule",
+) -> list[Result]:
+    """:func:`run_cradle` for each of ``eps_values`` (the other options as there): the cradle is
+    built once and every COR shares its geometry (:func:`verify.core.rule.solve_many`).
+
+    >>> [r.iterations for r in run_cradle_many(["1", "0.5", "0"], mode="paper", trace=False)]
+    [2, 3, 32]
+    """
     if mode not in MODES:
         raise InvalidSystem(f"unknown mode {mode!r} (choose from {', '.join(MODES)})")
     if law != "rule" and mode == "paper":
         raise InvalidSystem("paper mode is the paper's rule: the simultaneous law has no AEEV stop")
-    system = cradle_system(eps, balls, masses, backend=backend, dps=dps)
+    if not eps_values:
+        return []
+    system = cradle_system(eps_values[0], balls, masses, backend=backend, dps=dps)
     v = cradle_velocity(balls, v0, velocity)
     halt = None
     if mode == "paper":
@@ -234,5 +265,7 @@ def run_cradle(
         cap = PAPER_MAX_ITERATIONS if max_iterations is None else max_iterations
     else:
         cap = DEFAULT_MAX_ITERATIONS if max_iterations is None else max_iterations
+    cors = [_restitution(eps, balls - 1) for eps in eps_values]
     # paper mode reproduces the paper's own termination, which had no proof of non-termination
-    return solve(system, v, law=law, max_iterations=cap, halt=halt, trace=trace, certify=certify and mode == "exact")
+    return solve_many(system, [v] * len(cors), restitutions=cors, law=law, max_iterations=cap, halt=halt, trace=trace,
+                      certify=certify and mode == "exact")  # fmt: skip

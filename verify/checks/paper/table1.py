@@ -41,7 +41,7 @@ from verify.core.format import format_decimal, ilog10, int_to_str
 from verify.core.numeric import mpf_to_fraction
 from verify.core.parse import to_number
 from verify.core.rule import Result
-from verify.models.cradle import run_cradle
+from verify.models.cradle import run_cradle, run_cradle_many
 from verify.models.paper import PAPER_READING, Reading
 
 DEFAULT_EXACT_CAP = 10_000
@@ -419,6 +419,24 @@ def table1(
             row.row_notes, row.momentum_ranges = _row_diagnosis(vel, runs, v0)
         rows.append(row)
     return Table1(data["source"], v0, exact_cap, rows, search_readings(data))
+
+
+def table1_runs(
+    *, exact_cap: int = DEFAULT_EXACT_CAP, sigma_relative: Fraction | None = None, aeev: Reading = PAPER_READING
+) -> list[tuple[Result, Result]]:
+    """Table 1's runs alone, without the audit of :func:`table1`: per row, the exact run (exit,
+    or a proof that it never exits, within ``exact_cap`` impulses) and the paper-mode run, each
+    over one cradle whose geometry every row shares (:func:`verify.models.cradle.run_cradle_many`).
+    What ``verify bench`` times against the paper's loop in PARI/GP.
+
+    >>> [(e.stop, p.stop, p.iterations) for e, p in table1_runs()][-1]
+    ('non_terminating', 'aeev', 32)
+    """
+    data = load_table1()
+    eps = [row[0] for row in data["rows"]]
+    exact = run_cradle_many(eps, v0=data["v0"], mode="exact", max_iterations=exact_cap, trace=False)
+    paper = run_cradle_many(eps, v0=data["v0"], mode="paper", sigma_relative=sigma_relative, aeev=aeev, trace=False)
+    return list(zip(exact, paper))
 
 
 def _stop_label(result: Result) -> str:

@@ -19,6 +19,8 @@ contract: its elements support ``+ - * /`` and its ``sign`` decides exactly or r
 
 from __future__ import annotations
 
+import functools
+import os
 from collections.abc import Iterable
 from fractions import Fraction
 
@@ -45,6 +47,7 @@ __all__ = [
     "exact_for",
     "get_backend",
     "rational_impls",
+    "rationals",
 ]
 
 BACKENDS = ("exact", "mp", "interval", "float")  #: the backends that get_backend knows by name
@@ -61,7 +64,7 @@ def get_backend(name: str | Backend = "exact", *, dps: int | None = None, prec: 
     if isinstance(name, Backend):
         return name
     if name == "exact":
-        return RationalBackend()
+        return rationals()
     if name == "mp":
         return MPBackend(dps or DEFAULT_DPS, prec=prec)
     if prec is not None:
@@ -71,6 +74,21 @@ def get_backend(name: str | Backend = "exact", *, dps: int | None = None, prec: 
     if name == "float":
         return FloatBackend()
     raise InvalidInput(f"unknown backend {name!r} (choose from {', '.join(BACKENDS)})")
+
+
+def rationals() -> RationalBackend:
+    """The default rational backend (the fastest installed implementation, or the one that
+    ``VERIFY_RATIONALS`` names), one shared instance: a backend holds no state.
+
+    >>> rationals() is rationals(), rationals().name
+    (True, 'exact')
+    """
+    return _rationals(os.environ.get("VERIFY_RATIONALS", ""))
+
+
+@functools.cache
+def _rationals(choice: str) -> RationalBackend:
+    return RationalBackend(choice or "auto")
 
 
 def exact_for(values: Iterable[Number]) -> Backend:
@@ -90,7 +108,7 @@ def exact_for(values: Iterable[Number]) -> Backend:
             'use backend="interval" (certified) or backend="mp"'
         )
     if not gens:
-        return RationalBackend()
+        return rationals()
     key = tuple(str(g) for g in gens)
     if key not in _FIELDS:  # building a field (primitive element, isolation) costs more than a short run
         _FIELDS[key] = NumberFieldBackend(gens)

@@ -27,6 +27,7 @@ from typing import Any
 
 from verify.core.format import format_exact
 from verify.core.parse import Number
+from verify.errors import Undecided
 
 
 class Backend:
@@ -63,6 +64,10 @@ class Backend:
         """The element of this backend for a parsed number (BadNumber when it cannot hold it)."""
         raise NotImplementedError
 
+    def convert_all(self, values: list[Number]) -> list[Any]:
+        """The elements for a list of parsed numbers (one call: a backend may do it in bulk)."""
+        return [self.convert(x) for x in values]
+
     def sign(self, x: Any) -> int:  # pragma: no cover - abstract
         """-1, 0 or 1; raises Undecided when the backend cannot decide."""
         raise NotImplementedError
@@ -70,6 +75,13 @@ class Backend:
     def to_decimal(self, x: Any, digits: int = 30) -> str:  # pragma: no cover - abstract
         """Decimal digits of ``x`` (only certified ones on rigorous approximate backends)."""
         raise NotImplementedError
+
+    def known_zero(self, x: Any) -> bool:
+        """Whether ``x`` is known to be exactly 0 (an undecidable sign counts as non-zero)."""
+        try:
+            return self.sign(x) == 0
+        except Undecided:
+            return False
 
     def nonnegative(self, x: Any) -> bool:
         """Whether ``x >= 0`` (a parameter backend answers for the whole parameter range)."""

@@ -44,6 +44,10 @@ def rational_impls() -> dict[str, Any]:
     return impls
 
 
+def _same(value: Fraction) -> Fraction:
+    return value
+
+
 class RationalBackend(Backend):
     """Exact rationals. ``impl`` is ``"gmpy2"``, ``"flint"``, ``"python"`` or ``"auto"``.
 
@@ -69,21 +73,40 @@ class RationalBackend(Backend):
         self._q = impls[impl]
         self.zero = self._q(0)
         self.one = self._q(1)
-        self._units = {-1: self._q(-1), 0: self.zero, 1: self.one}
+        if impl == "gmpy2":
+            self._from_fraction = self._q  # mpq takes a Fraction as it is
+        elif impl == "python":
+            self._from_fraction = _same  # Fractions are immutable: kept as they are
+        else:
+            self._from_fraction = self._numerator_denominator
 
     def convert(self, value: Number) -> Any:
-        if type(value) is Fraction or isinstance(value, Fraction):
-            if value.denominator == 1 and -2 < value.numerator < 2:
-                return self._units[value.numerator]  # -1, 0, 1: most entries of mass matrices and normals
+        if type(value) is Fraction:  # the common case: one call into the implementation
+            return self._from_fraction(value)
+        if isinstance(value, Fraction):
             return self._q(value.numerator, value.denominator)
         raise BadNumber(
             f"{value} is irrational: the exact backend computes over the rationals; "
             'use backend="interval" (certified) or backend="mp"'
         )
 
+    def convert_all(self, values: list[Number]) -> list[Any]:
+        if set(map(type, values)) <= {Fraction}:  # Fractions only: each distinct object converted once
+            ids = list(map(id, values))
+            distinct = dict(zip(ids, values))  # a matrix repeats its 0 and 1 objects
+            converted = dict(zip(distinct, map(self._from_fraction, distinct.values())))
+            return list(map(converted.__getitem__, ids))
+        return [self.convert(x) for x in values]
+
     def sign(self, x: Any) -> int:
         s: int = (x > 0) - (x < 0)
         return s
+
+    def _numerator_denominator(self, value: Fraction) -> Any:
+        return self._q(value.numerator, value.denominator)
+
+    def known_zero(self, x: Any) -> bool:
+        return not x
 
     def from_integers(self, numerator: Any, denominator: Any) -> Any:
         """The element ``numerator / denominator`` (integers, denominator non-zero)."""
