@@ -21,7 +21,7 @@ def report_options(p: argparse.ArgumentParser) -> None:
 def bench_options(p: argparse.ArgumentParser) -> None:
     """The options of ``verify bench``."""
     p.add_argument("--json", action="store_true", help="print the figures as JSON")
-    p.add_argument("--quick", action="store_true", help="a smoke run: 500 cases, one round, up to 100 impulses")
+    p.add_argument("--quick", action="store_true", help="a smoke run: small batches, one round, no Table 1 or GP")
     p.add_argument("--size", type=CASES, default=None, help="cases in the corner batch (default 10000)")
     p.add_argument("--save", default=None, metavar="FILE", type=OutputFile(), help="also write the JSON record to FILE")
 

@@ -39,6 +39,7 @@ from functools import cached_property, partial
 from typing import Any
 
 from verify.core.backends import Backend
+from verify.core.engines import balls
 from verify.core.engines import integer as fraction_free
 from verify.core.engines import rates as rate_form
 from verify.core.engines.policy import Limits, Run
@@ -450,11 +451,14 @@ def _run(
     exact: _ExactRates | None,
 ) -> Run:
     """One run at the system's backend: in rate coordinates (and over integers) when the backend
-    is exact and nothing is traced."""
+    is exact and nothing is traced; on rate midpoints with one radius on intervals when nothing is
+    traced or tested (:mod:`verify.core.engines.balls`); else the traced loop."""
     K = system.backend
     if K.is_exact and not K.is_parametric and not trace:
         return _iterate_untraced(system, v0, limits, halts, progress)
     checks = exact.at(limit=K.refined() is None) if exact is not None else None
+    if K.ball_form and not trace and not halts and progress is None:
+        return balls.iterate(system, v0, limits, exact=checks)
     return _iterate(system, v0, limits, halts, trace, progress=progress, exact=checks)
 
 

@@ -460,9 +460,8 @@ class System:
         e = _check_vector(restitution, self.r, "restitution")
         _check_cors(e)
         new = object.__new__(System)
-        for slot in System.__slots__:
-            if slot != "__weakref__" and hasattr(self, slot):
-                setattr(new, slot, getattr(self, slot))
+        for slot in _SHARED_SLOTS:  # everything but the CORs and what depends on them
+            setattr(new, slot, getattr(self, slot))
         new.source = {**self.source, "restitution": tuple(e)}
         try:
             new.restitution = tuple(self.backend.convert_all(e))
@@ -627,3 +626,10 @@ def source_numbers(system: System) -> list:
     src = system.source
     everything = [x for row in src["mass_matrix"] for x in row] + [x for row in src["normals"] for x in row]
     return everything + list(src["time_terms"]) + list(src["restitution"])
+
+
+#: the slots that :meth:`System.with_restitution` shares (the geometry); the others it sets anew
+_SHARED_SLOTS = tuple(
+    s for s in System.__slots__ if s not in ("__weakref__", "source", "restitution", "_minus_one_plus_e",
+                                              "_single_coefficient")
+)  # fmt: skip

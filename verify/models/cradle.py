@@ -256,16 +256,15 @@ def run_cradle_many(
     if not eps_values:
         return []
     system = cradle_system(eps_values[0], balls, masses, backend=backend, dps=dps)
-    v = cradle_velocity(balls, v0, velocity)
+    v = [to_number(c, where=f"velocity[{i}]") for i, c in enumerate(cradle_velocity(balls, v0, velocity))]
     halt = None
     if mode == "paper":
         reading = Reading.parse(aeev) if isinstance(aeev, str) else aeev
-        v_in = [to_number(c, where=f"velocity[{i}]") for i, c in enumerate(v)]
-        halt = aeev_halt(v_in, sigma_relative, reading=reading, sigma_squared=sigma_squared)
+        halt = aeev_halt(v, sigma_relative, reading=reading, sigma_squared=sigma_squared)
         cap = PAPER_MAX_ITERATIONS if max_iterations is None else max_iterations
     else:
         cap = DEFAULT_MAX_ITERATIONS if max_iterations is None else max_iterations
-    cors = [_restitution(eps, balls - 1) for eps in eps_values]
+    cors = [[to_number(e, where="eps") for e in _restitution(eps, balls - 1)] for eps in eps_values]
     # paper mode reproduces the paper's own termination, which had no proof of non-termination
     return solve_many(system, [v] * len(cors), restitutions=cors, law=law, max_iterations=cap, halt=halt, trace=trace,
                       certify=certify and mode == "exact")  # fmt: skip

@@ -187,8 +187,7 @@ def properties_page(profile: str, found: list[Any]) -> str:
         "Each refutation comes with its shrunk exact counterexample; save it as a case file and rerun it\n"
         "with "
         "`verify solve CASE.json --rule RULE` (add `--law simultaneous` for that law's rows; or let\n"
-        "`verify properties --counterexamples DIR` write the files).\n\n"
-        + _block(properties_text(profile, found))
+        "`verify properties --counterexamples DIR` write the files).\n\n" + _block(properties_text(profile, found))
     )
 
 
@@ -301,7 +300,7 @@ def performance_page(out: Path) -> str:
         "`verify report` renders it and never times anything, so the reports stay reproducible). Each ratio is\n"
         "against a baseline timed alternately in the same run, best of 3; see `verify bench --help`.\n\n"
         + _block(bench_text(record))
-        + "\nWhat issue 8 asks of these ratios:\n\n"
+        + "\nWhat issue 19 asks of these ratios:\n\n"
         + checks
         + "\n\n"
         + PERFORMANCE_NOTES
@@ -311,22 +310,33 @@ def performance_page(out: Path) -> str:
 PERFORMANCE_NOTES = """\
 How to read them:
 
-- The exact engine is the general one (a `System` built and validated per case, then `solve` without
-  a trace): it runs the first impulses on gmpy2 rationals and a long run over integers with one common
-  denominator (`verify/core/engines/integer.py`), where the rationals would pay gcds on every operation.
-  `exact_engine_pure_python` is the same engine on `fractions.Fraction`.
-- The float path (`verify/core/engines/floats.py`) certifies every branch with a rigorous error radius and
-  redoes exactly each case it cannot certify. Its slowness has two causes: NumPy calls on the few
-  hundred cases still running after the first impulses (the run lasts up to 100 impulses) cost more
-  than the plain loop's scalar operations, and the cases redone exactly (`float_path_exact_fallbacks`)
-  are the long runs sliding into the corner. There each impulse cancels part of the rate, so the
-  certified radius grows relative to the rate until a sign can no longer be certified; the exact redo
-  of those runs is most of the time. The plain float loop is fast and takes a wrong branch sequence
-  on `float_loop_wrong_branches` cases; the float path takes none.
-- On the interval backend each impulse loses about half a digit: `y + (-2 y)` is enclosed as if the
-  two `y` were independent (the dependency problem of interval arithmetic), so the run is repeated at
-  doubled precision (`interval_digits`) and the cost per impulse grows with the run, like the exact
-  numbers' size (`exact_bits`) does for the exact backend.
+- Each batch (`batch` in `bench.json`; `verify bench --help`) has its own plain loop over
+  `fractions.Fraction`, timed in the same run: the corner's eq. (10) with the paper's closed forms, or
+  the textbook loop of `verify/checks/baselines.py` for the cradle and general systems. Every
+  contestant keeps what the plain loop keeps: the branch sequence and the last velocity of each case.
+- The exact engine is the general one: a `System` built and checked per case (symmetric positive
+  definite mass matrix, independent normals, CORs in [0, 1]), then `solve` without a trace. It runs
+  the rule in rate coordinates (`verify/core/engines/rates.py`: the impulses act on the r rates
+  through the Gram matrix alone, and the velocity is formed once, at the end), and a long run over
+  integers with one common denominator (`verify/core/engines/integer.py`). The cradle batch uses the
+  batch entry point `solve_many`: the geometry is built once and each COR shares it.
+- `corner_short` is where the set-up of a case is most of the work. `bare_rates` is the same
+  computation written out bare (nothing checked, no object built, `verify/checks/baselines.py`): a
+  bound on what Python code reaches there. PARI/GP does the set-up in a few calls into its C library.
+- Table 1: `table1.runs` computes the 17 rows in exact and paper mode (exact numbers; exact mode also
+  proves that the two lowest rows never exit); `table1.gp` is the paper's loop in GP's reals, the
+  paper's own arithmetic, and `table1.gp_rationals` the same loop on exact rationals.
+- The certified float path (`verify/core/engines/floats.py`) certifies every branch: for two
+  constraints the rounding error is bounded in the frame of the rates themselves, so it does not grow
+  with alternating impacts; a sign it cannot certify is decided by an exact catch-up over integers
+  from the case's last exact state (`float_path_rung_catch_up`), and a case redone exactly only when
+  floats cannot hold it (`float_path_rung_exact`). The plain float loop takes a wrong branch sequence
+  on `float_loop_wrong_branches` cases.
+- Intervals run on rate midpoints with one radius in the kinetic-energy norm
+  (`verify/core/engines/balls.py`), which single impacts do not expand, so the precision stays at its
+  start (`interval_digits`) and the cost per impulse stays flat while the exact numbers grow
+  (`exact_bits`). A run pays a fixed set-up (the constants of the system, the enclosure of the
+  exit velocity), so on short runs (`impulse_cost.interval.10`) intervals cost more than exact numbers.
 """
 
 

@@ -18,7 +18,7 @@ undecided sign.
 Callers never test a backend's name or class to decide what to do: they read its
 capabilities, the class attributes of :class:`Backend` (``is_exact``, ``is_rigorous``,
 ``rationals``, ``widens_to_inputs``, ``encloses``, ``refinable``, ``is_parametric``,
-``fraction_free``). A new backend declares its own and is handled everywhere.
+``fraction_free``, ``ball_form``). A new backend declares its own and is handled everywhere.
 """
 
 from __future__ import annotations
@@ -56,6 +56,9 @@ class Backend:
     is_parametric: bool = False
     #: whether the rule may run over integers (:mod:`verify.core.engines.integer`; rationals only)
     fraction_free: bool = False
+    #: whether the rule may run on rate midpoints with one radius (:mod:`verify.core.engines.balls`:
+    #: mpmath intervals, whose enclosures then do not widen with the run)
+    ball_form: bool = False
     dps: int | None = None  #: decimal digits of precision, None when exact
     zero: Any
     one: Any

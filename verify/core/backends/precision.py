@@ -91,6 +91,7 @@ class IntervalBackend(_ContextBackend):
     is_rigorous = True
     encloses = True
     refinable = True
+    ball_form = True  #: untraced runs take :mod:`verify.core.engines.balls`
 
     def __init__(self, dps: int = DEFAULT_DPS, max_dps: int = MAX_INTERVAL_DPS):
         super().__init__(dps)
