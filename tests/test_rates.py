@@ -105,3 +105,17 @@ def test_solve_many_equals_one_solve_per_case() -> None:
     assert [r.system for r in plain] == [s, s]
     with pytest.raises(InvalidSystem, match="one per case"):
         solve_many(s, velocities, restitutions=[[1, 1]])
+
+
+def test_run_cradle_many_widens_the_field_for_an_algebraic_cor() -> None:
+    """A COR outside the field of the system built first (rationals here) gets a system over the
+    larger field; every run equals its own run_cradle."""
+    from verify.models.cradle import run_cradle, run_cradle_many
+
+    eps = ["1", "3 - 2*sqrt(2)", "0.1"]
+    many = run_cradle_many(eps, trace=False)
+    assert not many[1].backend.rationals and many[0].backend.rationals
+    for e, r in zip(eps, many):
+        one = run_cradle(e, trace=False)
+        assert (r.stop, r.impact_sets) == (one.stop, one.impact_sets)
+        assert [r.backend.to_exact(x) for x in r.exit_velocity] == [one.backend.to_exact(x) for x in one.exit_velocity]
