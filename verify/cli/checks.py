@@ -13,7 +13,6 @@ from verify.checks.impl import IMPL_NOTE
 from verify.checks.properties.profiles import PROFILES
 from verify.cli.common import (
     PROG,
-    WORKERS,
     BoundedInt,
     NonNegativeRational,
     OutputDir,
@@ -23,6 +22,8 @@ from verify.cli.common import (
     StatusLine,
     UsageError,
     budget_options,
+    cluster_executor,
+    cluster_options,
     command,
     run_budget,
     write_output,
@@ -48,11 +49,11 @@ def properties_options(p: argparse.ArgumentParser) -> None:
     p.add_argument(
         "--family", action="append", choices=("general", "cradle", "corner"), help="only this family (repeatable)"
     )
-    p.add_argument("--workers", type=WORKERS, default=None, help="processes (default: every core)")
+    cluster_options(p, "processes (default: every core); one row a task")
     p.add_argument("--counterexamples", metavar="DIR", type=OutputDir(),
                    help="write each counterexample as a case file into DIR")  # fmt: skip
     p.add_argument("--list", action="store_true", help="list the properties and exit")
-    p.add_argument("--quiet", action="store_true", help="no progress lines on stderr")
+    p.add_argument("--quiet", action="store_true", help="no progress and no refutations on stderr, only a final line")
     p.add_argument("--json", action="store_true", help="print the verdicts as JSON (contracts)")
 
 
@@ -96,36 +97,55 @@ def oracle_options(p: argparse.ArgumentParser) -> None:
 
 
 def cmd_properties(args: argparse.Namespace) -> int:
-    """``verify properties``: every row's verdict (or the list of properties); exit code 1 if one is refuted."""
-    import os
+    """``verify properties``: every row's verdict (or the list of properties); exit code 1 if one is refuted,
+    2 if a row could not be run (its task failed twice: the others are still run, checkpointed and shown)."""
+    import time
 
-    from verify.checks.properties.verdicts import report, rows, verdicts
+    from verify.checks.properties.verdicts import report, rows, run_verdicts
     from verify.records.results import dumps
     from verify.views.text import properties_text
 
     if args.list:
         list_properties(rows())
         return 0
-    workers = args.workers if args.workers is not None else (os.cpu_count() or 1)
+    status = StatusLine.for_args(args)
+    start = time.monotonic()
 
     def progress(done: int, total: int, v: Any) -> None:
-        line = f"  [{done}/{total}] {v.verdict:8} {v.cases:6} cases  {v.property} | {v.law} | {v.rule} | {v.family}"
-        if v.verdict == "refuted":  # shown at once: a long run may be stopped before its table
-            line += f"\n      {v.note}\n      {json.dumps(v.counterexample, sort_keys=True)}"
-        print(line, file=sys.stderr, flush=True)
+        if v.verdict == "refuted" and not args.quiet:  # shown at once: a long run may be stopped before its table
+            status.close()
+            print(f"  refuted: {v.property} | {v.law} | {v.rule} | {v.family}\n      {v.note}\n"
+                  f"      {json.dumps(v.counterexample, sort_keys=True)}", file=sys.stderr, flush=True)  # fmt: skip
+        width = 30
+        bar = "#" * (width * done // max(total, 1))
+        status.show(f"[{bar:{width}}] {done}/{total} rows  {time.monotonic() - start:.0f} s", now=done == total)
 
-    found = verdicts(
-        args.profile,
-        properties=args.property,
-        families=args.family,
-        rules=args.rule,
-        laws=args.law,
-        workers=workers,
-        progress=None if args.quiet else progress,
+    with cluster_executor(args) as executor:
+        run = run_verdicts(
+            args.profile,
+            properties=args.property,
+            families=args.family,
+            rules=args.rule,
+            laws=args.law,
+            workers=args.workers,
+            executor=executor,
+            checkpoint=args.checkpoint,
+            progress=progress,
+        )
+    status.close()
+    found = [v for v in run.results if v is not None]
+    counts = ", ".join(
+        f"{n} {kind}" for kind in ("proved", "holds", "refuted") if (n := sum(v.verdict == kind for v in found))
     )
+    print(f"{PROG} properties: {len(found)} of {len(run.results)} rows ({counts or 'none'}) in "
+          f"{time.monotonic() - start:.0f} s", file=sys.stderr, flush=True)  # fmt: skip
+    for f in run.failures:
+        print(f"{PROG}: error: row {f.label} failed twice: {f.error}", file=sys.stderr)
     if args.counterexamples:
         write_counterexamples(args.counterexamples, found)
     sys.stdout.write(dumps(report(args.profile, found)) if args.json else properties_text(args.profile, found))
+    if run.failures:
+        return 2
     return 1 if any(v.verdict == "refuted" for v in found) else 0
 
 

@@ -456,6 +456,62 @@ def one_line(exc: Any) -> str:
     return text
 
 
+# -- where work runs: local processes or a Dask cluster ---------------------------------------------
+
+CLUSTER_EXTRA = "install the cluster extra: pip install '.[cluster]'"
+
+
+def cluster_options(p: argparse.ArgumentParser, workers_help: str = "processes (default: every core)") -> None:
+    """``--workers``, ``--scheduler`` and ``--local-cluster`` (one of them at most), and ``--checkpoint``."""
+    where = p.add_mutually_exclusive_group()
+    where.add_argument("--workers", type=WORKERS, default=None, help=workers_help)
+    where.add_argument("--scheduler", metavar="ADDRESS", default=None,
+                       help="run on the Dask cluster of this scheduler (tcp://host:8786)")  # fmt: skip
+    where.add_argument("--local-cluster", metavar="N", type=WORKERS, default=None,
+                       help="run on a local Dask cluster of N single-threaded worker processes")  # fmt: skip
+    p.add_argument("--checkpoint", metavar="FILE", type=OutputFile(), default=None,
+                   help="record each finished task in FILE (JSON lines); the same command resumes from it")  # fmt: skip
+
+
+@contextlib.contextmanager
+def cluster_executor(args: argparse.Namespace) -> Iterator[Any]:
+    """The executor of ``--scheduler`` or ``--local-cluster`` (a Dask client's), closed on exit; None
+    for local processes. A missing dask or an unreachable scheduler is one line (exit code 2).
+
+    >>> with cluster_executor(argparse.Namespace(scheduler=None, local_cluster=None)) as executor:
+    ...     print(executor)
+    None
+    """
+    if args.scheduler is None and args.local_cluster is None:
+        yield None
+        return
+    option = "--scheduler" if args.scheduler is not None else "--local-cluster"
+    try:
+        import logging
+
+        from dask.distributed import Client, LocalCluster
+    except ImportError:
+        raise UsageError(f"{option} needs dask: {CLUSTER_EXTRA}") from None
+    with contextlib.ExitStack() as stack:
+        if args.scheduler is not None:
+            try:
+                client = stack.enter_context(Client(args.scheduler, timeout="10s"))
+            except (OSError, ValueError, TypeError) as exc:  # TimeoutError is an OSError
+                raise UsageError(f"--scheduler {args.scheduler!r}: cannot connect ({one_line(exc)})") from None
+        else:
+            cluster = stack.enter_context(
+                LocalCluster(
+                    n_workers=args.local_cluster,
+                    threads_per_worker=1,
+                    processes=True,
+                    dashboard_address=None,
+                    silence_logs=logging.ERROR,
+                )
+            )
+            client = stack.enter_context(Client(cluster))
+        yield client.get_executor()
+
+
 # -- the types of the numeric options (each checks its range when parsed: one line, exit code 2) -----
 
 COUNT = BoundedInt(0, MAX_COUNT)  #: caps on impulses

@@ -28,17 +28,20 @@ property and law, shared evenly between its rows).
 
 from __future__ import annotations
 
+import contextlib
 import json
 import math
+import os
 from collections import Counter
+from concurrent.futures import Executor
 from dataclasses import dataclass, field
 from typing import Any
 
-from verify.checks.pool import map_in_processes
 from verify.checks.properties.catalogue import PROPERTIES, SKIP, Property, property_named
 from verify.checks.properties.profiles import PER_PROPERTY, PROFILES
 from verify.checks.properties.proofs import PROOFS, prove
 from verify.checks.properties.strategies import FAMILIES, RULES, Drawn, cases
+from verify.checks.tasks import Checkpoint, Task, TaskRun, run_tasks
 from verify.core.rule import LAWS, Budget
 
 BUDGET = Budget(bits=4096)
@@ -274,6 +277,76 @@ def _run_row(args: tuple[str, str, str, int, str]) -> Verdict:
     return search(property_named(name), family, rule, examples, law=law)
 
 
+def row_tasks(
+    profile: str = "ci", *, properties: Any = None, families: Any = None, rules: Any = None, laws: Any = None
+) -> list[Task]:
+    """One task a row (its whole search: the verdicts and counterexamples of an unsplit run), with a
+    stable id: the row and its number of cases.
+
+    >>> for task in row_tasks("dev", properties=["the exit velocity"], families=["cradle"], rules=["ideal"]):
+    ...     print(task.id)
+    the exit velocity is outgoing | rule | ideal | cradle | 25
+    the exit velocity is outgoing | simultaneous | ideal | cradle | 25
+    """
+    table = rows(properties, families, rules, laws)
+    per_prop = Counter((p.name, law) for p, _, _, law in table)
+    out = []
+    for p, f, r, law in table:
+        examples = examples_per_row(profile, per_prop[p.name, law])
+        label = f"{p.name} | {law} | {r} | {f}"
+        out.append(Task(f"{label} | {examples}", _run_row, (p.name, f, r, examples, law), label))
+    return out
+
+
+def checkpoint_options(
+    profile: str = "ci", *, properties: Any = None, families: Any = None, rules: Any = None, laws: Any = None
+) -> dict[str, Any]:
+    """The options that change a run's results, as a checkpoint's header keeps them (not how it runs).
+
+    >>> checkpoint_options("dev", properties=["kinetic energy"])
+    {'profile': 'dev', 'property': ['kinetic energy'], 'family': None, 'rule': None, 'law': None}
+    """
+    return {"profile": profile, "property": properties, "family": families, "rule": rules, "law": laws}
+
+
+def run_verdicts(
+    profile: str = "ci",
+    *,
+    properties: Any = None,
+    families: Any = None,
+    rules: Any = None,
+    laws: Any = None,
+    workers: int | None = 1,
+    executor: Executor | None = None,
+    checkpoint: str | None = None,
+    progress: Any = None,
+) -> TaskRun:
+    """Every row's verdict as a :class:`verify.checks.tasks.TaskRun`: the verdicts in row order (None for a
+    row whose task failed twice) and the failures. ``executor`` runs the rows (a Dask cluster:
+    ``Client(...).get_executor()``), else ``workers`` local processes (None: one per core). With
+    ``checkpoint`` (a file name) rows finished by an earlier run with the same options are read from it
+    and each row finished now is appended. ``progress(done, total, verdict)`` is called as rows finish.
+    """
+    tasks = row_tasks(profile, properties=properties, families=families, rules=rules, laws=laws)
+    options = checkpoint_options(profile, properties=properties, families=families, rules=rules, laws=laws)
+    with contextlib.ExitStack() as stack:
+        store = stack.enter_context(Checkpoint(checkpoint, options)) if checkpoint else None
+        finished = store.open() if store else {}
+        count = sum(1 for t in tasks if t.id in finished)
+
+        def done(task: Task, verdict: Verdict) -> None:
+            nonlocal count
+            count += 1
+            if store:
+                store.add(task.id, verdict)
+            if progress:
+                progress(count, len(tasks), verdict)
+
+        return run_tasks(
+            tasks, workers=workers or os.cpu_count() or 1, executor=executor, finished=finished, on_result=done
+        )
+
+
 def verdicts(
     profile: str = "ci",
     *,
@@ -285,15 +358,14 @@ def verdicts(
     progress: Any = None,
 ) -> list[Verdict]:
     """Every row's verdict under a profile (``workers`` > 1 runs rows in processes; None:
-    one per core); ``laws`` selects the laws (default both)."""
-    table = rows(properties, families, rules, laws)
-    per_prop = Counter((p.name, law) for p, _, _, law in table)
-    jobs = [(p.name, f, r, examples_per_row(profile, per_prop[p.name, law]), law) for p, f, r, law in table]
-
-    def done(count: int, verdict: Verdict) -> None:
-        progress(count, len(jobs), verdict)
-
-    return map_in_processes(_run_row, jobs, workers=workers, on_done=done if progress else None)
+    one per core); ``laws`` selects the laws (default both). A row that fails twice (its search raised,
+    or its process died) raises :class:`RuntimeError` once the others are done."""
+    run = run_verdicts(
+        profile, properties=properties, families=families, rules=rules, laws=laws, workers=workers, progress=progress
+    )
+    if run.failures:
+        raise RuntimeError("; ".join(f"{f.label}: {f.error}" for f in run.failures))
+    return list(run.results)
 
 
 def report(profile: str, found: list[Verdict]) -> dict[str, Any]:
@@ -301,4 +373,15 @@ def report(profile: str, found: list[Verdict]) -> dict[str, Any]:
     return {"profile": profile, "properties": [v.record() for v in found]}
 
 
-__all__ = ["Drawn", "Runner", "Verdict", "report", "rows", "run_record", "search", "verdicts"]
+__all__ = [
+    "Drawn",
+    "Runner",
+    "Verdict",
+    "report",
+    "row_tasks",
+    "rows",
+    "run_record",
+    "run_verdicts",
+    "search",
+    "verdicts",
+]

@@ -1,0 +1,239 @@
+"""The task layer (verify/checks/tasks.py) and ``verify properties`` on it: results in task order whatever
+runs them (one process, a local pool, a Dask LocalCluster, one of whose workers is killed), one retry,
+failures reported while the other tasks finish, and checkpoints that resume a stopped run to the same output.
+"""
+
+from __future__ import annotations
+
+import json
+import os
+import signal
+from fractions import Fraction
+from pathlib import Path
+
+import pytest
+
+import verify.checks.properties.verdicts as verdicts_module
+from verify.checks.properties.verdicts import Verdict, run_verdicts
+from verify.checks.tasks import Checkpoint, Task, decode, encode, run_tasks
+from verify.cli import main
+
+#: a small slice of the suite (a few seconds in one process) for the checkpoint tests
+SMALL = ["properties", "--profile", "dev", "--property", "kinetic energy", "--family", "cradle"]
+SMALL += ["--rule", "asymmetric", "--rule", "general"]
+KINETIC = ["properties", "--profile", "dev", "--property", "kinetic energy", "--json", "--quiet"]
+
+
+def flaky(payload: tuple[str, int, int]) -> int:
+    """Fails (raises) on its first ``fails`` attempts, counted in the file ``marker``; then returns ``value``."""
+    marker, value, fails = payload
+    with open(marker, "a") as f:
+        f.write("x")
+    if os.path.getsize(marker) <= fails:
+        raise ValueError(f"attempt {os.path.getsize(marker)} of {value} fails")
+    return value * 10
+
+
+def dies_once(payload: tuple[str, int]) -> int:
+    """Kills its own process on its first attempt (a broken process pool), then returns ``value``."""
+    marker, value = payload
+    if not os.path.exists(marker):
+        Path(marker).write_text("died")
+        os._exit(1)
+    return value
+
+
+def run_cli(capsys: pytest.CaptureFixture[str], argv: list[str]) -> tuple[int, str, str]:
+    code = main(argv)
+    out, err = capsys.readouterr()
+    return code, out, err
+
+
+@pytest.mark.parametrize("workers", [1, 2])
+def test_one_retry_then_reported_while_the_others_finish(tmp_path: Path, workers: int) -> None:
+    tasks = [
+        Task(f"t{i}", flaky, (str(tmp_path / f"m{i}"), i, fails), f"row {i}") for i, fails in enumerate([0, 1, 2, 0])
+    ]
+    seen: list[str] = []
+    run = run_tasks(tasks, workers=workers, on_result=lambda t, r: seen.append(t.id))
+    assert run.results == [0, 10, None, 30]  # in task order; t1 failed once and was retried
+    assert [(f.id, f.label) for f in run.failures] == [("t2", "row 2")]
+    assert run.failures[0].error == "ValueError: attempt 2 of 2 fails"
+    assert sorted(seen) == ["t0", "t1", "t3"]
+    assert (tmp_path / "m2").read_text() == "xx"  # tried exactly twice
+
+
+def test_a_dead_worker_process_is_retried(tmp_path: Path) -> None:
+    tasks = [Task(f"t{i}", dies_once, (str(tmp_path / f"m{i}"), i)) for i in range(3)]
+    run = run_tasks(tasks, workers=2)
+    assert run.results == [0, 1, 2] and run.failures == []
+
+
+def test_results_round_trip_exactly_through_a_checkpoint(tmp_path: Path) -> None:
+    extra = (Fraction(1, 3), [Fraction(-2), 4], (1, 2))
+    v = Verdict("p", "general", "corner", "refuted", 3, {"id": "x", "velocity": ["1/2"]}, "note", extra, law="rule")
+    back = decode(json.loads(json.dumps(encode(v))))
+    assert back == v and back.extra == extra and type(back.extra[2]) is tuple and type(back.extra[1]) is list
+    with pytest.raises(TypeError):
+        encode(0.5)
+    path = str(tmp_path / "cp.jsonl")
+    with Checkpoint(path, {"profile": "dev"}) as cp:
+        assert cp.open() == {}
+        cp.add("a", v)
+    with open(path, "a") as f:
+        f.write('{"id": "b", "resu')  # torn: dropped, and the next line starts clean
+    with Checkpoint(path, {"profile": "dev"}) as cp:
+        assert cp.open() == {"a": v}
+        cp.add("c", 1)
+    with Checkpoint(path, {"profile": "dev"}) as cp:
+        assert cp.open() == {"a": v, "c": 1}
+    assert len(Path(path).read_text().splitlines()) == 3
+
+
+def test_help_lists_the_cluster_options(capsys: pytest.CaptureFixture[str]) -> None:
+    with pytest.raises(SystemExit):
+        main(["properties", "--help"])
+    out = capsys.readouterr().out
+    for option in ("--scheduler ADDRESS", "--local-cluster N", "--checkpoint FILE", "--workers"):
+        assert option in out
+
+
+@pytest.mark.parametrize(
+    "argv",
+    [
+        ["--workers", "2", "--local-cluster", "2"],
+        ["--scheduler", "tcp://127.0.0.1:1", "--local-cluster", "2"],
+        ["--local-cluster", "0"],
+        ["--local-cluster", "two"],
+    ],
+)
+def test_cluster_options_are_checked(capsys: pytest.CaptureFixture[str], argv: list[str]) -> None:
+    code, out, err = run_cli(capsys, ["properties", *argv])
+    assert code == 2 and out == ""
+    assert len(err.strip().splitlines()) == 1 and "Traceback" not in err
+
+
+def test_a_missing_dask_is_one_line(capsys: pytest.CaptureFixture[str], monkeypatch: pytest.MonkeyPatch) -> None:
+    import sys
+
+    monkeypatch.setitem(sys.modules, "dask.distributed", None)  # import fails as if dask were not installed
+    code, out, err = run_cli(capsys, ["properties", "--local-cluster", "2"])
+    assert code == 2 and out == ""
+    assert err == "verify: error: --local-cluster needs dask: install the cluster extra: pip install '.[cluster]'\n"
+
+
+def test_a_stopped_run_resumes_from_its_checkpoint(
+    tmp_path: Path, capsys: pytest.CaptureFixture[str], monkeypatch: pytest.MonkeyPatch, serial_kinetic: dict
+) -> None:
+    whole = str(tmp_path / "whole.jsonl")
+    code, expected, _ = run_cli(capsys, [*SMALL, "--workers", "1", "--checkpoint", whole])
+    lines = Path(whole).read_text().splitlines(keepends=True)
+    total = len(lines) - 1
+    assert total == 3 and code == 1  # kinetic energy is refuted on these cradle rows
+    header = json.loads(lines[0])
+    assert header["options"] == {"profile": "dev", "property": ["kinetic energy"], "family": ["cradle"],
+                                 "rule": ["asymmetric", "general"], "law": None}  # fmt: skip
+    # stopped after 2 rows, while writing the third
+    cut = str(tmp_path / "cut.jsonl")
+    Path(cut).write_text("".join(lines[:3]) + lines[3][:25])  # header, 2 rows, a torn third
+    ran: list[tuple] = []
+    real = verdicts_module._run_row
+
+    def counting(args: tuple) -> Verdict:
+        ran.append(args)
+        return real(args)
+
+    monkeypatch.setattr(verdicts_module, "_run_row", counting)
+    code2, resumed, err = run_cli(capsys, [*SMALL, "--workers", "1", "--checkpoint", cut])
+    assert (code2, resumed) == (code, expected)  # the same table, byte for byte
+    assert len(ran) == total - 2
+    assert Path(cut).read_text().splitlines()[:3] == [x.rstrip("\n") for x in lines[:3]]
+    assert len(Path(cut).read_text().splitlines()) == total + 1
+    # JSON too: a finished checkpoint runs nothing and prints the same as a run without one
+    ran.clear()
+    code3, again, _ = run_cli(capsys, [*SMALL, "--json", "--quiet", "--checkpoint", cut])
+    assert ran == [] and code3 == code
+    alone = [
+        r for r in serial_kinetic["properties"] if r["family"] == "cradle" and r["rule"] in ("asymmetric", "general")
+    ]
+    assert json.loads(again)["properties"] == alone
+    # the same file with other options that change results is refused
+    code4, out, err = run_cli(capsys, [*SMALL, "--profile", "ci", "--checkpoint", cut])
+    assert code4 == 2 and out == "" and "other options (profile: 'dev', not 'ci')" in err
+    assert len(err.strip().splitlines()) == 1
+
+
+def test_a_row_that_fails_twice_is_reported_and_the_others_finish(
+    tmp_path: Path, capsys: pytest.CaptureFixture[str], monkeypatch: pytest.MonkeyPatch
+) -> None:
+    real = verdicts_module._run_row
+    tried: list[tuple] = []
+
+    def broken(args: tuple) -> Verdict:
+        if args[1:3] == ("cradle", "general") and args[4] == "rule":
+            tried.append(args)
+            raise RuntimeError("boom")
+        return real(args)
+
+    monkeypatch.setattr(verdicts_module, "_run_row", broken)
+    cp = str(tmp_path / "cp.jsonl")
+    code, out, err = run_cli(capsys, [*SMALL, "--workers", "1", "--json", "--quiet", "--checkpoint", cp])
+    assert code == 2 and len(tried) == 2
+    assert "verify: error: row kinetic energy does not increase | rule | general | cradle failed twice: " \
+           "RuntimeError: boom" in err  # fmt: skip
+    shown = json.loads(out)["properties"]
+    assert [(r["law"], r["rule"]) for r in shown] == [("rule", "asymmetric"), ("simultaneous", "general")]
+    assert len(Path(cp).read_text().splitlines()) == len(shown) + 1  # the finished rows are kept
+
+
+# -- on a Dask LocalCluster ----------------------------------------------------------------------------
+
+
+@pytest.fixture(scope="module")
+def serial_kinetic() -> dict:
+    """``verify properties --profile dev --property 'kinetic energy' --json`` in one process."""
+    import contextlib
+    import io
+
+    out = io.StringIO()
+    with contextlib.redirect_stdout(out), contextlib.redirect_stderr(io.StringIO()):
+        main([*KINETIC, "--workers", "1"])
+    return json.loads(out.getvalue())
+
+
+@pytest.mark.slow
+def test_a_local_cluster_gives_the_same_verdicts(serial_kinetic: dict, capsys: pytest.CaptureFixture[str]) -> None:
+    pytest.importorskip("dask.distributed")
+    code, out, err = run_cli(capsys, [*KINETIC, "--local-cluster", "2"])
+    assert code == 1 and json.loads(out) == serial_kinetic
+    assert err.startswith("verify properties: 21 of 21 rows")
+
+
+@pytest.mark.slow
+def test_a_killed_worker_loses_nothing(serial_kinetic: dict, capsys: pytest.CaptureFixture[str]) -> None:
+    distributed = pytest.importorskip("dask.distributed")
+    import logging
+
+    cluster = distributed.LocalCluster(
+        n_workers=2, threads_per_worker=1, processes=True, dashboard_address=None, silence_logs=logging.CRITICAL
+    )
+    killed: list[int] = []
+    with cluster, distributed.Client(cluster) as client:
+        pids = sorted(client.run(os.getpid).values())
+
+        def kill_one(done: int, total: int, verdict: Verdict) -> None:
+            if not killed:
+                os.kill(pids[0], signal.SIGKILL)
+                killed.append(pids[0])
+
+        run = run_verdicts("dev", properties=["kinetic energy"], executor=client.get_executor(), progress=kill_one)
+        assert killed and run.failures == []
+        assert [v.record() for v in run.results] == serial_kinetic["properties"]
+        # the same cluster through --scheduler (a few rows)
+        code, out, _ = run_cli(
+            capsys, [*KINETIC, "--family", "corner", "--law", "rule", "--scheduler", cluster.scheduler_address]
+        )
+    assert code == 0
+    assert json.loads(out)["properties"] == [
+        r for r in serial_kinetic["properties"] if r["family"] == "corner" and r["law"] == "rule"
+    ]
