@@ -29,7 +29,6 @@ import subprocess
 import tempfile
 from collections.abc import Sequence
 from dataclasses import dataclass
-from decimal import Decimal
 from fractions import Fraction
 from pathlib import Path
 from typing import Any
@@ -104,10 +103,12 @@ def parse_number(text: str) -> Fraction:
     >>> parse_number("-8/5"), parse_number("1.5000 E-2"), parse_number("0.E-38")
     (Fraction(-8, 5), Fraction(3, 200), Fraction(0, 1))
     """
-    text = text.replace(" ", "")
-    if "." in text or "E" in text:
-        return Fraction(Decimal(text))
-    return Fraction(text)
+    from verify.core.parse import parse_number as exact
+
+    value = exact(text.replace(" ", ""), where="gp output")  # the project's one exact number parser
+    if not isinstance(value, Fraction):
+        raise GPError(f"gp printed {text!r}, not a rational or decimal number")
+    return value
 
 
 def parse_line(line: str) -> tuple[str, list[tuple[int, ...]], tuple[Fraction, ...]]:

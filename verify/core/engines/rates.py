@@ -85,11 +85,15 @@ def coefficients(system: System, b: Sequence[Any], J: tuple[int, ...]) -> tuple[
 
 def velocity(system: System, v0: Sequence[Any], mu: Sequence[Any]) -> tuple[Any, ...]:
     """``v0 + sum_j mu_j U_j`` (``None`` in ``mu`` for a constraint that took no impulse)."""
-    out = list(v0)
-    for j, c in enumerate(mu):
-        if c is not None:
-            for k, u in system.sparse_U[j]:
-                out[k] = out[k] + c * u
+    return moved(system, v0, [(j, c) for j, c in enumerate(mu) if c is not None])
+
+
+def moved(system: System, v: Sequence[Any], pairs: Sequence[tuple[int, Any]]) -> tuple[Any, ...]:
+    """``v + sum_j c_j U_j`` over the pairs ``(j, c_j)``: the velocity after an impulse."""
+    out = list(v)
+    for j, c in pairs:
+        for k, u in system.sparse_U[j]:
+            out[k] = out[k] + c * u
     return tuple(out)
 
 
@@ -148,7 +152,7 @@ def iterate(
     b = list(system.rates(v))
     r = len(b)
     mu: list[Any] = [None] * r
-    columns, sparse_U = system.gram_columns, system.sparse_U
+    columns = system.gram_columns
     impact_sets: list[tuple[int, ...]] = []
     betas: list[Any] = []
     watch = limits.bits is not None or limits.deadline is not None
@@ -196,11 +200,7 @@ def iterate(
             betas.append(bt)
         impact_sets.append(J)
         if halts:
-            moved = list(now)
-            for j, c in pairs:
-                for k, u in sparse_U[j]:
-                    moved[k] = moved[k] + c * u
-            now = tuple(moved)
+            now = moved(system, now, pairs)
         if progress is not None:
             progress(len(impact_sets))
     return Run(now if halts else velocity(system, v, mu), stop, impact_sets, betas, (), certificate)
