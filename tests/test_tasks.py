@@ -90,9 +90,10 @@ def test_results_round_trip_exactly_through_a_checkpoint(tmp_path: Path) -> None
     assert len(Path(path).read_text().splitlines()) == 3
 
 
-def test_help_lists_the_cluster_options(capsys: pytest.CaptureFixture[str]) -> None:
+@pytest.mark.parametrize("command", ["properties", "sweep", "corner-claims", "all", "report"])
+def test_help_lists_the_cluster_options(capsys: pytest.CaptureFixture[str], command: str) -> None:
     with pytest.raises(SystemExit):
-        main(["properties", "--help"])
+        main([command, "--help"])
     out = capsys.readouterr().out
     for option in ("--scheduler ADDRESS", "--local-cluster N", "--checkpoint FILE", "--workers"):
         assert option in out
@@ -132,7 +133,7 @@ def test_a_stopped_run_resumes_from_its_checkpoint(
     assert total == 3 and code == 1  # kinetic energy is refuted on these cradle rows
     header = json.loads(lines[0])
     assert header["options"] == {"profile": "dev", "property": ["kinetic energy"], "family": ["cradle"],
-                                 "rule": ["asymmetric", "general"], "law": None}  # fmt: skip
+                                 "rule": ["asymmetric", "general"], "law": None, "chunk": 2000}  # fmt: skip
     # stopped after 2 rows, while writing the third
     cut = str(tmp_path / "cut.jsonl")
     Path(cut).write_text("".join(lines[:3]) + lines[3][:25])  # header, 2 rows, a torn third
@@ -237,3 +238,97 @@ def test_a_killed_worker_loses_nothing(serial_kinetic: dict, capsys: pytest.Capt
     assert json.loads(out)["properties"] == [
         r for r in serial_kinetic["properties"] if r["family"] == "corner" and r["law"] == "rule"
     ]
+
+
+# -- rows split into chunks of cases (the thorough profile) -------------------------------------------
+
+
+def test_a_split_row_merges_its_chunks_the_same_whatever_runs_them() -> None:
+    """A row split into seeded chunks: its verdict is the same in one process and in a pool of two, a
+    holding row counts the cases of every chunk, and chunks 2.. search other cases than chunk 1 does."""
+    chosen = {"properties": ["the exit velocity"], "families": ["corner"], "rules": ["ideal"], "laws": ["rule"]}
+    serial = run_verdicts("dev", workers=1, chunk=10, **chosen)
+    pooled = run_verdicts("dev", workers=2, chunk=10, **chosen)
+    assert serial.failures == pooled.failures == []
+    assert [v.record() for v in serial.results] == [v.record() for v in pooled.results]
+    (row,) = serial.results
+    assert row.verdict == "holds" and row.tally["drawn"] == 25  # 3 chunks of 9, 8 and 8 cases
+    tasks = verdicts_module.row_tasks("dev", chunk=10, **chosen)
+    assert [t.payload[3] for t in tasks] == [9, 8, 8]
+    first, second = (verdicts_module._run_row(t.payload) for t in tasks[:2])
+    assert first.counts != second.counts or first.tally != second.tally  # other cases, not the same ones again
+
+
+def test_a_split_refuted_row_gives_a_reproducible_counterexample_and_a_whole_census() -> None:
+    """The termination row of the symmetric cradle is refuted (eps small enough never exits): split in
+    chunks, the first refuting chunk gives the counterexample, which fails the property when checked
+    again, and the census counts the runs of every chunk."""
+    from verify.checks.properties.verdicts import CENSUS_CASES, run_record
+
+    chosen = {"properties": ["the rule exits"], "families": ["cradle"], "rules": ["symmetric"], "laws": ["rule"]}
+    (row,) = run_verdicts("dev", workers=1, chunk=10, **chosen).results
+    assert row.verdict == "refuted"
+    assert row.counts[CENSUS_CASES] == row.cases == 25  # every chunk's cases, in the census
+    assert sum(v for k, v in row.counts.items() if k.startswith("stop ")) == 25
+    assert "a separate census of 25 cases" in row.note
+    assert run_record(row.counterexample, "symmetric").stop != "exit"  # the counterexample still fails
+
+
+# -- the sweeps of the corner on tasks ------------------------------------------------------------------
+
+SWEEP = ["sweep", "--cases", "300", "--seed", "5", "--json", "--quiet"]
+
+
+def _without_time(text: str) -> dict:
+    found = json.loads(text)
+    found.pop("seconds")
+    return found
+
+
+def test_a_stopped_sweep_resumes_to_the_same_output(
+    tmp_path: Path, capsys: pytest.CaptureFixture[str], monkeypatch: pytest.MonkeyPatch
+) -> None:
+    import verify.checks.sweep as sweep_module
+
+    whole = str(tmp_path / "whole.jsonl")
+    code, expected, _ = run_cli(capsys, [*SWEEP, "--workers", "1", "--checkpoint", whole])
+    lines = Path(whole).read_text().splitlines(keepends=True)
+    assert code == 0 and len(lines) == 1 + 3  # 100 cases a task
+    assert json.loads(lines[0])["options"] == {"command": "sweep", "cases": 300, "seed": 5, "max_iterations": 100}
+    assert _without_time(expected)["results"] == json.loads(run_cli(capsys, SWEEP)[1])["results"]  # pool, no file
+    cut = str(tmp_path / "cut.jsonl")
+    Path(cut).write_text("".join(lines[:2]) + lines[2][:40])  # one chunk done, the second torn
+    ran: list[int] = []
+    real = sweep_module._run_chunk
+
+    def counting(args: tuple) -> list:
+        ran.append(len(args[1]))
+        return real(args)
+
+    monkeypatch.setattr(sweep_module, "_run_chunk", counting)
+    code2, resumed, _ = run_cli(capsys, [*SWEEP, "--workers", "1", "--checkpoint", cut])
+    assert code2 == 0 and ran == [100, 100]
+    assert _without_time(resumed) == _without_time(expected)
+    code3, out, err = run_cli(capsys, [*SWEEP[:-4], "--seed", "6", "--checkpoint", cut])
+    assert code3 == 2 and out == "" and "other options (seed: 5, not 6)" in err
+
+
+def test_corner_claims_resume_from_a_checkpoint(
+    tmp_path: Path, capsys: pytest.CaptureFixture[str], monkeypatch: pytest.MonkeyPatch
+) -> None:
+    import verify.checks.sweep as sweep_module
+
+    argv = ["corner-claims", "--cases", "40", "--json", "--quiet", "--workers", "1"]
+    cp = str(tmp_path / "claims.jsonl")
+    code, expected, _ = run_cli(capsys, [*argv, "--checkpoint", cp])
+    assert len(Path(cp).read_text().splitlines()) == 1 + 3  # the claims: 160 cases in 2 tasks; floats: 40 in 1
+    monkeypatch.setattr(sweep_module, "_run_chunk", lambda args: pytest.fail("a finished task ran again"))
+    assert run_cli(capsys, [*argv, "--checkpoint", cp])[:2] == (code, expected)
+
+
+@pytest.mark.slow
+def test_a_sweep_on_a_local_cluster_equals_one_process(capsys: pytest.CaptureFixture[str]) -> None:
+    pytest.importorskip("dask.distributed")
+    serial = json.loads(run_cli(capsys, [*SWEEP, "--workers", "1"])[1])
+    code, out, _ = run_cli(capsys, [*SWEEP, "--local-cluster", "2"])
+    assert code == 0 and json.loads(out)["results"] == serial["results"]

@@ -1,10 +1,10 @@
 """Sweeps of many corner cases: deterministic case generators and a parallel runner.
 
 :func:`sweep` runs a list of case dictionaries (strings only, so they travel to other
-processes or machines) with :func:`run_case`, in chunks, on any
-``concurrent.futures.Executor``: local processes by default, or a Dask cluster through
-``dask.distributed.Client(...).get_executor()``. On a terminal it draws a progress bar on
-stderr. Results come back in the order of the cases.
+processes or machines) with :func:`run_case`, in chunks, as tasks of :mod:`verify.checks.tasks`:
+local processes by default, or a Dask cluster through ``dask.distributed.Client(...).get_executor()``,
+with a checkpoint if the :class:`~verify.checks.tasks.TaskRunner` keeps one. On a terminal it draws a
+progress bar on stderr. Results come back in the order of the cases.
 
 >>> cases = random_corner_cases(3, seed=1)
 >>> [r["stop"] for r in sweep(cases, workers=1, progress=False)]
@@ -13,6 +13,7 @@ stderr. Results come back in the order of the cases.
 
 from __future__ import annotations
 
+import contextlib
 import random
 import sys
 from collections import Counter
@@ -21,7 +22,7 @@ from concurrent.futures import Executor
 from fractions import Fraction
 from typing import Any
 
-from verify.checks.pool import map_in_processes
+from verify.checks.tasks import TaskRunner
 from verify.core.format import format_exact
 
 
@@ -198,26 +199,28 @@ def sweep(
     chunk: int = 100,
     progress: bool | None = None,
     func: Callable[[dict[str, Any]], dict[str, Any]] = run_case,
+    runner: TaskRunner | None = None,
 ) -> list[dict[str, Any]]:
-    """Run every case with ``func`` (default :func:`run_case`), in parallel, in order.
+    """Run every case with ``func`` (default :func:`run_case`, a module-level function), in parallel, in
+    order: one task (:mod:`verify.checks.tasks`) for each ``chunk`` cases, named by the function and a
+    digest of its cases.
 
     ``executor`` is any ``concurrent.futures.Executor`` (a Dask cluster:
     ``Client(...).get_executor()``); without one, a local process pool of ``workers``
-    processes (default: every core) is used, or no pool at all for ``workers=1``
-    (:func:`verify.checks.pool.map_in_processes`). ``progress`` draws a bar on stderr
-    (default: when stderr is a terminal).
+    processes (default: every core) is used, or no pool at all for ``workers=1``. ``runner`` (a
+    :class:`verify.checks.tasks.TaskRunner`, which may keep a checkpoint) replaces both. ``progress`` draws
+    a bar on stderr (default: when stderr is a terminal). A chunk whose task fails twice raises
+    :class:`RuntimeError` once the others are done.
     """
     cases = list(cases)
     chunks = [(func, cases[i : i + chunk]) for i in range(0, len(cases), chunk)]
     show = sys.stderr.isatty() if progress is None else progress
-    done = 0
-
-    def bar(_: int, results: list[dict[str, Any]]) -> None:
-        nonlocal done
-        done += len(results)
-        _bar(done, len(cases))
-
-    parts = map_in_processes(_run_chunk, chunks, workers=workers, executor=executor, on_done=bar if show else None)
+    bar = (lambda done, total, task, result: _bar(min(done * chunk, len(cases)), len(cases))) if show else None
+    with contextlib.ExitStack() as stack:
+        if runner is None:
+            runner = stack.enter_context(TaskRunner(workers=workers, executor=executor))
+        name = f"sweep {func.__module__}.{func.__qualname__}"
+        parts = runner.map(name, _run_chunk, chunks, key=lambda payload: payload[1], progress=bar)
     return [r for part in parts for r in part]
 
 
@@ -233,10 +236,19 @@ def sweep_summary(results: Sequence[dict[str, Any]]) -> dict[str, Any]:
     }
 
 
-def random_sweep(n: int, *, seed: int = 0, max_iterations: int = 100, workers: int | None = None) -> dict[str, Any]:
+def random_sweep(
+    n: int,
+    *,
+    seed: int = 0,
+    max_iterations: int = 100,
+    workers: int | None = None,
+    runner: TaskRunner | None = None,
+    progress: bool | None = None,
+) -> dict[str, Any]:
     """``verify sweep``: ``n`` random rational corner cases (:func:`random_corner_cases`) run exactly in
-    parallel; their :func:`sweep_summary` with ``cases`` (the count), ``seconds`` (wall time of the
-    runs) and ``results`` (one summary per case, in order).
+    parallel (on ``runner``, else ``workers`` local processes); their :func:`sweep_summary` with ``cases``
+    (the count), ``seconds`` (wall time of the runs) and ``results`` (one summary per case, in order);
+    ``progress`` as for :func:`sweep`.
 
     >>> s = random_sweep(2, seed=1, workers=1)
     >>> s["cases"], s["stops"], s["repeated_multiple_impacts"]
@@ -246,6 +258,6 @@ def random_sweep(n: int, *, seed: int = 0, max_iterations: int = 100, workers: i
 
     cases = random_corner_cases(n, seed=seed, max_iterations=max_iterations)
     start = time.perf_counter()
-    results = sweep(cases, workers=workers)
+    results = sweep(cases, workers=workers, runner=runner, progress=progress)
     seconds = time.perf_counter() - start
     return {"cases": len(cases), "seconds": seconds, **sweep_summary(results), "results": results}

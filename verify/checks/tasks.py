@@ -200,6 +200,92 @@ def _attempts(
         return
 
 
+class TaskRunner:
+    """Where tasks run, and what a stopped run keeps: ``executor`` (a Dask cluster's:
+    ``Client(...).get_executor()``) or ``workers`` local processes (1: here, in order; None: one per core),
+    and, with ``checkpoint`` (a file name), a :class:`Checkpoint` for a run with ``options``, shared by
+    every :meth:`run` of the runner (task ids are then unique across them). ``progress(done, total, task,
+    result)`` is called, within one :meth:`run`, as each task finishes (the tasks read from the checkpoint
+    count as done from the start).
+
+    >>> with TaskRunner() as runner:
+    ...     runner.run([Task("a", abs, -1), Task("b", abs, -2)]).results
+    [1, 2]
+    """
+
+    def __init__(
+        self,
+        *,
+        workers: int | None = 1,
+        executor: Executor | None = None,
+        checkpoint: str | None = None,
+        options: dict[str, Any] | None = None,
+        progress: Callable[[int, int, Task, Any], None] | None = None,
+    ):
+        self.workers = workers or os.cpu_count() or 1
+        self.executor = executor
+        self.progress = progress
+        self.store = Checkpoint(checkpoint, options or {}) if checkpoint else None
+        self.finished: dict[str, Any] = {}
+
+    def __enter__(self) -> TaskRunner:
+        if self.store is not None:
+            self.finished = self.store.open()
+        return self
+
+    def __exit__(self, *exc: object) -> None:
+        if self.store is not None:
+            self.store.close()
+
+    def run(self, tasks: Sequence[Task], *, progress: Callable[[int, int, Task, Any], None] | None = None) -> TaskRun:
+        """Run ``tasks`` (those in the checkpoint are not run again): :func:`run_tasks`, each finished task
+        appended to the checkpoint as it finishes; ``progress`` replaces the runner's own for this run."""
+        count = sum(1 for t in tasks if t.id in self.finished)
+        progress = progress or self.progress
+
+        def done(task: Task, result: Any) -> None:
+            nonlocal count
+            count += 1
+            self.finished[task.id] = result
+            if self.store is not None:
+                self.store.add(task.id, result)
+            if progress is not None:
+                progress(count, len(tasks), task, result)
+
+        return run_tasks(tasks, workers=self.workers, executor=self.executor, finished=self.finished, on_result=done)
+
+    def map(
+        self,
+        name: str,
+        fn: Callable[[Any], Any],
+        payloads: Sequence[Any],
+        *,
+        key: Callable[[Any], Any] | None = None,
+        progress: Callable[[int, int, Task, Any], None] | None = None,
+    ) -> list[Any]:
+        """``[fn(p) for p in payloads]`` as tasks, named ``name`` with the index and a digest of the payload
+        (of ``key(payload)`` if given: plain data whose repr is the same on every run), so that a checkpoint
+        reuses a result only for the same work; a task that failed twice raises :class:`RuntimeError` once
+        the others are done. ``progress`` as for :meth:`run`.
+
+        >>> TaskRunner().map("abs", abs, [-1, 2])
+        [1, 2]
+        """
+        tasks = [
+            Task(f"{name} | {i} | {_digest(key(p) if key else p)}", fn, p, f"{name} #{i}")
+            for i, p in enumerate(payloads)
+        ]
+        run = self.run(tasks, progress=progress)
+        if run.failures:
+            raise RuntimeError("; ".join(f"{f.label}: {f.error}" for f in run.failures))
+        return run.results
+
+
+def _digest(payload: Any) -> str:
+    """A short digest of a payload (its repr: plain data, the same on every run)."""
+    return hashlib.sha256(repr(payload).encode()).hexdigest()[:16]
+
+
 # -- encoding results exactly ------------------------------------------------------------------------
 
 
@@ -386,4 +472,14 @@ class Checkpoint:
         os.fsync(self.file.fileno())
 
 
-__all__ = ["Checkpoint", "Task", "TaskFailure", "TaskRun", "decode", "encode", "run_tasks", "source_fingerprint"]
+__all__ = [
+    "Checkpoint",
+    "Task",
+    "TaskFailure",
+    "TaskRun",
+    "TaskRunner",
+    "decode",
+    "encode",
+    "run_tasks",
+    "source_fingerprint",
+]

@@ -22,10 +22,10 @@ from verify.cli.common import (
     StatusLine,
     UsageError,
     budget_options,
-    cluster_executor,
     cluster_options,
     command,
     run_budget,
+    task_runner,
     write_output,
     writing,
 )
@@ -101,7 +101,7 @@ def cmd_properties(args: argparse.Namespace) -> int:
     2 if a row could not be run (its task failed twice: the others are still run, checkpointed and shown)."""
     import time
 
-    from verify.checks.properties.verdicts import report, rows, run_verdicts
+    from verify.checks.properties.verdicts import checkpoint_options, report, rows, run_verdicts
     from verify.records.results import dumps
     from verify.views.text import properties_text
 
@@ -120,18 +120,9 @@ def cmd_properties(args: argparse.Namespace) -> int:
         bar = "#" * (width * done // max(total, 1))
         status.show(f"[{bar:{width}}] {done}/{total} rows  {time.monotonic() - start:.0f} s", now=done == total)
 
-    with cluster_executor(args) as executor:
-        run = run_verdicts(
-            args.profile,
-            properties=args.property,
-            families=args.family,
-            rules=args.rule,
-            laws=args.law,
-            workers=args.workers,
-            executor=executor,
-            checkpoint=args.checkpoint,
-            progress=progress,
-        )
+    chosen = {"properties": args.property, "families": args.family, "rules": args.rule, "laws": args.law}
+    with task_runner(args, checkpoint_options(args.profile, **chosen)) as runner:
+        run = run_verdicts(args.profile, **chosen, progress=progress, runner=runner)
     status.close()
     found = [v for v in run.results if v is not None]
     counts = ", ".join(

@@ -512,6 +512,27 @@ def cluster_executor(args: argparse.Namespace) -> Iterator[Any]:
         yield client.get_executor()
 
 
+@contextlib.contextmanager
+def task_runner(args: argparse.Namespace, options: dict[str, Any]) -> Iterator[Any]:
+    """The :class:`verify.checks.tasks.TaskRunner` of :func:`cluster_options`: ``--workers`` local processes
+    or the cluster's executor, and the ``--checkpoint`` file for a run with ``options`` (those that change
+    results: a checkpoint of other options is refused, exit code 2).
+
+    >>> ns = argparse.Namespace(workers=1, scheduler=None, local_cluster=None, checkpoint=None)
+    >>> with task_runner(ns, {}) as runner:
+    ...     runner.map("abs", abs, [-2])
+    [2]
+    """
+    from verify.checks.tasks import TaskRunner
+
+    checkpoint = getattr(args, "checkpoint", None)
+    with cluster_executor(args) as executor, contextlib.ExitStack() as stack:
+        runner = TaskRunner(workers=args.workers, executor=executor, checkpoint=checkpoint, options=options)
+        with writing(checkpoint, "--checkpoint") if checkpoint else contextlib.nullcontext():
+            stack.enter_context(runner)  # reads the checkpoint, or starts it
+        yield runner
+
+
 # -- the types of the numeric options (each checks its range when parsed: one line, exit code 2) -----
 
 COUNT = BoundedInt(0, MAX_COUNT)  #: caps on impulses

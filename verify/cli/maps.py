@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import argparse
 import sys
+from typing import Any
 
 from verify.cli.common import (
     BALLS,
@@ -15,22 +16,30 @@ from verify.cli.common import (
     NUMBER,
     PROG,
     SEED,
-    WORKERS,
     BoundedInt,
     OutputDir,
     OutputFile,
+    StatusLine,
     UsageError,
+    cluster_options,
     split_option,
+    task_runner,
     writing,
 )
 
 
 def batch_options(p: argparse.ArgumentParser, *, cases: int, what: str, batch: str) -> None:
-    """``--cases``, ``--seed`` and ``--workers``: a deterministic ``batch`` of random cases (``cases`` by
-    default), run on local processes."""
+    """``--cases`` and ``--seed``: a deterministic ``batch`` of random cases (``cases`` by default), run as
+    tasks of 100 cases where :func:`verify.cli.common.cluster_options` says."""
     p.add_argument("--cases", type=CASES, default=cases, help=f"{what} (default {cases})")
     p.add_argument("--seed", type=SEED, default=0, help=f"seed of the deterministic {batch}, >= 0 (default 0)")
-    p.add_argument("--workers", type=WORKERS, default=None, help="local processes (default: every core)")
+    cluster_options(p, "local processes (default: every core); 100 cases a task")
+    p.add_argument("--quiet", action="store_true", help="no progress bar on stderr")
+
+
+def bar_wanted(args: argparse.Namespace) -> bool:
+    """A progress bar on stderr: on a terminal, without ``--quiet``."""
+    return StatusLine.for_args(args).enabled
 
 
 def corner_claims_options(p: argparse.ArgumentParser) -> None:
@@ -72,25 +81,32 @@ def cmd_corner_claims(args: argparse.Namespace) -> int:
     from verify.records.results import dumps
     from verify.views.text import corner_claims_json, corner_claims_text
 
-    data = corner_findings(args.cases, seed=args.seed, workers=args.workers)
-    claims = data[0]
-    sys.stdout.write(dumps(corner_claims_json(*data)) if args.json else corner_claims_text(*data))
-    if args.figures:
-        from pathlib import Path
-
-        from verify.views import figures
-
-        out = Path(args.figures)
-        for name, draw in (
-            ("corner-exit-vs-entrance.png", figures.corner_exit_vs_entrance),
-            ("corner-iterations.png", figures.corner_iterations_map),
-            ("corner-multiple-impacts.png", figures.corner_multiple_impacts_map),
-            ("wedge-boundary.png", figures.wedge_boundary),
-        ):
-            with writing(args.figures, "--figures"):
-                draw(out / name, workers=args.workers)
-            print(f"figure written to {out / name}", file=sys.stderr)
+    options = {"command": "corner-claims", "cases": args.cases, "seed": args.seed}
+    with task_runner(args, options) as runner:
+        data = corner_findings(args.cases, seed=args.seed, runner=runner, progress=bar_wanted(args))
+        claims = data[0]
+        sys.stdout.write(dumps(corner_claims_json(*data)) if args.json else corner_claims_text(*data))
+        if args.figures:
+            draw_corner_figures(args.figures, runner)
     return 1 if any(c.verdict == "refuted" for c in claims) else 0
+
+
+def draw_corner_figures(folder: str, runner: Any) -> None:
+    """``verify corner-claims --figures DIR``: the corner's four figures, their runs on ``runner``."""
+    from pathlib import Path
+
+    from verify.views import figures
+
+    out = Path(folder)
+    for name, draw in (
+        ("corner-exit-vs-entrance.png", figures.corner_exit_vs_entrance),
+        ("corner-iterations.png", figures.corner_iterations_map),
+        ("corner-multiple-impacts.png", figures.corner_multiple_impacts_map),
+        ("wedge-boundary.png", figures.wedge_boundary),
+    ):
+        with writing(folder, "--figures"):
+            draw(out / name, runner=runner)
+        print(f"figure written to {out / name}", file=sys.stderr)
 
 
 def cmd_sweep(args: argparse.Namespace) -> int:
@@ -98,7 +114,11 @@ def cmd_sweep(args: argparse.Namespace) -> int:
     from verify.checks.sweep import random_sweep
     from verify.records.results import dumps
 
-    found = random_sweep(args.cases, seed=args.seed, max_iterations=args.max_iterations, workers=args.workers)
+    options = {"command": "sweep", "cases": args.cases, "seed": args.seed, "max_iterations": args.max_iterations}
+    with task_runner(args, options) as runner:
+        found = random_sweep(
+            args.cases, seed=args.seed, max_iterations=args.max_iterations, runner=runner, progress=bar_wanted(args)
+        )
     if args.json:
         sys.stdout.write(dumps(dict(found, seconds=round(found["seconds"], 3))))
     else:

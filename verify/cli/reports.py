@@ -8,14 +8,14 @@ import sys
 from typing import Any
 
 from verify.checks.properties.profiles import PROFILES
-from verify.cli.common import CASES, WORKERS, OutputDir, OutputFile, write_output, writing
+from verify.cli.common import CASES, OutputDir, OutputFile, cluster_options, task_runner, write_output, writing
 
 
 def report_options(p: argparse.ArgumentParser) -> None:
     """The options of ``verify report``."""
     p.add_argument("--out", default="reports", type=OutputDir(), help="the folder to write (default reports)")
     p.add_argument("--profile", default="ci", choices=tuple(PROFILES), help="property profile (default ci)")
-    p.add_argument("--workers", type=WORKERS, default=None, help="processes (default: every core)")
+    cluster_options(p, "local processes (default: every core)")
 
 
 def bench_options(p: argparse.ArgumentParser) -> None:
@@ -29,15 +29,15 @@ def bench_options(p: argparse.ArgumentParser) -> None:
 def all_options(p: argparse.ArgumentParser) -> None:
     """The options of ``verify all``."""
     p.add_argument("--out", default="reports", type=OutputDir(), help="the folder for the reports (default reports)")
-    p.add_argument("--workers", type=WORKERS, default=None, help="processes (default: every core)")
+    cluster_options(p, "local processes (default: every core)")
 
 
 def cmd_report(args: argparse.Namespace) -> int:
     """``verify report``: write the reports."""
     from verify.views.pages import write_reports
 
-    with writing(args.out, "--out"):
-        write_reports(args.out, profile=args.profile, workers=args.workers,
+    with task_runner(args, {"command": "report", "profile": args.profile}) as runner, writing(args.out, "--out"):
+        write_reports(args.out, profile=args.profile, runner=runner,
                       progress=lambda line: print(line, file=sys.stderr, flush=True))  # fmt: skip
     print(f"reports written to {args.out}/")
     return 0
@@ -57,8 +57,8 @@ def cmd_all(args: argparse.Namespace) -> int:
         print(f"{line} ({time.monotonic() - start:.0f} s)", flush=True)
 
     refresh_engines(args.out, progress)
-    with writing(args.out, "--out"):
-        found = write_reports(args.out, profile="ci", workers=args.workers, progress=progress)
+    with task_runner(args, {"command": "all", "profile": "ci"}) as runner, writing(args.out, "--out"):
+        found = write_reports(args.out, profile="ci", runner=runner, progress=progress)
     summary, failed = all_summary(found.table1, found.cradle_map.cmap, found.corner_example, found.corner[0],
                                   profile=found.profile, found=found.verdicts,
                                   oracle_ok=found.oracle.self_check.ok)  # fmt: skip

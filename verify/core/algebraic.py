@@ -67,6 +67,11 @@ def _count_roots(p: sp.Poly, lo: Fraction, hi: Fraction) -> int:
     return int(p.count_roots(sp.Rational(lo.numerator, lo.denominator), sp.Rational(hi.numerator, hi.denominator)))
 
 
+def _rebuilt(coeffs: list[Fraction], lo: Fraction, hi: Fraction) -> RealAlgebraic:
+    """A :class:`RealAlgebraic` from its pickle (:meth:`RealAlgebraic.__reduce__`)."""
+    return RealAlgebraic(poly_from_coeffs(coeffs), lo, hi)
+
+
 @total_ordering
 class RealAlgebraic:
     """A real algebraic number: an irreducible polynomial and an isolating interval [lo, hi]."""
@@ -77,6 +82,19 @@ class RealAlgebraic:
         self.poly = poly
         self.lo = lo
         self.hi = hi
+
+    def __reduce__(self) -> tuple[Any, tuple[list[Fraction], Fraction, Fraction]]:
+        """Pickled by its coefficients (Fractions), for other processes: SymPy's own pickle of a polynomial
+        over QQ comes back over ZZ with python-flint's ground types, and the number would then not equal
+        itself (comparing two such copies of an irrational never ends).
+
+        >>> import pickle
+        >>> r = RealAlgebraic.roots_in(poly_from_coeffs([1, 0, -2]))[1]
+        >>> copy = pickle.loads(pickle.dumps(r))
+        >>> copy == r, copy.poly == r.poly
+        (True, True)
+        """
+        return (_rebuilt, ([_q(c) for c in self.poly.all_coeffs()], self.lo, self.hi))
 
     @classmethod
     def rational(cls, q: Fraction) -> RealAlgebraic:

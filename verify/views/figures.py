@@ -174,10 +174,12 @@ def _distance_panel(ax: Any, cmap: Any, boundary: Any) -> None:
 # -- the disk in the corner -------------------------------------------------------------------
 
 
-def _corner_runs(cases: list[dict[str, Any]], executor: Any = None, workers: int | None = None) -> list[dict[str, Any]]:
+def _corner_runs(
+    cases: list[dict[str, Any]], executor: Any = None, workers: int | None = None, runner: Any = None
+) -> list[dict[str, Any]]:
     from verify.checks.sweep import sweep
 
-    return sweep(cases, executor=executor, workers=workers, progress=False)
+    return sweep(cases, executor=executor, workers=workers, progress=False, runner=runner)
 
 
 def _angle_cases(alpha: str, phis: list[str], pairs: list[tuple[str, str]]) -> list[dict[str, Any]]:
@@ -196,7 +198,9 @@ def _angle_cases(alpha: str, phis: list[str], pairs: list[tuple[str, str]]) -> l
     ]
 
 
-def corner_exit_vs_entrance(path: str | Path, *, executor: Any = None, workers: int | None = None) -> Path:
+def corner_exit_vs_entrance(
+    path: str | Path, *, executor: Any = None, workers: int | None = None, runner: Any = None
+) -> Path:
     """Exit velocity against entrance direction (alpha = pi/6, v0 = 100), as in the paper's appendix:
     exit speed and exit direction for three pairs of CORs (certified interval runs)."""
     import math
@@ -205,7 +209,7 @@ def corner_exit_vs_entrance(path: str | Path, *, executor: Any = None, workers: 
     pairs = [("0.999", "0.001"), ("1/2", "1/2"), ("1", "1")]
     n = 181
     phis = [f"({2 * j - 181})*pi/360" for j in range(n)]  # -90.5 .. 89.5 degrees, off the walls' directions
-    results = _corner_runs(_angle_cases("pi/6", phis, pairs), executor, workers)
+    results = _corner_runs(_angle_cases("pi/6", phis, pairs), executor, workers, runner)
     fig, (ax1, ax2) = plt.subplots(1, 2, figsize=(10, 4), constrained_layout=True)
     for i, (e1, e2) in enumerate(pairs):
         rows = results[i * n : (i + 1) * n]
@@ -242,7 +246,9 @@ def _save(fig: Any, path: str | Path) -> Path:
     return path
 
 
-def corner_iterations_map(path: str | Path, *, executor: Any = None, workers: int | None = None, n: int = 30) -> Path:
+def corner_iterations_map(
+    path: str | Path, *, executor: Any = None, workers: int | None = None, runner: Any = None, n: int = 30
+) -> Path:
     """Impulses until exit over (alpha, phi), for a symmetric and an asymmetric pair of CORs;
     runs proved never to exit are marked. The grid's slopes and directions are rationals
     (tan alpha and tan phi to 6 digits), so every run is exact and fast."""
@@ -270,7 +276,7 @@ def corner_iterations_map(path: str | Path, *, executor: Any = None, workers: in
         for a in alphas
         for p in phis
     ]
-    results = _corner_runs(cases, executor, workers)
+    results = _corner_runs(cases, executor, workers, runner)
     fig, axes = plt.subplots(1, 2, figsize=(11, 4.2), constrained_layout=True)
     size = len(alphas) * len(phis)
     for ax, (e1, e2), part in zip(axes, pairs, (results[:size], results[size:])):
@@ -309,7 +315,7 @@ def _log_norm() -> Any:
 
 
 def corner_multiple_impacts_map(
-    path: str | Path, *, executor: Any = None, workers: int | None = None, n: int = 20
+    path: str | Path, *, executor: Any = None, workers: int | None = None, runner: Any = None, n: int = 20
 ) -> Path:
     """How many multiple impacts, over (eps1, eps2), for alpha = pi/6 and phi = pi/12 (the paper's
     example): repeated multiple impacts need very different CORs (certified interval runs)."""
@@ -330,7 +336,7 @@ def corner_multiple_impacts_map(
         for a in cors
         for b in cors
     ]
-    results = _corner_runs(cases, executor, workers)
+    results = _corner_runs(cases, executor, workers, runner)
     grid = np.zeros((n + 1, n + 1))
     forever = np.full((n + 1, n + 1), np.nan)
     for idx, r in enumerate(results):
@@ -355,7 +361,9 @@ def corner_multiple_impacts_map(
     return _save(fig, path)
 
 
-def wedge_boundary(path: str | Path, *, executor: Any = None, workers: int | None = None, n: int = 30) -> Path:
+def wedge_boundary(
+    path: str | Path, *, executor: Any = None, workers: int | None = None, runner: Any = None, n: int = 30
+) -> Path:
     """The symmetric termination boundary alpha*(eps) = pi/4 - atan(sqrt(eps)) with exact runs
     around it (entrance direction phi = alpha/2, as in the paper's example)."""
     import math
@@ -384,7 +392,7 @@ def wedge_boundary(path: str | Path, *, executor: Any = None, workers: int | Non
                     "backend": "interval",
                 }
             )
-    results = _corner_runs(cases, executor, workers)
+    results = _corner_runs(cases, executor, workers, runner)
     fig, ax = plt.subplots(figsize=(6, 4.5), constrained_layout=True)
     style = {
         "exit": ("o", "C0", "exits"),

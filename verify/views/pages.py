@@ -77,11 +77,15 @@ def oracle_findings() -> OracleFindings:
 class Findings:
     """What the reports show, each topic computed by one library call when first asked for.
 
-    ``verdicts`` reuses property verdicts already computed for ``profile``.
+    ``verdicts`` reuses property verdicts already computed for ``profile``; the long computations (the
+    corner's sweeps, the property rows) are tasks of ``runner`` (a :class:`verify.checks.tasks.TaskRunner`:
+    local processes or a Dask cluster, with a checkpoint or not; default one process per core).
     """
 
-    def __init__(self, profile: str = "ci", workers: int | None = None, verdicts: Any = None) -> None:
-        self.profile, self.workers = profile, workers
+    def __init__(self, profile: str = "ci", runner: Any = None, verdicts: Any = None) -> None:
+        from verify.checks.tasks import TaskRunner
+
+        self.profile, self.runner = profile, runner or TaskRunner(workers=None)
         self.given_verdicts = verdicts
 
     @cached_property
@@ -107,7 +111,7 @@ class Findings:
     def corner(self) -> tuple[Any, ...]:
         from verify.checks.paper.corner_claims import corner_findings
 
-        return corner_findings(CORNER_CASES, seed=0, workers=self.workers)
+        return corner_findings(CORNER_CASES, seed=0, runner=self.runner)
 
     @cached_property
     def verdicts(self) -> list[Any]:
@@ -115,7 +119,10 @@ class Findings:
 
         if self.given_verdicts:
             return list(self.given_verdicts)
-        return verdicts.verdicts(self.profile, workers=self.workers)
+        run = verdicts.run_verdicts(self.profile, runner=self.runner)
+        if run.failures:
+            raise RuntimeError("; ".join(f"{f.label}: {f.error}" for f in run.failures))
+        return list(run.results)
 
     @cached_property
     def oracle(self) -> OracleFindings:
@@ -151,7 +158,7 @@ def cradle_map_page(out: Path, report: Any) -> str:
     )
 
 
-def corner_page(out: Path, example: Any, findings: tuple[Any, ...], workers: int | None) -> str:
+def corner_page(out: Path, example: Any, findings: tuple[Any, ...], runner: Any = None) -> str:
     """The page of the corner: the paper's example run, the findings of ``verify corner-claims``; draws
     its figures into ``out``."""
     from verify.views import figures
@@ -163,7 +170,7 @@ def corner_page(out: Path, example: Any, findings: tuple[Any, ...], workers: int
         ("wedge-boundary.png", figures.wedge_boundary, "the symmetric termination boundary"),
     ]
     for name, draw, _ in names:
-        draw(out / name, workers=workers)
+        draw(out / name, runner=runner)
     pictures = "".join(f"\n![{what}]({name})\n" for name, _, what in names)
     return (
         "# The disk in a corner (Sect. 4.2)\n\n"
@@ -447,7 +454,7 @@ def engines_page(out: Path) -> str:
 PAGES: list[tuple[str, Callable[[Path, Findings], str]]] = [
     ("table1.md", lambda out, f: table1_page(f.table1)),
     ("cradle-map.md", lambda out, f: cradle_map_page(out, f.cradle_map)),
-    ("corner.md", lambda out, f: corner_page(out, f.corner_example, f.corner, f.workers)),
+    ("corner.md", lambda out, f: corner_page(out, f.corner_example, f.corner, f.runner)),
     ("properties.md", lambda out, f: properties_page(f.profile, f.verdicts)),
     ("oracle.md", lambda out, f: oracle_page(f.oracle)),
     ("performance.md", lambda out, f: performance_page(out)),
@@ -468,14 +475,19 @@ TITLES = {
 
 
 def write_reports(out: str | Path = "reports", *, profile: str = "ci", workers: int | None = None,
-                  progress: Callable[[str], None] | None = None, verdicts: Any = None) -> Findings:  # fmt: skip
+                  progress: Callable[[str], None] | None = None, verdicts: Any = None,
+                  runner: Any = None) -> Findings:  # fmt: skip
     """Write every page and the index into ``out``; returns the :class:`Findings` shown, which the
-    summary of ``verify all`` reads. ``verdicts`` reuses property verdicts already computed for ``profile``."""
+    summary of ``verify all`` reads. ``verdicts`` reuses property verdicts already computed for ``profile``.
+    The long computations run on ``runner`` (:class:`verify.checks.tasks.TaskRunner`), else on ``workers``
+    local processes (None: one per core)."""
     from verify.records.files import write_all_atomic
 
     out = Path(out)
     out.mkdir(parents=True, exist_ok=True)
-    findings = Findings(profile, workers, verdicts)
+    from verify.checks.tasks import TaskRunner
+
+    findings = Findings(profile, runner or TaskRunner(workers=workers), verdicts)
     texts: dict[str, str] = {}
     for i, (name, page) in enumerate(PAGES, 1):
         if progress:

@@ -19,6 +19,7 @@ from fractions import Fraction
 from typing import Any
 
 from verify.checks.sweep import random_corner_cases, run_case, sweep
+from verify.checks.tasks import TaskRunner
 
 
 @dataclass
@@ -73,14 +74,16 @@ def check_claims(
     executor: Executor | None = None,
     workers: int | None = None,
     progress: bool | None = None,
+    runner: TaskRunner | None = None,
 ) -> list[Claim]:
-    """Check the claims of Sect. 4.2 on ``n`` cases of each kind (general, symmetric, ideal)."""
+    """Check the claims of Sect. 4.2 on ``n`` cases of each kind (general, symmetric, ideal); the runs are
+    tasks of ``runner`` (:class:`verify.checks.tasks.TaskRunner`), else of ``executor`` or ``workers``."""
     general = random_corner_cases(n, seed=seed, max_iterations=1000)
     symmetric = random_corner_cases(n, seed=seed + 1, cors="symmetric", max_iterations=1000)
     ideal = random_corner_cases(n, seed=seed + 2, cors="ideal", max_iterations=1000)
     mirrored = [_mirror(c) for c in general]
     every = general + symmetric + ideal + mirrored
-    results = sweep(every, executor=executor, workers=workers, progress=progress, func=run_with_paper)
+    results = sweep(every, executor=executor, workers=workers, progress=progress, func=run_with_paper, runner=runner)
     rg, rs, ri, rm = (results[i * n : (i + 1) * n] for i in range(4))
     bad = _first(general + symmetric + ideal, rg + rs + ri, lambda c, r: not r["agrees_with_paper_formulas"])
     ideal_claim, symmetric_claim = _at_most_once_claims(ideal, ri, symmetric, rs)
@@ -164,15 +167,24 @@ def _repeated_claim(general: list[dict[str, Any]], rg: list[dict[str, Any]]) -> 
     )
 
 
-def corner_findings(cases: int = 2000, *, seed: int = 0, workers: int | None = None) -> tuple:
+def corner_findings(
+    cases: int = 2000,
+    *,
+    seed: int = 0,
+    workers: int | None = None,
+    runner: TaskRunner | None = None,
+    progress: bool | None = False,
+) -> tuple:
     """Everything ``verify corner-claims`` reports: (claims, symmetric termination boundary,
-    eps, rebounds by slope, float against exact), for the text and JSON views."""
+    eps, rebounds by slope, float against exact), for the text and JSON views. The sweeps run on
+    ``runner`` (local processes, a Dask cluster, with a checkpoint or not), else on ``workers`` processes;
+    ``progress`` draws their bars on stderr (None: on a terminal)."""
     from verify.checks.paper.float_check import float_vs_exact
     from verify.models.wedge import approach_slopes, rebounds_by_slope, symmetric_boundary
 
-    claims = check_claims(cases, seed=seed, workers=workers)
+    claims = check_claims(cases, seed=seed, workers=workers, runner=runner, progress=progress)
     eps = "1/4"
     slopes = ["1/2", "2/5", *approach_slopes(Fraction(1, 4), 4), "3/10", "1/5"]
     rebounds = rebounds_by_slope(eps, ["1", "3/10"], slopes)
-    floats = float_vs_exact(random_corner_cases(cases, seed=seed), workers=workers)
+    floats = float_vs_exact(random_corner_cases(cases, seed=seed), workers=workers, runner=runner, progress=progress)
     return claims, symmetric_boundary(), eps, rebounds, floats

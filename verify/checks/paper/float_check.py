@@ -21,6 +21,7 @@ from fractions import Fraction
 from typing import Any
 
 from verify.checks.sweep import sweep
+from verify.checks.tasks import TaskRunner
 
 
 def compare_case(case: dict[str, Any]) -> dict[str, Any]:
@@ -66,9 +67,11 @@ def float_vs_exact(
     executor: Executor | None = None,
     workers: int | None = None,
     progress: bool | None = None,
+    runner: TaskRunner | None = None,
 ) -> dict[str, Any]:
-    """Compare every case; counts by reason, and the first few differing cases."""
-    results = sweep(cases, executor=executor, workers=workers, progress=progress, func=compare_case)
+    """Compare every case (on ``runner``, else ``executor`` or ``workers``: :func:`verify.checks.sweep.sweep`);
+    counts by reason, and the first few differing cases."""
+    results = sweep(cases, executor=executor, workers=workers, progress=progress, func=compare_case, runner=runner)
     differing = [(c, r) for c, r in zip(cases, results) if r["differs"]]
     reasons: dict[str, int] = {}
     for _, r in differing:

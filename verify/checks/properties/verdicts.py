@@ -29,9 +29,13 @@ property and law, shared evenly between its rows).
 from __future__ import annotations
 
 import contextlib
+import dataclasses
+import hashlib
 import json
 import math
-import os
+import random
+import sys
+import warnings
 from collections import Counter
 from concurrent.futures import Executor
 from dataclasses import dataclass, field
@@ -41,7 +45,7 @@ from verify.checks.properties.catalogue import PROPERTIES, SKIP, Property, prope
 from verify.checks.properties.profiles import PER_PROPERTY, PROFILES
 from verify.checks.properties.proofs import PROOFS, prove
 from verify.checks.properties.strategies import FAMILIES, RULES, Drawn, cases
-from verify.checks.tasks import Checkpoint, Task, TaskRun, run_tasks
+from verify.checks.tasks import Task, TaskRun, TaskRunner
 from verify.core.rule import LAWS, Budget
 
 BUDGET = Budget(bits=4096)
@@ -110,6 +114,12 @@ class Verdict:
     note: str = ""
     extra: Any = field(default=None, repr=False)
     law: str = "rule"  #: ``rule`` or ``simultaneous``; ``rule`` is then the COR variant
+    #: how the search went: cases ``drawn``, those where the property ``applied`` and those ``skipped``
+    #: (up to the counterexample for a refuted row); what the checks counted (``counts``: how runs end,
+    #: over every case of the row, a census row's census included); the note before its census sentence
+    tally: dict[str, int] = field(default_factory=dict, repr=False)
+    counts: dict[str, int] = field(default_factory=dict, repr=False)
+    detail: str = field(default="", repr=False)
 
     def record(self) -> dict[str, Any]:
         return {
@@ -156,8 +166,12 @@ def _check(prop: Property, runner: Runner, item: Any) -> str | None:
         return f"the engine raised {type(exc).__name__}: {' '.join(str(exc).split())}"
 
 
-def search(prop: Property, family: str, rule: str, examples: int, *, law: str = "rule") -> Verdict:
-    """Search one row for a counterexample with ``examples`` cases (the law's runs)."""
+def search(
+    prop: Property, family: str, rule: str, examples: int, *, law: str = "rule", seed: int | None = None
+) -> Verdict:
+    """Search one row for a counterexample with ``examples`` cases (the law's runs). Hypothesis is
+    derandomised (the same cases on every run), or seeded with ``seed`` (another chunk of a split row's
+    cases, :func:`merge_chunks`)."""
     from hypothesis import HealthCheck, Phase, find, settings
     from hypothesis import strategies as st
     from hypothesis.errors import NoSuchExample, Unsatisfiable
@@ -191,9 +205,9 @@ def search(prop: Property, family: str, rule: str, examples: int, *, law: str = 
     proof_name, explain = prop.statement(law)
     proof = prove(proof_name, rule) if proof_name else None
     try:
-        item = find(strategy, fails, settings=config)
+        item = find(strategy, fails, settings=config, random=None if seed is None else random.Random(seed))
     except (NoSuchExample, Unsatisfiable):
-        return _holds(prop, (family, rule, law), tally, runner.counts, proof)
+        return _holds(prop, (family, rule, law), dict(tally), dict(runner.counts), proof)
     d, extra = item if prop.extra is not None else (item, None)
     why = _check(prop, Runner(law), item) or ""
     note = why + (f" (with {_describe(extra)})" if extra is not None else "")
@@ -205,21 +219,33 @@ def search(prop: Property, family: str, rule: str, examples: int, *, law: str = 
     law_part = "" if law == "rule" else f"{law}-"
     record = dict(d.record, id=f"{family}-{rule}-{law_part}{_slug(prop.name)}")
     note += f"; reproduce with: verify solve CASE.json --rule {rule}" + ("" if law == "rule" else f" --law {law}")
-    tried = tally["applied"]
+    found = Verdict(prop.name, rule, family, "refuted", tally["applied"], record, note, extra, law, dict(tally))
+    found.detail = note
     if prop.census:
-        tried, counts = _census(prop, strategy, examples, law)
-        note += f"; a separate census of {tried} cases ends: " + ", ".join(
-            f"{k}: {v}" for k, v in sorted(counts.items())
-        )
-    return Verdict(prop.name, rule, family, "refuted", tried, record, note, extra, law=law)
+        found.counts = dict(_census(prop, strategy, examples, law, seed))
+        found.cases, found.note = _census_note(found.detail, found.counts)
+    return found
 
 
-def _census(prop: Property, strategy: Any, examples: int, law: str) -> tuple[int, Counter]:
-    """How the runs of a refuted row end, over all its cases (the search stops at the first failure)."""
+def _census_note(detail: str, counts: dict[str, int]) -> tuple[int, str]:
+    """A census row's cases and note: the census' count of cases, and its sentence after ``detail``."""
+    tried = counts.get(CENSUS_CASES, 0)
+    ends = ", ".join(f"{k}: {v}" for k, v in sorted(counts.items()) if k != CENSUS_CASES)
+    return tried, f"{detail}; a separate census of {tried} cases ends: {ends}"
+
+
+#: the key of a census' count of cases in :attr:`Verdict.counts`
+CENSUS_CASES = "cases"
+
+
+def _census(prop: Property, strategy: Any, examples: int, law: str, seed: int | None = None) -> Counter[str]:
+    """How the runs of a refuted row end, over all its cases (the search stops at the first failure),
+    with the number of cases under :data:`CENSUS_CASES`."""
     from hypothesis import HealthCheck, Phase, given, settings
+    from hypothesis import seed as seeded
 
     runner = Runner(law)
-    seen: Counter[str] = Counter()
+    seen = 0
 
     @settings(
         max_examples=examples,
@@ -231,23 +257,65 @@ def _census(prop: Property, strategy: Any, examples: int, law: str) -> tuple[int
     )
     @given(strategy)
     def count(item: Any) -> None:
-        seen["cases"] += 1
+        nonlocal seen
+        seen += 1
         _check(prop, runner, item)
 
-    count()
-    return seen["cases"], runner.counts
+    seeded(CENSUS_SEED if seed is None else seed)(count)()
+    return Counter({**runner.counts, CENSUS_CASES: seen})
 
 
-def _holds(prop: Property, row: tuple[str, str, str], tally: Counter, counts: Counter, proof: str | None) -> Verdict:
+#: the seed of an unsplit row's census. Derandomised, Hypothesis would seed it from a digest of the source
+#: lines of ``count`` above, read from the file when it runs: any edit above them (or of the file while a
+#: long run goes on) would draw other cases
+CENSUS_SEED = 0
+
+
+def _holds(
+    prop: Property, row: tuple[str, str, str], tally: dict[str, int], counts: dict[str, int], proof: str | None
+) -> Verdict:
     family, rule, law = row
-    parts = [f"no counterexample in {tally['applied']} cases"]
-    if tally["skipped"]:
+    parts = [f"no counterexample in {tally.get('applied', 0)} cases"]
+    if tally.get("skipped"):
         parts.append(f"{tally['skipped']} of {tally['drawn']} drawn cases did not apply")
     parts += [f"{k}: {v}" for k, v in sorted(counts.items())]
-    if proof:
-        note = proof + "; " + "; ".join(parts)
-        return Verdict(prop.name, rule, family, "proved", tally["applied"], None, note, law=law)
-    return Verdict(prop.name, rule, family, "holds", tally["applied"], None, "; ".join(parts), law=law)
+    verdict, note = ("proved", proof + "; " + "; ".join(parts)) if proof else ("holds", "; ".join(parts))
+    return Verdict(prop.name, rule, family, verdict, tally.get("applied", 0), None, note, law=law, tally=tally,
+                   counts=counts)  # fmt: skip
+
+
+def merge_chunks(parts: list[Verdict]) -> Verdict:
+    """One row's verdict from the verdicts of its chunks (in chunk order; each searched its own seeded
+    cases): the first refuting chunk's counterexample, with the cases checked up to it (and a census
+    row's census over every chunk); else the row holds (or is proved) on the cases of every chunk.
+
+    >>> p = "the exit velocity is outgoing"
+    >>> a = Verdict(p, "ideal", "corner", "holds", 3, tally={"drawn": 3, "applied": 3}, counts={"stop exit": 3})
+    >>> b = Verdict(p, "ideal", "corner", "holds", 2, tally={"drawn": 4, "applied": 2, "skipped": 2},
+    ...             counts={"stop exit": 4})
+    >>> merge_chunks([a, b]).note
+    'no counterexample in 5 cases; 2 of 7 drawn cases did not apply; stop exit: 7'
+    """
+    if len(parts) == 1:
+        return parts[0]
+    first = parts[0]
+    prop = property_named(first.property)
+    refuted = next((i for i, v in enumerate(parts) if v.verdict == "refuted"), None)
+    if refuted is None:
+        tally = sum((Counter(v.tally) for v in parts), Counter())
+        counts = sum((Counter(v.counts) for v in parts), Counter())
+        proof_name, _ = prop.statement(first.law)
+        proof = prove(proof_name, first.rule) if proof_name else None
+        return _holds(prop, (first.family, first.rule, first.law), dict(tally), dict(counts), proof)
+    found = dataclasses.replace(parts[refuted])
+    found.cases = sum(v.tally.get("applied", 0) for v in parts[: refuted + 1])
+    if prop.census:  # every chunk's census: a holding chunk counted its runs while searching
+        counts = Counter[str]()
+        for v in parts:
+            counts += Counter(v.counts if v.verdict == "refuted" else {**v.counts, CENSUS_CASES: v.tally["drawn"]})
+        found.counts = dict(counts)
+        found.cases, found.note = _census_note(found.detail, found.counts)
+    return found
 
 
 def _describe(extra: Any) -> str:
@@ -272,21 +340,59 @@ def examples_per_row(profile: str, n_rows: int) -> int:
     return PROFILES[profile]
 
 
-def _run_row(args: tuple[str, str, str, int, str]) -> Verdict:
-    name, family, rule, examples, law = args
-    return search(property_named(name), family, rule, examples, law=law)
+#: the most cases one task searches: a row with more (the thorough profile) is split into chunks of its
+#: cases, each searched on its own with its own seed, so that the work balances over many workers
+CHUNK = 2000
+
+
+def _run_row(args: tuple[str, str, str, int, str] | tuple[str, str, str, int, str, int | None]) -> Verdict:
+    name, family, rule, examples, law, *seed = args
+    with warnings.catch_warnings():
+        if _in_dask_worker():
+            # Hypothesis warns when the global random state changes while a case is drawn; in a Dask worker
+            # the worker's own threads use the random module meanwhile (our strategies do not: in one process
+            # the warning is an error of the test suite). The cases come from Hypothesis' own generator.
+            warnings.filterwarnings("ignore", message="Do not use the `random` module inside strategies")
+        return search(property_named(name), family, rule, examples, law=law, seed=seed[0] if seed else None)
+
+
+def _in_dask_worker() -> bool:
+    """Whether this runs in a task of a Dask worker."""
+    if "distributed" not in sys.modules:
+        return False
+    from dask.distributed import get_worker
+
+    try:
+        get_worker()
+    except ValueError:  # no worker here
+        return False
+    return True
+
+
+def _chunk_seed(task_id: str) -> int:
+    """The seed of a chunk: from its id (the row, its cases and the chunk's number), the same on every run."""
+    return int.from_bytes(hashlib.sha256(task_id.encode()).digest()[:8], "big")
 
 
 def row_tasks(
-    profile: str = "ci", *, properties: Any = None, families: Any = None, rules: Any = None, laws: Any = None
+    profile: str = "ci",
+    *,
+    properties: Any = None,
+    families: Any = None,
+    rules: Any = None,
+    laws: Any = None,
+    chunk: int = CHUNK,
 ) -> list[Task]:
-    """One task a row (its whole search: the verdicts and counterexamples of an unsplit run), with a
-    stable id: the row and its number of cases.
+    """The tasks of each row, with stable ids: the row and its number of cases; a row of more than
+    ``chunk`` cases (:data:`CHUNK`) is split into chunks (ids ending ``chunk j/n``): the first chunk derandomised as
+    an unsplit row is, each other one seeded from its id. :func:`merge_chunks` makes the row's verdict.
 
     >>> for task in row_tasks("dev", properties=["the exit velocity"], families=["cradle"], rules=["ideal"]):
     ...     print(task.id)
     the exit velocity is outgoing | rule | ideal | cradle | 25
     the exit velocity is outgoing | simultaneous | ideal | cradle | 25
+    >>> [t.id.split(" | ", 4)[-1] for t in row_tasks("thorough", properties=["the exit velocity"])][:2]
+    ['8334 | chunk 1/5', '8334 | chunk 2/5']
     """
     table = rows(properties, families, rules, laws)
     per_prop = Counter((p.name, law) for p, _, _, law in table)
@@ -294,19 +400,46 @@ def row_tasks(
     for p, f, r, law in table:
         examples = examples_per_row(profile, per_prop[p.name, law])
         label = f"{p.name} | {law} | {r} | {f}"
-        out.append(Task(f"{label} | {examples}", _run_row, (p.name, f, r, examples, law), label))
+        n = math.ceil(examples / chunk)
+        if n == 1:
+            out.append(Task(f"{label} | {examples}", _run_row, (p.name, f, r, examples, law), label))
+            continue
+        for j in range(n):
+            size = examples // n + (1 if j < examples % n else 0)
+            task_id = f"{label} | {examples} | chunk {j + 1}/{n}"
+            seed = None if j == 0 else _chunk_seed(task_id)
+            out.append(Task(task_id, _run_row, (p.name, f, r, size, law, seed), f"{label} (chunk {j + 1}/{n})"))
     return out
 
 
+def _rows_of(tasks: list[Task], run: TaskRun) -> TaskRun:
+    """The verdict of each row (its chunks merged, None if one of them failed) from a run of its tasks."""
+    groups: dict[str, list[int]] = {}
+    for i, task in enumerate(tasks):
+        groups.setdefault(task.id.split(" | chunk ")[0], []).append(i)
+    failed = {f.id for f in run.failures}
+    results = [
+        None if any(tasks[i].id in failed for i in chunk) else merge_chunks([run.results[i] for i in chunk])
+        for chunk in groups.values()
+    ]
+    return TaskRun(results, run.failures)
+
+
 def checkpoint_options(
-    profile: str = "ci", *, properties: Any = None, families: Any = None, rules: Any = None, laws: Any = None
+    profile: str = "ci",
+    *,
+    properties: Any = None,
+    families: Any = None,
+    rules: Any = None,
+    laws: Any = None,
+    chunk: int = CHUNK,
 ) -> dict[str, Any]:
     """The options that change a run's results, as a checkpoint's header keeps them (not how it runs).
 
     >>> checkpoint_options("dev", properties=["kinetic energy"])
-    {'profile': 'dev', 'property': ['kinetic energy'], 'family': None, 'rule': None, 'law': None}
+    {'profile': 'dev', 'property': ['kinetic energy'], 'family': None, 'rule': None, 'law': None, 'chunk': 2000}
     """
-    return {"profile": profile, "property": properties, "family": families, "rule": rules, "law": laws}
+    return {"profile": profile, "property": properties, "family": families, "rule": rules, "law": laws, "chunk": chunk}
 
 
 def run_verdicts(
@@ -320,31 +453,28 @@ def run_verdicts(
     executor: Executor | None = None,
     checkpoint: str | None = None,
     progress: Any = None,
+    runner: TaskRunner | None = None,
+    chunk: int = CHUNK,
 ) -> TaskRun:
     """Every row's verdict as a :class:`verify.checks.tasks.TaskRun`: the verdicts in row order (None for a
     row whose task failed twice) and the failures. ``executor`` runs the rows (a Dask cluster:
     ``Client(...).get_executor()``), else ``workers`` local processes (None: one per core). With
     ``checkpoint`` (a file name) rows finished by an earlier run with the same options are read from it
     and each row finished now is appended. ``progress(done, total, verdict)`` is called as rows finish.
+    ``runner`` (a :class:`verify.checks.tasks.TaskRunner`, e.g. shared with other stages of ``verify all``)
+    replaces ``workers``, ``executor`` and ``checkpoint``. Rows of more than ``chunk`` cases are split
+    (:func:`row_tasks`).
     """
-    tasks = row_tasks(profile, properties=properties, families=families, rules=rules, laws=laws)
-    options = checkpoint_options(profile, properties=properties, families=families, rules=rules, laws=laws)
+    chosen = {"properties": properties, "families": families, "rules": rules, "laws": laws, "chunk": chunk}
+    tasks = row_tasks(profile, **chosen)
+    options = checkpoint_options(profile, **chosen)
     with contextlib.ExitStack() as stack:
-        store = stack.enter_context(Checkpoint(checkpoint, options)) if checkpoint else None
-        finished = store.open() if store else {}
-        count = sum(1 for t in tasks if t.id in finished)
-
-        def done(task: Task, verdict: Verdict) -> None:
-            nonlocal count
-            count += 1
-            if store:
-                store.add(task.id, verdict)
-            if progress:
-                progress(count, len(tasks), verdict)
-
-        return run_tasks(
-            tasks, workers=workers or os.cpu_count() or 1, executor=executor, finished=finished, on_result=done
-        )
+        if runner is None:
+            runner = stack.enter_context(
+                TaskRunner(workers=workers, executor=executor, checkpoint=checkpoint, options=options)
+            )
+        shown = (lambda done, total, task, verdict: progress(done, total, verdict)) if progress else None
+        return _rows_of(tasks, runner.run(tasks, progress=shown))
 
 
 def verdicts(
