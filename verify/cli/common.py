@@ -499,15 +499,16 @@ def cluster_executor(args: argparse.Namespace) -> Iterator[Any]:
             except (OSError, ValueError, TypeError) as exc:  # TimeoutError is an OSError
                 raise UsageError(f"--scheduler {args.scheduler!r}: cannot connect ({one_line(exc)})") from None
         else:
-            cluster = stack.enter_context(
-                LocalCluster(
-                    n_workers=args.local_cluster,
-                    threads_per_worker=1,
-                    processes=True,
-                    dashboard_address=None,
-                    silence_logs=logging.ERROR,
+            with _workers_ignore_ctrl_c():
+                cluster = stack.enter_context(
+                    LocalCluster(
+                        n_workers=args.local_cluster,
+                        threads_per_worker=1,
+                        processes=True,
+                        dashboard_address=None,
+                        silence_logs=logging.ERROR,
+                    )
                 )
-            )
             client = stack.enter_context(Client(cluster))
         yield client.get_executor()
 
@@ -531,6 +532,23 @@ def task_runner(args: argparse.Namespace, options: dict[str, Any]) -> Iterator[A
         with writing(checkpoint, "--checkpoint") if checkpoint else contextlib.nullcontext():
             stack.enter_context(runner)  # reads the checkpoint, or starts it
         yield runner
+
+
+@contextlib.contextmanager
+def _workers_ignore_ctrl_c() -> Iterator[None]:
+    """SIGINT ignored while the local cluster starts its worker processes, which inherit that: Ctrl-C then
+    stops this process alone (one line), which closes the cluster, instead of a traceback from every worker."""
+    import signal
+    import threading
+
+    if threading.current_thread() is not threading.main_thread():
+        yield
+        return
+    previous = signal.signal(signal.SIGINT, signal.SIG_IGN)
+    try:
+        yield
+    finally:
+        signal.signal(signal.SIGINT, previous)
 
 
 # -- the types of the numeric options (each checks its range when parsed: one line, exit code 2) -----
