@@ -70,6 +70,23 @@ def test_energy_and_termination_where_proved(table) -> None:
             assert v.verdict == "holds", v
 
 
+def test_every_termination_row_has_a_census_of_its_cases(table) -> None:
+    """Each termination row counts how each of its runs ended (the four stops at least) and nothing else
+    has a census; the counts add up to the row's cases, with no run proved never to exit where the row
+    holds (such a run is a counterexample)."""
+    for v in table:
+        census = v.record().get("census")
+        if v.property != "the rule exits (termination)":
+            assert census is None, v
+            continue
+        assert census is not None and set(census) >= {"exit", "non_terminating", "max_iterations", "budget"}, v
+        assert sum(census.values()) == v.cases > 0, v
+        if v.verdict == "holds":
+            assert census["non_terminating"] == 0, v
+        if v.rule == "ideal":
+            assert v.verdict == "holds", v
+
+
 def test_refutations_reproduce_from_the_record_alone(table) -> None:
     for v in table:
         if v.verdict != "refuted":

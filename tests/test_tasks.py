@@ -332,3 +332,23 @@ def test_a_sweep_on_a_local_cluster_equals_one_process(capsys: pytest.CaptureFix
     serial = json.loads(run_cli(capsys, [*SWEEP, "--workers", "1"])[1])
     code, out, _ = run_cli(capsys, [*SWEEP, "--local-cluster", "2"])
     assert code == 0 and json.loads(out)["results"] == serial["results"]
+
+
+def test_a_sweep_chunk_that_fails_twice_is_one_line_naming_its_cases(
+    tmp_path: Path, capsys: pytest.CaptureFixture[str], monkeypatch: pytest.MonkeyPatch
+) -> None:
+    import verify.checks.sweep as sweep_module
+
+    real = sweep_module._run_chunk
+
+    def second_chunk_breaks(args: tuple) -> list:
+        if args[1][0]["id"] == "corner-5-100":
+            raise ZeroDivisionError("boom")
+        return real(args)
+
+    monkeypatch.setattr(sweep_module, "_run_chunk", second_chunk_breaks)
+    cp = str(tmp_path / "cp.jsonl")
+    code, out, err = run_cli(capsys, [*SWEEP, "--workers", "1", "--checkpoint", cp])
+    assert code == 2 and out == ""
+    assert err == "verify: error: the cases corner-5-100 to corner-5-199 failed twice: ZeroDivisionError: boom\n"
+    assert len(Path(cp).read_text().splitlines()) == 1 + 2  # the other two chunks are kept

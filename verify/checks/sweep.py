@@ -210,7 +210,7 @@ def sweep(
     processes (default: every core) is used, or no pool at all for ``workers=1``. ``runner`` (a
     :class:`verify.checks.tasks.TaskRunner`, which may keep a checkpoint) replaces both. ``progress`` draws
     a bar on stderr (default: when stderr is a terminal). A chunk whose task fails twice raises
-    :class:`RuntimeError` once the others are done.
+    :class:`verify.checks.tasks.TasksFailed` (naming its first and last case) once the others are done.
     """
     cases = list(cases)
     chunks = [(func, cases[i : i + chunk]) for i in range(0, len(cases), chunk)]
@@ -220,7 +220,8 @@ def sweep(
         if runner is None:
             runner = stack.enter_context(TaskRunner(workers=workers, executor=executor))
         name = f"sweep {func.__module__}.{func.__qualname__}"
-        parts = runner.map(name, _run_chunk, chunks, key=lambda payload: payload[1], progress=bar)
+        labels = [f"the cases {chunk[0].get('id')} to {chunk[-1].get('id')}" for _, chunk in chunks]
+        parts = runner.map(name, _run_chunk, chunks, key=lambda payload: payload[1], progress=bar, labels=labels)
     return [r for part in parts for r in part]
 
 

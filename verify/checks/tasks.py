@@ -64,6 +64,14 @@ class TaskFailure:
     error: str
 
 
+class TasksFailed(RuntimeError):
+    """Raised once every other task is done, for the tasks that failed on each attempt (``failures``)."""
+
+    def __init__(self, failures: Sequence[TaskFailure]):
+        self.failures = list(failures)
+        super().__init__("; ".join(f"{f.label}: {f.error}" for f in self.failures))
+
+
 @dataclass
 class TaskRun:
     """The results of a run, in the order of the tasks (None where the task failed), and its failures."""
@@ -262,22 +270,23 @@ class TaskRunner:
         *,
         key: Callable[[Any], Any] | None = None,
         progress: Callable[[int, int, Task, Any], None] | None = None,
+        labels: Sequence[str] | None = None,
     ) -> list[Any]:
         """``[fn(p) for p in payloads]`` as tasks, named ``name`` with the index and a digest of the payload
         (of ``key(payload)`` if given: plain data whose repr is the same on every run), so that a checkpoint
-        reuses a result only for the same work; a task that failed twice raises :class:`RuntimeError` once
-        the others are done. ``progress`` as for :meth:`run`.
+        reuses a result only for the same work; tasks that failed twice raise :class:`TasksFailed` once
+        the others are done, named by their ``labels`` (default ``name #i``). ``progress`` as for :meth:`run`.
 
         >>> TaskRunner().map("abs", abs, [-1, 2])
         [1, 2]
         """
         tasks = [
-            Task(f"{name} | {i} | {_digest(key(p) if key else p)}", fn, p, f"{name} #{i}")
+            Task(f"{name} | {i} | {_digest(key(p) if key else p)}", fn, p, labels[i] if labels else f"{name} #{i}")
             for i, p in enumerate(payloads)
         ]
         run = self.run(tasks, progress=progress)
         if run.failures:
-            raise RuntimeError("; ".join(f"{f.label}: {f.error}" for f in run.failures))
+            raise TasksFailed(run.failures)
         return run.results
 
 

@@ -21,6 +21,7 @@ import argparse
 import sys
 from collections.abc import Sequence
 
+from verify.checks.tasks import TasksFailed
 from verify.cli import checks, engines, maps, paper, reports, run
 from verify.cli.common import PROG, Parser, UsageError, command, formatter, one_line
 from verify.errors import InvalidInput, Undecided
@@ -63,6 +64,10 @@ def main(argv: Sequence[str] | None = None) -> int:
         return int(args.func(args))  # every numeric and output-path option was checked by its type
     except (UsageError, InvalidInput, Undecided) as exc:
         print(f"{PROG}: error: {one_line(exc)}", file=sys.stderr)
+        return 2
+    except TasksFailed as exc:  # the other tasks finished (and are in the checkpoint, if any)
+        for f in exc.failures:
+            print(f"{PROG}: error: {f.label} failed twice: {f.error}", file=sys.stderr)
         return 2
     except KeyboardInterrupt:  # Ctrl-C on a long run: one line, the shell's code for SIGINT
         print(f"{PROG}: interrupted", file=sys.stderr)

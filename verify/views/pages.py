@@ -119,9 +119,11 @@ class Findings:
 
         if self.given_verdicts:
             return list(self.given_verdicts)
+        from verify.checks.tasks import TasksFailed
+
         run = verdicts.run_verdicts(self.profile, runner=self.runner)
         if run.failures:
-            raise RuntimeError("; ".join(f"{f.label}: {f.error}" for f in run.failures))
+            raise TasksFailed(run.failures)
         return list(run.results)
 
     @cached_property

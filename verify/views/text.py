@@ -650,6 +650,7 @@ def properties_text(profile: str, found: list) -> str:
         lines.append(f"  {v.property:{width}}  {v.law:12}  {v.rule:10}  {v.family:7}  {v.verdict:8}  {v.cases}")
     counts = {k: sum(v.verdict == k for v in found) for k in ("proved", "holds", "refuted")}
     lines += ["", "  " + ", ".join(f"{n} {k}" for k, n in counts.items())]
+    lines += census_lines(found)
     for v in found:
         if v.verdict != "refuted":
             continue
@@ -662,6 +663,32 @@ def properties_text(profile: str, found: list) -> str:
         ]
         lines.append("    " + json.dumps({"cases": [v.counterexample]}, sort_keys=True))
     return "\n".join(lines) + "\n"
+
+
+def census_lines(found: list) -> list[str]:
+    """The census of the termination rows: how each row's runs end (empty without such rows).
+
+    >>> from types import SimpleNamespace as Row
+    >>> row = Row(property="t", law="rule", rule="ideal", family="corner", cases=3,
+    ...           census=lambda: {"exit": 2, "non_terminating": 1, "max_iterations": 0, "budget": 0})
+    >>> for line in census_lines([row]):
+    ...     print(line)
+    <BLANKLINE>
+    Census: how the runs of each termination row end (a refuted row's census is a separate sample)
+    <BLANKLINE>
+      law           rule        family   cases  exit  non_terminating  max_iterations  budget
+      rule          ideal       corner       3     2                1               0       0
+    """
+    rows = [(v, c) for v in found if (c := getattr(v, "census", lambda: None)()) is not None]
+    if not rows:
+        return []
+    stops = list(dict.fromkeys(k for _, c in rows for k in c))
+    lines = ["", "Census: how the runs of each termination row end (a refuted row's census is a separate sample)", ""]
+    lines.append(f"  {'law':12}  {'rule':10}  {'family':7}  {'cases':>5}  " + "  ".join(stops))
+    for v, c in rows:
+        counts = "  ".join(f"{c.get(k, 0):>{len(k)}}" for k in stops)
+        lines.append(f"  {v.law:12}  {v.rule:10}  {v.family:7}  {v.cases:>5}  {counts}")
+    return lines
 
 
 def graded_lines(comparison: Any) -> list[str]:

@@ -45,7 +45,7 @@ from verify.checks.properties.catalogue import PROPERTIES, SKIP, Property, prope
 from verify.checks.properties.profiles import PER_PROPERTY, PROFILES
 from verify.checks.properties.proofs import PROOFS, prove
 from verify.checks.properties.strategies import FAMILIES, RULES, Drawn, cases
-from verify.checks.tasks import Task, TaskRun, TaskRunner
+from verify.checks.tasks import Task, TaskRun, TaskRunner, TasksFailed
 from verify.core.rule import LAWS, Budget
 
 BUDGET = Budget(bits=4096)
@@ -122,7 +122,8 @@ class Verdict:
     detail: str = field(default="", repr=False)
 
     def record(self) -> dict[str, Any]:
-        return {
+        """The row as JSON (contracts); a census row (termination) also has its ``census``."""
+        out = {
             "property": self.property,
             "law": self.law,
             "rule": self.rule,
@@ -132,6 +133,32 @@ class Verdict:
             "counterexample": self.counterexample,
             "note": self.note,
         }
+        census = self.census()
+        if census is not None:
+            out["census"] = census
+        return out
+
+    def census(self) -> dict[str, int] | None:
+        """How the runs of a census row (termination) end, over its ``cases`` cases: the count of each stop,
+        ``exit``, ``non_terminating``, ``max_iterations`` and ``budget`` always (others if any ended so);
+        None for the other rows. A holding row counts the runs of its search, a refuted one those of its
+        census (the search stops at the counterexample).
+
+        >>> Verdict("the rule exits (termination)", "ideal", "corner", "holds", 2,
+        ...         counts={"stop exit": 2}).census()
+        {'exit': 2, 'non_terminating': 0, 'max_iterations': 0, 'budget': 0}
+        """
+        if not any(p.census and p.name == self.property for p in PROPERTIES):
+            return None
+        ends = dict.fromkeys(CENSUS_STOPS, 0)
+        for key, n in sorted(self.counts.items()):
+            if key.startswith("stop "):
+                ends[key[len("stop ") :]] = n
+        return ends
+
+
+#: the stops a census always shows (a run ends in one of them, or is undecided on a backend that cannot tell)
+CENSUS_STOPS = ("exit", "non_terminating", "max_iterations", "budget")
 
 
 def rows(
@@ -489,12 +516,12 @@ def verdicts(
 ) -> list[Verdict]:
     """Every row's verdict under a profile (``workers`` > 1 runs rows in processes; None:
     one per core); ``laws`` selects the laws (default both). A row that fails twice (its search raised,
-    or its process died) raises :class:`RuntimeError` once the others are done."""
+    or its process died) raises :class:`verify.checks.tasks.TasksFailed` once the others are done."""
     run = run_verdicts(
         profile, properties=properties, families=families, rules=rules, laws=laws, workers=workers, progress=progress
     )
     if run.failures:
-        raise RuntimeError("; ".join(f"{f.label}: {f.error}" for f in run.failures))
+        raise TasksFailed(run.failures)
     return list(run.results)
 
 
