@@ -331,3 +331,34 @@ def test_invalid_systems_are_rejected_clearly(name, change, message):
 def test_wrong_velocity_length():
     with pytest.raises(InvalidSystem, match="velocity: expected 3 numbers, got 2"):
         solve(cradle(1), ["1", "0"])
+
+
+# -- runs past the size budget, decided on certified intervals (Budget.intervals) ------------------------
+
+
+def test_a_run_past_the_size_budget_is_decided_on_intervals() -> None:
+    from verify.core.rule import Budget
+
+    s = System([[1, 0, 0], [0, 1, 0], [0, 0, 1]], [[-1, 1, 0], [0, -1, 1]], ["1/3", "1/7"])
+    exact = solve(s, ["100", "0", "0"])
+    assert solve(s, ["100", "0", "0"], budget=Budget(bits=10)).stop == "budget"  # unchanged without the flag
+    r = solve(s, ["100", "0", "0"], budget=Budget(bits=10, intervals=True))
+    assert (r.stop, r.impact_sets, r.backend.name) == ("exit", exact.impact_sets, "interval")
+    assert r.notes[-1].startswith("the exact numbers passed 10 bits after 2 impulses: run again on certified")
+    for x, y in zip(r.exit_velocity, exact.exit_velocity):
+        lo, hi = r.backend.enclosure(x, 30)
+        assert F(lo) <= exact.backend.to_number(y) <= F(hi)
+
+
+def test_a_run_past_the_size_budget_proved_never_to_exit_on_intervals() -> None:
+    from verify.core.rule import Budget
+    from verify.models.cradle import cradle_system
+
+    s = cradle_system("1/20")
+    v = ["1", "1/3", "1/7"]
+    assert solve(s, v, budget=Budget(bits=16)).stop == "budget"
+    r = solve(s, v, budget=Budget(bits=16, intervals=True))
+    assert r.stop == "non_terminating" and r.backend.name == "interval"
+    assert r.certificate is not None and r.certificate["rigorous"] is True
+    exact = solve(s, v)  # the exact run, unbudgeted, agrees
+    assert (exact.stop, exact.impact_sets) == ("non_terminating", r.impact_sets)

@@ -487,6 +487,7 @@ __all__ = [
     "TaskFailure",
     "TaskRun",
     "TaskRunner",
+    "TasksFailed",
     "decode",
     "encode",
     "run_tasks",

@@ -92,9 +92,15 @@ class Budget:
 
     seconds: float | None = None
     bits: int | None = None
+    #: an exact run that passes ``bits`` is run again on certified intervals (every branch decided
+    #: with proof, the precision raised as needed up to ``interval_dps`` digits): its exit, or its proof
+    #: that it never exits, is then the result (on the interval backend, with a note); ``"budget"``
+    #: remains only when the intervals cannot decide it either
+    intervals: bool = False
+    interval_dps: int = 400
 
     def __post_init__(self) -> None:
-        for name in ("seconds", "bits"):
+        for name in ("seconds", "bits", "interval_dps"):
             value = getattr(self, name)
             if value is not None and (isinstance(value, bool) or not value > 0):
                 raise InvalidSystem(f"budget {name} must be positive, got {value!r}")
@@ -525,6 +531,7 @@ def solve(
     """
     if not isinstance(max_iterations, int) or max_iterations < 0:
         raise InvalidSystem(f"max_iterations must be a non-negative integer, got {max_iterations!r}")
+    given = system
     system = _system_for_rule(system, rule)
     if _other_law(law):
         return solve_simultaneous(system, velocity, rule=rule, max_iterations=max_iterations)
@@ -549,7 +556,7 @@ def solve(
                 raise _no_convergence(K, exc, exact or _ExactRates(system, velocity)) from None
             notes.append(f"precision raised from {K.dps} to {finer.dps} digits after an undecided sign")
             system = system.convert_to(finer)
-    return Result(
+    result = Result(
         system=system,
         rule=rule,
         velocity_in=v0,
@@ -562,6 +569,35 @@ def solve(
         notes=tuple(notes),
         certificate=out.certificate,
     )
+    if out.stop == "budget" and budget is not None and budget.intervals and system.backend.is_exact:
+        options = {"rule": rule, "max_iterations": max_iterations, "halt": halt, "trace": trace, "certify": certify}
+        return _decided_on_intervals(result, given, velocity, budget, options)
+    return result
+
+
+def _decided_on_intervals(
+    result: Result, system: System, velocity: Sequence[Any], budget: Budget, options: dict[str, Any]
+) -> Result:
+    """``result`` (an exact run stopped by the size budget) decided on certified intervals from the start,
+    if they decide it (:attr:`Budget.intervals`); else ``result`` as it is."""
+    import dataclasses
+
+    from verify.core.backends import IntervalBackend
+
+    if system.backend.is_parametric:
+        return result
+    K = IntervalBackend(max_dps=budget.interval_dps)
+    try:
+        decided = solve(system.convert_to(K), velocity, budget=Budget(seconds=budget.seconds), **options)
+    except (NoConvergence, InvalidInput):
+        return result
+    if decided.stop == "budget":
+        return result
+    note = (
+        f"the exact numbers passed {budget.bits} bits after {result.iterations} impulses: run again on certified "
+        f"intervals (every branch decided with proof), which end it with {decided.stop}"
+    )
+    return dataclasses.replace(decided, notes=(*decided.notes, note))
 
 
 def solve_many(

@@ -140,8 +140,10 @@ def exit_is_outgoing(run: Any, d: Drawn, extra: Any) -> str | None:
 
 
 def terminates(run: Any, d: Drawn, extra: Any) -> str | None:
-    r = run(d.record, d.rule)
+    r = run(d.record, d.rule, decide=True)  # a long run past the size budget: decided on certified intervals
     run.count(f"stop {r.stop}")
+    if r.backend.name == "interval":
+        run.count("decided on certified intervals past the size budget")
     if r.stop == "non_terminating":
         kind = (r.certificate or {}).get("kind", "certificate")
         return f"proved never to exit after {r.iterations} impulses ({kind}; verify solve prints the certificate)"

@@ -49,6 +49,8 @@ from verify.checks.tasks import Task, TaskRun, TaskRunner, TasksFailed
 from verify.core.rule import LAWS, Budget
 
 BUDGET = Budget(bits=4096)
+#: the census' budget: a run past 4096 bits is decided on certified intervals (up to 400 digits)
+DECIDING_BUDGET = Budget(bits=4096, intervals=True)
 INTERVAL_DPS, INTERVAL_MAX_DPS, MP_DPS = 30, 120, 30
 #: the COR variants each law is checked with: every rule for the rule; for the simultaneous law
 #: the general, symmetric and ideal CORs (the asymmetric rule's cases are general ones with r = 2)
@@ -67,19 +69,24 @@ class Runner:
     def count(self, what: str) -> None:
         self.counts[what] += 1
 
-    def __call__(self, record: dict[str, Any], rule: str, backend: str = "exact", *, law: str | None = None) -> Any:
+    def __call__(
+        self, record: dict[str, Any], rule: str, backend: str = "exact", *, law: str | None = None, decide: bool = False
+    ) -> Any:
         law = self.law if law is None else law
-        key = json.dumps([record, rule, backend, law], sort_keys=True)
+        key = json.dumps([record, rule, backend, law, decide], sort_keys=True)
         if key not in self.memo:
             if len(self.memo) > 512:
                 self.memo.clear()
-            self.memo[key] = run_record(record, rule, backend, law=law)
+            self.memo[key] = run_record(record, rule, backend, law=law, decide=decide)
         return self.memo[key]
 
 
-def run_record(record: dict[str, Any], rule: str, backend: str = "exact", *, law: str = "rule") -> Any:
+def run_record(
+    record: dict[str, Any], rule: str, backend: str = "exact", *, law: str = "rule", decide: bool = False
+) -> Any:
     """Solve one case record with the rule (or, with ``law="simultaneous"``, the simultaneous law
-    with the rule's CORs), the suite's budget and backend settings."""
+    with the rule's CORs), the suite's budget and backend settings. With ``decide``, an exact run that
+    passes the size budget is run again on certified intervals (:attr:`verify.core.rule.Budget.intervals`)."""
     from verify.core.backends import IntervalBackend, get_backend
     from verify.core.rule import solve
     from verify.core.system import System
@@ -96,7 +103,7 @@ def run_record(record: dict[str, Any], rule: str, backend: str = "exact", *, law
         rule=rule,
         law=law,
         max_iterations=record["max_iterations"],
-        budget=BUDGET,
+        budget=DECIDING_BUDGET if decide else BUDGET,
         trace=True,
     )
 
