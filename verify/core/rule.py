@@ -503,18 +503,16 @@ def solve(
 ) -> Result:
     """Run the rule from the left velocity ``velocity`` until it exits (or a stop test fires).
 
-    ``rule`` is ``"general"`` (eq. 8, the system's own CORs), ``"ideal"`` (eq. 5, all CORs
-    1), ``"symmetric"`` (eq. 6, requires equal CORs) or ``"asymmetric"`` (eq. 7, requires
-    two constraints). ``law="simultaneous"`` applies the simultaneous law instead
-    (:mod:`verify.core.simultaneous`) with the CORs that ``rule`` gives; the options of the
-    iteration are then unused. ``max_iterations`` caps the number of impulses (stop
-    ``"max_iterations"``); ``halt`` is an extra stop test such as the paper's AEEV stop.
-    With ``certify`` (the default) a two-constraint run also stops, with stop
-    ``"non_terminating"`` and a certificate, as soon as it is proved never to exit
-    (:mod:`verify.core.termination`). ``budget`` (a :class:`Budget`) ends a run whose numbers
-    grow too large or which takes too long with stop ``"budget"``. ``progress``, if given,
-    is called with the number of impulses so far after every impulse (it should be cheap); a
-    run repeated at higher precision counts again from 1.
+    ``rule`` is ``"general"`` (eq. 8, the system's own CORs), ``"ideal"`` (eq. 5, all CORs 1), ``"symmetric"``
+    (eq. 6, requires equal CORs) or ``"asymmetric"`` (eq. 7, requires two constraints). ``law="simultaneous"``
+    applies the simultaneous law instead (:mod:`verify.core.simultaneous`) with the CORs that ``rule`` gives;
+    the options of the iteration are then unused. ``max_iterations`` caps the number of impulses (stop
+    ``"max_iterations"``); ``halt`` is an extra stop test such as the paper's AEEV stop. With ``certify``
+    (the default) a run also stops, with stop ``"non_terminating"`` and a certificate, as soon as it is
+    proved never to exit (:mod:`verify.core.termination`). ``budget`` (a :class:`Budget`) ends a run whose
+    numbers grow too large or which takes too long with stop ``"budget"`` (or, :attr:`Budget.intervals`,
+    decides it on certified intervals). ``progress``, if given, is called with the number of impulses so
+    far after every impulse (it should be cheap); a run repeated at higher precision counts again from 1.
     On a backend whose signs can be undecided (intervals) the run is repeated at higher
     precision, and the result's ``notes`` say so; :class:`~verify.errors.NoConvergence` is
     raised when the precision limit is reached. A rate that is exactly 0 is not chased in
@@ -531,7 +529,6 @@ def solve(
     """
     if not isinstance(max_iterations, int) or max_iterations < 0:
         raise InvalidSystem(f"max_iterations must be a non-negative integer, got {max_iterations!r}")
-    given = system
     system = _system_for_rule(system, rule)
     if _other_law(law):
         return solve_simultaneous(system, velocity, rule=rule, max_iterations=max_iterations)
@@ -569,22 +566,22 @@ def solve(
         notes=tuple(notes),
         certificate=out.certificate,
     )
-    if out.stop == "budget" and budget is not None and budget.intervals and system.backend.is_exact:
-        options = {"rule": rule, "max_iterations": max_iterations, "halt": halt, "trace": trace, "certify": certify}
-        return _decided_on_intervals(result, given, velocity, budget, options)
-    return result
+    options = {"rule": rule, "max_iterations": max_iterations, "halt": halt, "trace": trace, "certify": certify}
+    return _decided_on_intervals(result, velocity, budget, options)
 
 
-def _decided_on_intervals(
-    result: Result, system: System, velocity: Sequence[Any], budget: Budget, options: dict[str, Any]
-) -> Result:
-    """``result`` (an exact run stopped by the size budget) decided on certified intervals from the start,
-    if they decide it (:attr:`Budget.intervals`); else ``result`` as it is."""
+def _decided_on_intervals(result: Result, velocity: Sequence[Any], budget: Budget | None, options: dict) -> Result:
+    """``result`` itself, or, for an exact run stopped by the size budget with :attr:`Budget.intervals`, the
+    same run from the start on certified intervals if they decide it (the rule's system again: the rule's
+    CORs are already in it)."""
     import dataclasses
 
     from verify.core.backends import IntervalBackend
 
-    if system.backend.is_parametric:
+    system = result.system
+    if result.stop != "budget" or budget is None or not budget.intervals:
+        return result
+    if not system.backend.is_exact or system.backend.is_parametric:
         return result
     K = IntervalBackend(max_dps=budget.interval_dps)
     try:
