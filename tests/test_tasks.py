@@ -243,9 +243,9 @@ def test_a_killed_worker_loses_nothing(serial_kinetic: dict, capsys: pytest.Capt
 # -- rows split into chunks of cases (the thorough profile) -------------------------------------------
 
 
-def test_a_split_row_merges_its_chunks_the_same_whatever_runs_them() -> None:
+def test_a_split_row_merges_its_chunks_the_same_whatever_runs_them(monkeypatch: pytest.MonkeyPatch) -> None:
     """A row split into seeded chunks: its verdict is the same in one process and in a pool of two, a
-    holding row counts the cases of every chunk, and chunks 2.. search other cases than chunk 1 does."""
+    holding row counts the cases of every chunk, and each chunk searches cases of its own."""
     chosen = {"properties": ["the exit velocity"], "families": ["corner"], "rules": ["ideal"], "laws": ["rule"]}
     serial = run_verdicts("dev", workers=1, chunk=10, **chosen)
     pooled = run_verdicts("dev", workers=2, chunk=10, **chosen)
@@ -255,8 +255,17 @@ def test_a_split_row_merges_its_chunks_the_same_whatever_runs_them() -> None:
     assert row.verdict == "holds" and row.tally["drawn"] == 25  # 3 chunks of 9, 8 and 8 cases
     tasks = verdicts_module.row_tasks("dev", chunk=10, **chosen)
     assert [t.payload[3] for t in tasks] == [9, 8, 8]
-    first, second = (verdicts_module._run_row(t.payload) for t in tasks[:2])
-    assert first.counts != second.counts or first.tally != second.tally  # other cases, not the same ones again
+    drawn: list[str] = []
+    real = verdicts_module._check
+    monkeypatch.setattr(
+        verdicts_module, "_check", lambda p, r, item: drawn.append(json.dumps(item.record)) or real(p, r, item)
+    )
+    seen = []
+    for payload in (tasks[1].payload, tasks[2].payload, (*tasks[2].payload[:5], None)):  # 8 cases each
+        drawn.clear()
+        verdicts_module._run_row(payload)
+        seen.append(list(drawn))
+    assert len({json.dumps(cases) for cases in seen}) == 3  # chunks 2, 3 and an unseeded run of 8: all differ
 
 
 def test_a_split_refuted_row_gives_a_reproducible_counterexample_and_a_whole_census() -> None:

@@ -118,7 +118,7 @@ def cmd_properties(args: argparse.Namespace) -> int:
                   f"      {json.dumps(v.counterexample, sort_keys=True)}", file=sys.stderr, flush=True)  # fmt: skip
         width = 30
         bar = "#" * (width * done // max(total, 1))
-        status.show(f"[{bar:{width}}] {done}/{total} rows  {time.monotonic() - start:.0f} s", now=done == total)
+        status.show(f"[{bar:{width}}] {done}/{total} tasks  {time.monotonic() - start:.0f} s", now=done == total)
 
     chosen = {"properties": args.property, "families": args.family, "rules": args.rule, "laws": args.law}
     with task_runner(args, checkpoint_options(args.profile, **chosen)) as runner:

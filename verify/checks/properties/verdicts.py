@@ -236,8 +236,7 @@ def search(
         phases=[Phase.generate, Phase.shrink],
         suppress_health_check=list(HealthCheck),
     )
-    proof_name, explain = prop.statement(law)
-    proof = prove(proof_name, rule) if proof_name else None
+    proof = _proof(prop, rule, law)
     try:
         item = find(strategy, fails, settings=config, random=None if seed is None else random.Random(seed))
     except (NoSuchExample, Unsatisfiable):
@@ -245,6 +244,7 @@ def search(
     d, extra = item if prop.extra is not None else (item, None)
     why = _check(prop, Runner(law), item) or ""
     note = why + (f" (with {_describe(extra)})" if extra is not None else "")
+    explain = prop.statement(law)[1]
     if proof:
         note = f"contradicts the proof ({proof}): the implementation is wrong: " + note
     elif explain:
@@ -259,6 +259,12 @@ def search(
         found.counts = dict(_census(prop, strategy, examples, law, seed))
         found.cases, found.note = _census_note(found.detail, found.counts)
     return found
+
+
+def _proof(prop: Property, rule: str, law: str) -> str | None:
+    """What SymPy proves of the row (``prop`` under ``law`` and ``rule``), or None."""
+    proof_name = prop.statement(law)[0]
+    return prove(proof_name, rule) if proof_name else None
 
 
 def _census_note(detail: str, counts: dict[str, int]) -> tuple[int, str]:
@@ -338,8 +344,7 @@ def merge_chunks(parts: list[Verdict]) -> Verdict:
     if refuted is None:
         tally = sum((Counter(v.tally) for v in parts), Counter())
         counts = sum((Counter(v.counts) for v in parts), Counter())
-        proof_name, _ = prop.statement(first.law)
-        proof = prove(proof_name, first.rule) if proof_name else None
+        proof = _proof(prop, first.rule, first.law)
         return _holds(prop, (first.family, first.rule, first.law), dict(tally), dict(counts), proof)
     found = dataclasses.replace(parts[refuted])
     found.cases = sum(v.tally.get("applied", 0) for v in parts[: refuted + 1])
@@ -494,7 +499,8 @@ def run_verdicts(
     row whose task failed twice) and the failures. ``executor`` runs the rows (a Dask cluster:
     ``Client(...).get_executor()``), else ``workers`` local processes (None: one per core). With
     ``checkpoint`` (a file name) rows finished by an earlier run with the same options are read from it
-    and each row finished now is appended. ``progress(done, total, verdict)`` is called as rows finish.
+    and each row finished now is appended. ``progress(done, total, verdict)`` is called as tasks finish
+    (a row, or a chunk of one).
     ``runner`` (a :class:`verify.checks.tasks.TaskRunner`, e.g. shared with other stages of ``verify all``)
     replaces ``workers``, ``executor`` and ``checkpoint``. Rows of more than ``chunk`` cases are split
     (:func:`row_tasks`).
@@ -520,13 +526,14 @@ def verdicts(
     laws: Any = None,
     workers: int | None = 1,
     progress: Any = None,
+    runner: TaskRunner | None = None,
 ) -> list[Verdict]:
     """Every row's verdict under a profile (``workers`` > 1 runs rows in processes; None:
-    one per core); ``laws`` selects the laws (default both). A row that fails twice (its search raised,
-    or its process died) raises :class:`verify.checks.tasks.TasksFailed` once the others are done."""
-    run = run_verdicts(
-        profile, properties=properties, families=families, rules=rules, laws=laws, workers=workers, progress=progress
-    )
+    one per core; ``runner`` as for :func:`run_verdicts`); ``laws`` selects the laws (default both). A row
+    that fails twice (its search raised, or its process died) raises :class:`verify.checks.tasks.TasksFailed`
+    once the others are done."""
+    chosen = {"properties": properties, "families": families, "rules": rules, "laws": laws}
+    run = run_verdicts(profile, **chosen, workers=workers, progress=progress, runner=runner)
     if run.failures:
         raise TasksFailed(run.failures)
     return list(run.results)
