@@ -29,9 +29,15 @@ def read(text: str) -> sp.Expr:
     return sp.Rational(value.numerator, value.denominator) if hasattr(value, "denominator") else value
 
 
-def gram(masses: list[sp.Expr], normals: list[list[sp.Expr]]) -> sp.Matrix:
+def gram(masses: list, normals: list[list[sp.Expr]]) -> sp.Matrix:
+    """A M^-1 A^T for the diagonal masses (a list) or the mass matrix (a list of rows)."""
     A = sp.Matrix(normals)
-    return A * sp.diag(*masses).inv() * A.T
+    M = sp.Matrix(masses) if masses and isinstance(masses[0], list) else sp.diag(*masses)
+    return A * M.inv() * A.T
+
+
+def _read_masses(masses: list) -> list:
+    return [[read(x) for x in row] if isinstance(row, list) else read(row) for row in masses]
 
 
 def _sign_at(p: sp.Expr, point: sp.Expr) -> int:
@@ -162,4 +168,256 @@ def check_repeating(cert: dict, masses: list[str], normals: list[list[str]]) -> 
         failures.append("the rates are not the stated multiple of the earlier ones")
     if _sign_at(c, 0) <= 0:
         failures.append("the factor is not positive")
+    return failures
+
+
+def _positive(p: sp.Expr, lo: sp.Expr, hi: sp.Expr, interval: tuple | None) -> bool:
+    """p > 0 for every eps considered: p >= 0 there and no zero of its numerator in it."""
+    if interval is None:
+        return _sign_at(p, 0) > 0
+    return nonnegative_on(p, lo, hi) and _strict([p], lo, hi, interval)
+
+
+class _Signs:
+    """Signs of rational functions of eps, the same for every eps considered: a point, or an interval
+    (``closed`` says which ends belong to it)."""
+
+    def __init__(self, interval: tuple | None, closed: tuple[bool, bool] = (True, True)):
+        self.interval = interval
+        self.lo, self.hi = (read(interval[0]), read(interval[1])) if interval else (sp.Integer(0), sp.Integer(0))
+        self.closed = closed
+        self.memo: dict = {}
+
+    def _positive(self, x: sp.Expr) -> bool:
+        """x > 0 on the interval: >= 0 on its closure, and no zero of the numerator inside it."""
+        if not nonnegative_on(x, self.lo, self.hi):
+            return False
+        poly = sp.Poly(sp.numer(sp.together(x)), EPS)
+        if poly.degree() <= 0:
+            return poly.as_expr() != 0
+        for r in sp.real_roots(poly):
+            above, below = _sign_at(EPS - self.lo, r), _sign_at(EPS - self.hi, r)
+            if (above > 0 or (above == 0 and self.closed[0])) and (below < 0 or (below == 0 and self.closed[1])):
+                return False
+        return True
+
+    def nonneg(self, x: sp.Expr) -> bool:
+        """x >= 0 everywhere considered."""
+        if self.interval is None:
+            return _sign_at(x, 0) >= 0
+        return nonnegative_on(x, self.lo, self.hi)
+
+    def __call__(self, x: sp.Expr) -> int | None:
+        """-1, 0 or 1, or None when the sign changes over the interval."""
+        x = sp.cancel(x)
+        if x == 0:
+            return 0
+        if self.interval is None:
+            return _sign_at(x, 0)
+        if x not in self.memo:
+            self.memo[x] = 1 if self._positive(x) else -1 if self._positive(-x) else None
+        return self.memo[x]
+
+
+def _linear(G: sp.Matrix, J: list[int]) -> bool:
+    return all(sp.simplify(G[i, j]) == 0 for i in J for j in J if i < j)
+
+
+def _step(G: sp.Matrix, e: list, J: list[int], x: list, beta: sp.Expr = 1) -> list:
+    r = G.shape[0]
+    return [sp.cancel(x[m] - beta * sum((1 + e[j]) * x[j] / G[j, j] * G[m, j] for j in J)) for m in range(r)]
+
+
+def _betas(G: sp.Matrix, J: list[int], vectors: list, sign: _Signs) -> list | None:
+    """[beta_lo, beta_hi] from the pairwise forms N_kl, D_kl of the vectors (the rule of
+    verify.core.cones.period, rewritten): beta = sum x_j^2/G_jj / (lam^T G_JJ lam)."""
+    GJ = sp.Matrix([[G[i, j] for j in J] for i in J])
+    lam = [sp.Matrix([v[j] / G[j, j] for j in J]) for v in vectors]
+    forms = [(sum(a[j] * lb[t] for t, j in enumerate(J)), (la.T * GJ * lb)[0]) for a, la in zip(vectors, lam)
+             for lb in lam]  # fmt: skip
+    ratios = [sp.cancel(n / d) for n, d in forms if sign(d) == 1]
+    if not ratios or any(sign(d) is None for _, d in forms):
+        return None
+    lo = hi = ratios[0]
+    for x in ratios[1:]:
+        lo = x if sign(x - lo) == -1 else lo
+        hi = x if sign(x - hi) == 1 else hi
+    if any(sign(d) != 1 and (sign(n - lo * d) == -1 or sign(hi * d - n) == -1) for n, d in forms):
+        return None
+    return [lo, hi]
+
+
+def _cone_lp(y: list, gens: list, strict: list, need_strict: bool) -> bool:
+    """y is a non-negative combination of gens (with weight on a strict one if asked): SymPy's own
+    simplex (rationals only)."""
+    from sympy.solvers.simplex import InfeasibleLPError, lpmax
+
+    ds = sp.symbols(f"d0:{len(gens)}")
+    eqs = [sp.Eq(sum(d * g[m] for d, g in zip(ds, gens)), y[m]) for m in range(len(y))]
+    if any(q is sp.false for q in eqs):
+        return False
+    eqs = [q for q in eqs if q is not sp.true]
+    weight = sum(d for d, s in zip(ds, strict) if s) if need_strict else sp.Integer(0)
+    try:
+        best, _ = lpmax(weight, [q for q in [*eqs, *(d >= 0 for d in ds), weight <= 1] if q is not sp.true])
+    except InfeasibleLPError:
+        return False
+    return best > 0 if need_strict else True
+
+
+def _carry(G: sp.Matrix, e: list, vectors: list, p: int, *, sign: _Signs, failures: list, prune: bool) -> list:
+    """The vectors after p impulses, every impact set the signs allow: S (strict vectors < 0, the others <= 0)
+    must not be empty; the cone is cut by x_f = 0 for each f where the vectors disagree; each part is moved
+    by its impact set, with beta = 1 (orthogonal sets) or both beta bounds."""
+    r = G.shape[0]
+    for n in range(p):
+        S, F = [], []
+        for i in range(r):
+            signs = [(sign(v[i]), s) for v, s in vectors]
+            if any(x is None for x, _ in signs):
+                failures.append(f"impulse {n}: a sign of constraint {i} changes over the interval")
+                return []
+            if all(x >= 0 for x, _ in signs):
+                continue
+            (S if all(x == -1 or (x == 0 and not s) for x, s in signs) else F).append(i)
+        if not S:
+            failures.append(f"impulse {n}: no constraint is hit for sure")
+            return []
+        parts = [(vectors, list(S))]
+        for f in F:
+            cut = []
+            for vs, J in parts:
+                neg = [(v, s) for v, s in vs if sign(v[f]) == -1]
+                pos = [(v, s) for v, s in vs if sign(v[f]) == 1]
+                if not neg:
+                    cut.append((vs, J))
+                elif not pos:
+                    cut.append((vs, [*J, f]))
+                else:
+                    zero = [(v, s) for v, s in vs if sign(v[f]) == 0]
+                    cross = [([sp.cancel(-w[f] * a + u[f] * b) for a, b in zip(u, w)], su or sw)
+                             for u, su in pos for w, sw in neg]  # fmt: skip
+                    cut += [(neg + zero + cross, [*J, f]), (pos + zero + cross, J)]
+            parts = cut
+        out: list = []
+        for vs, J in parts:
+            betas = [1] if len(J) == 1 or _linear(G, J) else _betas(G, J, [v for v, _ in vs], sign)
+            if betas is None:
+                failures.append(f"impulse {n}: no bounds of beta for the impact set {J}")
+                return []
+            for v, s in vs:
+                for beta in betas:
+                    w = _step(G, e, J, v, beta)
+                    if not any(s == t and all(sp.cancel(a - b) == 0 for a, b in zip(w, u)) for u, t in out):
+                        out.append((w, s))
+        vectors = _pruned(out) if prune else out
+    return vectors
+
+
+def _pruned(vectors: list) -> list:
+    kept = list(vectors)
+    for item in list(vectors):
+        others = [x for x in kept if x is not item]
+        if others and _cone_lp(item[0], [v for v, _ in others], [s for _, s in others], item[1]):
+            kept = others
+    return kept
+
+
+def check_period(
+    cert: dict,
+    masses: list,
+    normals: list[list[str]],
+    *,
+    rates: list[str] | None = None,
+    interval: tuple[str, str] | None = None,
+    restitution: list[str] | None = None,
+    closed: tuple[bool, bool] = (True, True),
+) -> list[str]:
+    """Check an "invariant cone of a period" certificate (any number of constraints): every failed
+    condition (an empty list: the certificate holds).
+
+    ``restitution`` (the system's CORs) must match the certificate's; ``closed`` says which ends of
+    ``interval`` belong to it.
+
+    The claim: carried through p impulses with every impact set their signs allow (see _carry), the
+    generators' cone lands in itself (every vector carried from a strict generator with a positive weight
+    on a strict generator), and the rates are the first generator (or lie in the stated box, which lies in
+    the cone). The vectors are carried here by this module's own formulas; at a rational point, membership
+    is decided by SymPy's simplex; over an interval of eps, each vector carried here must be a positive
+    multiple of a listed one whose stated combination is checked identically and for sign.
+    """
+    G = gram(_read_masses(masses), [[read(x) for x in row] for row in normals])
+    r = G.shape[0]
+    failures: list[str] = []
+    stated = [[read(x) for x in row] for row in cert["gram"]]
+    if sp.simplify(sp.Matrix(stated) - G) != sp.zeros(r, r):
+        failures.append("the Gram matrix does not match the system")
+    e = [read(x) for x in cert["restitution"]]
+    if restitution is not None and any(sp.cancel(read(x) - y) != 0 for x, y in zip(restitution, e)):
+        failures.append("the CORs do not match the system")
+    gens = [[read(x) for x in g] for g in cert["generators"]]
+    strict = list(cert["strict"])
+    sign = _Signs(interval, closed)
+    carried = _carry(
+        G, e, list(zip(gens, strict)), int(cert["impulses"]), sign=sign, failures=failures, prune=interval is None
+    )
+    if failures:
+        return failures
+    if interval is None:
+        for y, s in carried:
+            if not _cone_lp(y, gens, strict, s):
+                failures.append(f"a vector carried through the period is not in the cone: {y}")
+    else:
+        listed = [([read(x) for x in c["vector"]], {int(k): read(v) for k, v in c["combination"].items()})
+                  for c in cert["carried"]]  # fmt: skip
+        for y, s in carried:
+            if not any(_matches(y, z, d, gens=gens, strict=strict, s=s, sign=sign) for z, d in listed):
+                failures.append(f"a vector carried through the period is not a listed combination: {y}")
+    if "box" in cert:
+        failures += _box_in_cone(cert["box"], gens, strict)
+        return failures
+    b = [read(x) for x in (rates or cert["rates"])]
+    if not strict[0] or any(sp.cancel(x - y) != 0 for x, y in zip(b, gens[0])):
+        failures.append("the rates are not the first generator, or it is not strict")
+    return failures
+
+
+def _matches(y: list, z: list, d: dict, *, gens: list, strict: list, s: bool, sign: _Signs) -> bool:
+    """y = c z with c > 0, z = sum d_k gens[k] with d_k >= 0 (and d_k > 0 on a strict k if s)."""
+    k = next((i for i, x in enumerate(z) if sp.cancel(x) != 0), None)
+    if k is None:
+        return all(sp.cancel(x) == 0 for x in y)
+    c = sp.cancel(y[k] / z[k])
+    if sign(c) != 1 or any(sp.cancel(a - c * b) != 0 for a, b in zip(y, z)):
+        return False
+    if any(sp.cancel(z[m] - sum(v * gens[i][m] for i, v in d.items())) != 0 for m in range(len(z))):
+        return False
+    if not all(sign.nonneg(v) for v in d.values()):
+        return False
+    return not s or any(strict[i] and sign(v) == 1 for i, v in d.items())
+
+
+def _box_in_cone(box: dict, gens: list[list[sp.Expr]], strict: list[bool]) -> list[str]:
+    """The rates lie in the box center +- radius: the box lies in the cone when, for each of the k
+    non-zero radii, center +- a_i e_i are strict generators with a_i >= k radius_i (then every point
+    center + t of the box is the mean over i of points center + k t_i e_i, each between those two);
+    with no non-zero radius, the center is a strict generator."""
+    center = [read(x) for x in box["center"]]
+    radius = [read(x) for x in box["radius"]]
+    wide = [i for i, w in enumerate(radius) if w != 0]
+    if any(w < 0 for w in radius):
+        return ["a radius of the box is negative"]
+    strict_gens = [g for g, s in zip(gens, strict) if s]
+    if not wide:
+        return [] if center in strict_gens else ["the center of the box (a point) is not a strict generator"]
+    failures = []
+    for i in wide:
+        for sign in (1, -1):
+            found = any(
+                all(g[j] == center[j] for j in range(len(center)) if j != i)
+                and sign * (g[i] - center[i]) >= len(wide) * radius[i]
+                for g in strict_gens
+            )
+            if not found:
+                failures.append(f"no strict generator center {'+' if sign > 0 else '-'} a e_{i} with a >= k radius_{i}")
     return failures

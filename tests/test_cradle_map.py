@@ -181,17 +181,32 @@ def test_counts_grow_towards_the_boundary(cmap):
         assert F(28, 10) < F(hi, lo) < F(36, 10)
 
 
-@pytest.mark.parametrize("balls", [4, 5])
-def test_four_and_five_balls_to_twenty_impulses(balls):
-    m = cradle_map(balls=balls, max_impulses=20)
+@pytest.mark.parametrize(("balls", "bound"), [(4, 12), (5, 8)])
+def test_four_and_five_balls(balls, bound):
+    m = cradle_map(balls=balls, max_impulses=bound)
     for a, b in zip(m.parts, m.parts[1:]):
         assert a.piece.upper == b.piece.lower and a.piece.upper_closed != b.piece.lower_closed
-    assert m.pieces and m.unexplored
+    assert m.pieces and m.unexplored and m.non_terminating
     for part in m.pieces[-3:]:
         if not part.piece.is_point:
             r = run_cradle(inner_rational(part, F(1, 2)), v0="1", balls=balls)
             assert (r.iterations, r.impact_sets) == (part.iterations, part.impact_sets)
-    assert all("not decided" in p.reason for p in m.unexplored)
+    assert all("no invariant cone" in p.reason for p in m.unexplored)
+    normals = [["-1" if j == i else "1" if j == i + 1 else "0" for j in range(balls)] for i in range(balls - 1)]
+    for part in m.non_terminating:  # the cone of the whole interval, at a rational point of it
+        eps = inner_rational(part, F(1, 2))
+        cert = part.certificate
+        assert cert["kind"] == "invariant cone of a period"
+        at = {**cert, "restitution": [str(eps)] * (balls - 1)}
+        for key in ("generators",):
+            at[key] = [[str(certificate_check.read(x).subs(certificate_check.EPS, eps)) for x in g] for g in cert[key]]
+        at["gram"] = [[str(certificate_check.read(x)) for x in row] for row in cert["gram"]]
+        at.pop("rates")
+        at["rates"] = at["generators"][0]
+        assert certificate_check.check_period(at, ["1"] * balls, normals, restitution=[str(eps)] * (balls - 1)) == []
+        # and a run at that point, from the map's velocity, is proved never to exit
+        r = run_cradle(eps, v0="1", balls=balls, max_iterations=200)
+        assert r.stop == "non_terminating"
 
 
 def test_json_shape(cmap):

@@ -42,6 +42,7 @@ from collections.abc import Sequence
 from fractions import Fraction
 from typing import Any
 
+from verify.core.cones.period import period_certificate
 from verify.core.system import System
 from verify.errors import Undecided
 
@@ -223,20 +224,30 @@ def repeating_certificate(
 def non_termination_halt(system: System, memory: int = 8) -> Any:
     """A stop test for :func:`verify.core.rule.solve` that returns ``("non_terminating", certificate)``
     as soon as the run is proved never to exit: rates that repeat their direction (any
-    number of constraints), or rates inside invariant cones (two constraints)."""
+    number of constraints, exact backends), rates inside a cone that a period of linear impacts
+    maps into itself (three or more constraints: :mod:`verify.core.periodic`; exact, parameter and
+    interval backends), or rates inside invariant cones (two constraints)."""
     cone = cone_halt(system)
     history: list[tuple[int, Any, tuple[int, ...]]] = []  # (impulses so far, rates, impact set taken)
     # the earlier states by the direction of their rates (b / b_pivot): only a state in the same
     # direction can be a positive multiple, so one lookup replaces a scan of the last ``memory``
     directions: dict[tuple, list[int]] = {}
 
+    periodic = period_halt(history)
+
     def halt(system: System, v: Sequence[Any]) -> Any:
         K = system.backend
-        if K.is_parametric or not K.is_exact:
-            # rational functions of a parameter: the cones alone (equalities cost too much there);
-            # enclosures: equal directions cannot be told (repeating_certificate needs exact elements)
-            return cone(system, v) if cone is not None else None
         b = system.rates(v)
+        if not K.is_exact or K.is_parametric:
+            # enclosures: equal directions cannot be told (repeating_certificate needs exact elements);
+            # rational functions of a parameter: equalities cost too much there; the cones of periods on
+            # both when r >= 3, and of two constraints
+            found = None
+            if system.r >= 3 and (K.is_exact or K.encloses):
+                J = tuple(i for i, x in enumerate(b) if K.sign(x) < 0)
+                found = periodic(system, b, J)
+                history.append((len(history), b, J))
+            return found or (cone(system, v) if cone is not None else None)
         count = len(history)
         key = _direction(K, b)
         for w in reversed(directions.get(key, ())):
@@ -247,11 +258,55 @@ def non_termination_halt(system: System, memory: int = 8) -> Any:
             if cert:
                 return ("non_terminating", cert)
         J = tuple(i for i, x in enumerate(b) if K.sign(x) < 0)
+        found = periodic(system, b, J)
         history.append((count, b, J))
         directions.setdefault(key, []).append(count)
+        if found:
+            return found
         return cone(system, v) if cone is not None else None
 
     return halt
+
+
+#: the longest period of impact sets looked for
+MAX_PERIOD = 6
+#: on a parameter backend, the impulses after which no cone of a period is looked for: its rational
+#: functions grow in degree with every impulse, and so does the cost of a search (``verify cradle-map``)
+PARAMETRIC_IMPULSES = 16
+#: exact rates of more bits than this are not searched for a cone (a run on certified intervals, past a size
+#: budget, searches around rationals of its own precision instead)
+MAX_BITS = 512
+
+
+def period_halt(history: list[tuple[int, Any, tuple[int, ...]]]) -> Any:
+    """A test on the run's ``history`` (impulses so far, rates, impact set) and the current rates b and
+    impact set J: ``("non_terminating", certificate)`` when the rates lie in a cone that p impulses map
+    into itself (:func:`verify.core.cones.period.period_certificate`). Tried when the last three
+    periods of p impulses overlap (each impact set shares a constraint with the one p impulses later:
+    the same sets, or sets that change only where a rate is near 0), and, after a failure, again once
+    the run has gone on as long again."""
+    next_try = [0]
+
+    def test(system: System, b: Sequence[Any], J: tuple[int, ...]) -> Any:
+        count = len(history)
+        if count < next_try[0] or system.r < 3:  # two constraints: the alternating cones above
+            return None
+        if system.backend.is_parametric and count > PARAMETRIC_IMPULSES:
+            return None
+        if max(system.backend.size(x) for x in b) > MAX_BITS:  # a search on such numbers costs too much
+            return None
+        sets = [set(h[2]) for h in history] + [set(J)]
+        for p in range(1, MAX_PERIOD + 1):
+            if count < 3 * p:
+                break
+            tail = sets[-3 * p - 1 :]
+            if all(tail[i] & tail[i + p] for i in range(2 * p + 1)):
+                next_try[0] = count + max(8, count)
+                cert = period_certificate(system, p, b, history[-p][1])
+                return ("non_terminating", cert) if cert else None
+        return None
+
+    return test
 
 
 def _direction(K: Any, b: Sequence[Any]) -> tuple:

@@ -53,7 +53,7 @@ def staircase_legend(cmap: Any) -> list[tuple[str, str]]:
     >>> staircase_legend(cradle_map(upper="1/20", max_impulses=2))
     [('non_terminating', 'never exits (proved)')]
     >>> staircase_legend(cradle_map(balls=4, max_impulses=3))[1]
-    ('undecided', 'undecided: still impacting after 3 impulses\\n(termination not decided for more than two contacts)')
+    ('undecided', 'undecided: still impacting after 3 impulses\\n(no invariant cone found for the whole interval)')
     """
     from verify.checks.paper.cradle_map import termination_boundaries, threshold_between
 

@@ -473,10 +473,15 @@ def cradle_map_text(
         lines += ["", f"The threshold between 3 and 4 impulses, derived: eps = {t34} = {format_decimal(t34, 20)}"]
     bounds = termination_boundaries(cmap)
     for part in cmap.non_terminating:
+        cert = part.certificate or {}
+        if "mu" in cert:
+            how = f"invariant cones (mu = {', '.join(cert['mu'])})"
+        else:
+            gens, impulses = len(cert.get("generators", [])), cert.get("impulses")
+            how = f"a cone of {gens} generators that {impulses} impulses map into itself"
         lines += [
             "",
-            f"Never exits for eps in {part.piece}: proved by invariant cones "
-            f"(mu = {', '.join(part.certificate['mu'])});",
+            f"Never exits for eps in {part.piece}: proved by {how};",
             "  the certificate is in --json; tests/test_cradle_map.py checks it without the code that found it.",
         ]
     for bound in bounds:

@@ -57,8 +57,14 @@ class Part:
         return (
             self.stop == other.stop
             and self.impact_sets == other.impact_sets
-            and (self.certificate or {}).get("mu") == (other.certificate or {}).get("mu")
+            and _cone_of(self.certificate) == _cone_of(other.certificate)
         )
+
+
+def _cone_of(certificate: dict[str, Any] | None) -> tuple:
+    """What a certificate's cone is made of (two parts with equal cones can be merged)."""
+    c = certificate or {}
+    return c.get("mu"), c.get("generators"), c.get("images"), c.get("strict")
 
 
 @dataclass
@@ -195,7 +201,7 @@ def _unexplored_reason(part: Part, balls: int, masses: Sequence[Any] | None, cac
     """Why a part is unexplored, and whether every eps of it is proved to exit later."""
     bound = part.iterations
     if balls != 3:
-        return f"still impacting after {bound} impulses; termination not decided for more than two contacts", False
+        return (f"still impacting after {bound} impulses; no invariant cone found for the whole interval"), False
     K = SymbolicBackend(part.piece, cache)
     system = cradle_system(EPS, 3, masses, backend=K)
     G, e = system.gram, system.restitution
@@ -352,10 +358,11 @@ def aeev_rows_explained(cmap: CradleMap) -> list[dict[str, Any]]:
 
 
 def termination_boundaries(cmap: CradleMap) -> list[RealAlgebraic]:
-    """Upper ends of non-terminating intervals where terminating eps begin (the exact boundary)."""
+    """Upper ends of non-terminating intervals where terminating eps begin (the exact boundary): followed by
+    a piece that exits, or by an unexplored part proved to exit after more impulses."""
     out = []
     for a, b in zip(cmap.parts, cmap.parts[1:]):
-        if a.stop == "non_terminating" and b.stop != "non_terminating":
+        if a.stop == "non_terminating" and (b.stop == "exit" or b.exits_beyond_bound):
             out.append(a.piece.upper)
     return out
 

@@ -481,6 +481,13 @@ def backends_agree(run: Any, d: Drawn, extra: Any) -> str | None:
     except NoConvergence:
         run.count("interval undecided (a rate exactly 0)")
         iv = None
+    # two proofs that the rule never exits may come at different impulses (a cone of a period is
+    # searched from other numbers on intervals): then the branches taken by both must agree
+    proved = iv is not None and iv.stop == exact.stop == "non_terminating"
+    n = min(len(iv.impact_sets), len(exact.impact_sets)) if iv is not None else 0
+    if proved and len(iv.impact_sets) != len(exact.impact_sets) and iv.impact_sets[:n] == exact.impact_sets[:n]:
+        run.count("proved never to exit on both, at different impulses")
+        iv = None
     if iv is not None:
         if (iv.stop, iv.impact_sets) != (exact.stop, exact.impact_sets):
             return (

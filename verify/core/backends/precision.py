@@ -120,6 +120,16 @@ class IntervalBackend(_ContextBackend):
     def _bounds(self, x: Any) -> tuple[Fraction, Fraction]:
         return mpf_to_fraction(x.a), mpf_to_fraction(x.b)
 
+    def bounds(self, x: Any) -> tuple[Fraction, Fraction]:
+        """The ends of the interval x, as exact rationals.
+
+        >>> K = IntervalBackend(20)
+        >>> lo, hi = K.bounds(K.one / K.convert(Fraction(3)))
+        >>> lo < Fraction(1, 3) < hi
+        True
+        """
+        return self._bounds(x)
+
     def to_decimal(self, x: Any, digits: int = 30) -> str:
         """Only the digits that the enclosure certifies (at most ``digits``; see
         :func:`~verify.core.format.certified_decimal`): ``"4.7625000000000000"`` when the

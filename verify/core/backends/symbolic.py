@@ -192,6 +192,20 @@ class SymbolicBackend(Backend):
     def to_number(self, x: Any) -> Any:
         return x.as_expr()
 
+    def at_sample(self, x: Any) -> Fraction | None:
+        """x at one rational eps strictly inside the piece (None on a point): a quick necessary test
+        before a decision for the whole piece.
+
+        >>> K = SymbolicBackend(Piece.closed(0, 1))
+        >>> K.at_sample(K.parameter / (K.one + K.parameter))
+        Fraction(1, 3)
+        """
+        if self.piece.is_point:
+            return None
+        q = self.piece.sample()
+        value = x.numer(q) / x.denom(q)
+        return Fraction(int(value.p), int(value.q))
+
     def to_exact(self, x: Any) -> str:
         return str(sp.factor(x.as_expr()))
 

@@ -1,0 +1,96 @@
+"""Cones carried by a period of impact sets: certificates for any number of constraints
+(verify.core.periodic), checked by the independent checker (tests/certificate_check.py)."""
+
+from __future__ import annotations
+
+import copy
+from fractions import Fraction as F
+
+import pytest
+
+from tests import certificate_check
+from tests.helpers import Poison
+from verify.core.backends.rational import RationalBackend
+from verify.core.cones.period import linear_step, member, period_certificate
+from verify.core.rule import solve
+from verify.core.system import System
+from verify.models.cradle import cradle_geometry
+
+# cradles of four and five balls (rational masses, a COR per contact) that the general rule never
+# lets go; found by the termination census of `verify properties`
+CASES = {
+    "4 balls, a COR of 0 (a contact never hit)": (
+        ["2", "1", "5/2", "3"], ["4/5", "0", "1"], ["-79/102", "-65/51", "-65/51", "-65/51"]
+    ),
+    "5 balls, period (1)(0,2)": (
+        ["3", "4/3", "3", "3", "3"], ["0", "1", "0", "1"], ["-15/31", "-61/62", "-61/62", "-61/62", "3"]
+    ),
+    "5 balls, plastic, period (0,2)(1,3)": (
+        ["5/2", "7/3", "3", "3/2", "1/3"], ["0", "0", "0", "0"],
+        ["165/58", "107/58", "49/58", "-125/58", "-125/58"],
+    ),
+}  # fmt: skip
+
+
+def _system(masses: list[str], cors: list[str]) -> tuple[System, list[list[str]], list[list[str]]]:
+    g, normals = cradle_geometry([F(m) for m in masses])
+    system = System(g, normals, cors)
+    return system, [[str(x) for x in row] for row in g], [[str(x) for x in row] for row in normals]
+
+
+@pytest.mark.parametrize("name", list(CASES))
+def test_the_run_is_proved_never_to_exit_and_the_checker_agrees(name):
+    masses, cors, velocity = CASES[name]
+    system, g, normals = _system(masses, cors)
+    r = solve(system, velocity, max_iterations=200)
+    assert r.stop == "non_terminating"
+    cert = r.certificate
+    assert cert["kind"] == "invariant cone of a period" and cert["rigorous"]
+    assert certificate_check.check_period(cert, g, normals, restitution=cors) == []
+    # what the certificate says, seen in a long run without it: no exit for many more impulses
+    long = solve(system, velocity, max_iterations=r.iterations + 120, certify=False)
+    assert long.stop == "max_iterations"
+
+
+def test_the_checker_rejects_wrong_certificates():
+    masses, cors, velocity = CASES["5 balls, period (1)(0,2)"]
+    system, g, normals = _system(masses, cors)
+    cert = solve(system, velocity, max_iterations=200).certificate
+    hit = next(i for i, x in enumerate(cert["generators"][0]) if x.startswith("-"))
+    fewer = copy.deepcopy(cert)
+    fewer["generators"], fewer["strict"] = fewer["generators"][:1], fewer["strict"][:1]
+    assert certificate_check.check_period(fewer, g, normals)  # one ray is not carried into itself
+    other_cor = copy.deepcopy(cert)
+    other_cor["restitution"][hit] = "1/2" if other_cor["restitution"][hit] != "1/2" else "1/3"
+    assert certificate_check.check_period(other_cor, g, normals, restitution=cors)
+    all_weak = copy.deepcopy(cert)
+    all_weak["strict"] = [False] * len(all_weak["strict"])
+    assert certificate_check.check_period(all_weak, g, normals)
+    heavier = [masses[0], "5", *masses[2:]]
+    assert certificate_check.check_period(cert, _system(heavier, cors)[1], normals)
+
+
+def test_linear_steps():
+    # adjacent contacts of a cradle are not orthogonal: beta depends on the rates
+    system, _, _ = _system(["1", "1", "1", "1"], ["1/2", "1/2", "1/2"])
+    assert linear_step(system, (0, 2)) and not linear_step(system, (0, 1))
+
+
+def test_rates_far_from_a_cone_give_no_certificate():
+    masses, cors, velocity = CASES["5 balls, period (1)(0,2)"]
+    system, _, _ = _system(masses, cors)
+    b = system.rates(system.velocity(velocity))
+    assert period_certificate(system, 2, b, None) is None  # the first impulse hits (0, 1, 2, 3)
+
+
+def test_exact_arithmetic_only():
+    # rationals whose float() raises: the search and the certificate never leave exact arithmetic
+    masses, cors, velocity = CASES["5 balls, period (1)(0,2)"]
+    g, normals = cradle_geometry([Poison(F(m)) for m in masses])
+    system = System(g, normals, [Poison(F(e)) for e in cors], backend=RationalBackend("python"))
+    r = solve(system, [Poison(F(v)) for v in velocity], max_iterations=200)
+    assert r.stop == "non_terminating" and r.certificate["kind"] == "invariant cone of a period"
+    K = RationalBackend("python")
+    gens = [[K.convert(F(1)), K.convert(F(0))], [K.convert(F(1)), K.convert(F(1))]]
+    c = member(K, [Poison(3), Poison(1)], gens)
+    assert c == {0: 2, 1: 1} and all(type(x) is F or isinstance(x, F) for x in c.values())

@@ -1,0 +1,104 @@
+"""Membership in a finitely generated cone, decided exactly: is y a non-negative combination of
+given vectors?
+
+The question is a linear program: find ``d >= 0`` with ``sum_k d_k g_k = y``. :func:`feasible`
+answers it by the first phase of the simplex method (artificial variables, Bland's rule, so it
+cannot cycle), over any exact backend: every comparison is a sign the backend decides. The
+coefficients it returns belong to a basis, so they are found again by one exact solve of
+independent columns (:func:`solve_columns`), which is how a parameter backend uses it: the
+basis is searched at one rational value of the parameter, then solved for the whole range.
+
+>>> from verify.core.backends.rational import RationalBackend
+>>> K = RationalBackend("python")
+>>> g = [[K.convert(1), K.convert(0)], [K.convert(1), K.convert(1)], [K.convert(0), K.convert(1)]]
+>>> sorted((k, str(d)) for k, d in feasible(K, [K.convert(3), K.convert(1)], g).items())
+[(0, '2'), (1, '1')]
+>>> feasible(K, [K.convert(-1), K.convert(1)], g) is None
+True
+"""
+
+from __future__ import annotations
+
+from collections.abc import Sequence
+from typing import Any
+
+
+def solve_columns(K: Any, columns: Sequence[Sequence[Any]], y: Sequence[Any]) -> list[Any] | None:
+    """The coefficients c with ``sum c_k columns[k] = y`` (columns independent), or None when
+    the columns are dependent or y is not in their span (exact elimination).
+
+    >>> from verify.core.backends.rational import RationalBackend
+    >>> K = RationalBackend("python")
+    >>> [str(c) for c in solve_columns(K, [[K.convert(2), K.convert(0)]], [K.convert(1), K.convert(0)])]
+    ['1/2']
+    """
+    n, m = len(y), len(columns)
+    rows = [[columns[k][i] for k in range(m)] + [y[i]] for i in range(n)]
+    at = 0
+    for col in range(m):
+        p = next((i for i in range(at, n) if rows[i][col] != K.zero), None)
+        if p is None:
+            return None
+        rows[at], rows[p] = rows[p], rows[at]
+        piv = rows[at][col]
+        rows[at] = [v / piv for v in rows[at]]
+        for i in range(n):
+            if i != at and rows[i][col] != K.zero:
+                f = rows[i][col]
+                rows[i] = [a - f * b for a, b in zip(rows[i], rows[at])]
+        at += 1
+    if any(rows[i][m] != K.zero for i in range(at, n)):
+        return None
+    return [rows[i][m] for i in range(m)]
+
+
+def feasible(K: Any, y: Sequence[Any], gens: Sequence[Sequence[Any]]) -> dict[int, Any] | None:
+    """Non-negative coefficients ``{k: d_k}`` (the non-zero ones) with ``y = sum d_k gens[k]``, or None
+    when there are none (decided exactly: phase one of the simplex method)."""
+    n, m = len(y), len(gens)
+    # the tableau: rows i = 0..n-1 of [g_0[i] .. g_{m-1}[i] | a_0 .. a_{n-1} | y_i], each with y_i >= 0
+    rows = []
+    for i in range(n):
+        flip = K.sign(y[i]) < 0
+        row = [(K.zero - g[i]) if flip else g[i] for g in gens]
+        row += [K.one if j == i else K.zero for j in range(n)]
+        row.append((K.zero - y[i]) if flip else y[i])
+        rows.append(row)
+    basis = [m + i for i in range(n)]  # the artificial variables start in the basis
+    width = m + n
+    while True:
+        # reduced costs of minimising sum a: -(sum of the rows) on the non-artificial columns
+        entering = None
+        for col in range(width):
+            if col in basis:
+                continue
+            cost = K.zero
+            for i in range(n):
+                if basis[i] >= m:
+                    cost = cost - rows[i][col]
+            if col >= m:
+                cost = cost + K.one
+            if K.sign(cost) < 0:
+                entering = col  # Bland: the first improving column
+                break
+        if entering is None:
+            break
+        leave, best = None, None
+        for i in range(n):
+            a = rows[i][entering]
+            if K.sign(a) > 0:
+                ratio = rows[i][-1] / a
+                if leave is None or K.sign(ratio - best) < 0 or (ratio == best and basis[i] < basis[leave]):
+                    leave, best = i, ratio
+        if leave is None:  # unbounded: cannot happen in phase one (the objective is bounded below)
+            return None
+        piv = rows[leave][entering]
+        rows[leave] = [v / piv for v in rows[leave]]
+        for i in range(n):
+            if i != leave and rows[i][entering] != K.zero:
+                f = rows[i][entering]
+                rows[i] = [a - f * b for a, b in zip(rows[i], rows[leave])]
+        basis[leave] = entering
+    if any(basis[i] >= m and rows[i][-1] != K.zero for i in range(n)):
+        return None  # an artificial variable stays positive: no combination
+    return {basis[i]: rows[i][-1] for i in range(n) if basis[i] < m and rows[i][-1] != K.zero}

@@ -1,0 +1,550 @@
+"""Proofs that the rule never exits, for any number of constraints: a cone that p impulses map into itself.
+
+Write ``b = (p(F_0), ..., p(F_{r-1}))`` for the rates. An impulse on J changes them by
+
+    b -> b - beta sum_{j in J} (1 + e_j) (b_j / G_jj) G[:, j]
+
+with beta = 1 for a single impact, and also for a multiple one whose constraints are mutually
+orthogonal (G_JJ diagonal; Sect. 3.5 c). Such an impulse is a *linear* map of the rates,
+``M_J``. The certificate is a finite list of generators (rate vectors), some *strict*, and a
+number of impulses p. Carry the generators through p impulses, all together: at each impulse,
+look at every vector carried so far and split the constraints into
+
+- S, those where every strict vector is ``< 0`` and every other one ``<= 0`` (hit for sure),
+- F, those where the vectors disagree (hit or not, depending on the point of the cone),
+- the rest, where every vector is ``>= 0`` (not hit);
+
+S must not be empty and S + F must be mutually orthogonal, and each vector v goes on as all of
+``M_{S+T} v`` for T a subset of F. After p impulses, each vector must be a non-negative
+combination of the generators, with a positive weight on a strict generator when it comes from
+a strict one. The rates must be a generator (or lie in the cone, :func:`box_seeds`).
+
+Why this proves the rule never exits: a point ``x = sum c_k g_k`` (c >= 0, some weight on a
+strict generator) has ``x_i < 0`` on S and ``x_i >= 0`` off S + F, so the rule hits it on
+``J = S + T`` for the T of its own negative F-rates; then ``M_J x = sum c_k M_J g_k``, a
+combination of vectors carried one impulse further, still with weight on strict ones. After
+p impulses the point is again a combination of the generators: by induction the rule hits a
+non-empty set at every impulse, forever. Every condition is a finite list of exact signs and
+identities; the independent checker repeats them (``tests/certificate_check.py``).
+
+The generators are found from the run: the rates now (and, for rational inputs, a box of
+points around the direction the rates tend to), one more point beyond that direction, the unit
+vectors of constraints never hit (weak generators: a period leaves them unchanged), then every
+carried vector the cone does not contain yet, until the cone is closed.
+
+>>> from verify.models.cradle import cradle_system
+>>> s = cradle_system("1/20", 4)
+>>> b = s.rates(s.velocity(["0", "1", "0", "-1"]))
+>>> period_certificate(s, 2, b, None) is None  # hit on (0, 2) then (1): not yet a cone
+True
+"""
+
+from __future__ import annotations
+
+import itertools
+from collections.abc import Sequence
+from fractions import Fraction
+from typing import Any
+
+from verify.core.cones.lp import feasible, solve_columns
+from verify.core.system import System, on_exact_field
+from verify.errors import Undecided
+
+#: the most generators a cone may have beyond its seeds, the rounds of closing it, and the most vectors
+#: carried through a period
+MAX_GENERATORS = 24
+MAX_ROUNDS = 16
+MAX_CARRIED = 400
+#: the most vectors whose beta is bounded at a multiple impact (the bound takes every pair)
+MAX_BETA_VECTORS = 40
+
+STATEMENT = (
+    "From this state on the rule hits a non-empty set at every impulse, forever: the rates stay in the cone "
+    "of the generators, and p impulses map every point of it (carried with every impact set its signs allow) "
+    "to a non-negative combination of the generators."
+)
+
+Vector = list[Any]
+
+
+def linear_step(system: System, J: Sequence[int]) -> bool:
+    """Whether an impulse on J is linear in the rates: a single impact, or constraints mutually
+    orthogonal (G_JJ diagonal, where beta = 1); decided exactly.
+
+    >>> from verify.models.cradle import cradle_system
+    >>> s = cradle_system("1/2", 4)
+    >>> linear_step(s, (0, 2)), linear_step(s, (0, 1))
+    (True, False)
+    """
+    K, G = system.backend, system.gram
+    return len(J) == 1 or all(G[i][j] == K.zero for i, j in itertools.combinations(J, 2))
+
+
+def step(system: System, J: Sequence[int], x: Sequence[Any], beta: Any = None) -> Vector:
+    """The rates after an impulse on J with the coefficient beta (default 1, a linear impulse):
+    ``x - beta sum_j (1 + e_j)(x_j/G_jj) G[:, j]``.
+
+    >>> from verify.models.cradle import cradle_system
+    >>> s = cradle_system("1/2", 3)
+    >>> K = s.backend
+    >>> [str(v) for v in step(s, (0,), [K.convert(-1), K.zero])]
+    ['1/2', '-3/4']
+    """
+    K, G, e = system.backend, system.gram, system.restitution
+    out = list(x)
+    for j in J:
+        if x[j] == K.zero:
+            continue
+        c = (K.one + e[j]) * x[j] / G[j][j]
+        if beta is not None:
+            c = beta * c
+        for lo in range(system.r):
+            if G[lo][j] != K.zero:
+                out[lo] = out[lo] - c * G[lo][j]
+    return out
+
+
+def beta_bounds(system: System, J: Sequence[int], vectors: Sequence[Vector]) -> list[Any] | None:
+    """[beta_lo, beta_hi]: bounds of beta on the cone of the vectors (all hit on J), or None.
+
+    beta = N(x)/D(x), with ``N = sum_j x_j^2 / G_jj`` and ``D = lam^T G_JJ lam`` (lam_j = x_j / G_jj)
+    (Sect. 3.5 c). For ``x = sum c_k v_k`` (c >= 0), ``N(x) - t D(x) = sum c_k c_l (N_kl - t D_kl)``
+    with the bilinear forms N_kl, D_kl of the vectors: it is >= 0 when every term is. So beta_lo is the
+    least N_kl/D_kl over D_kl > 0 and beta_hi the largest, provided the terms with D_kl <= 0 have the
+    right sign too. An impulse with beta in between is ``x - beta A x``, which lies between
+    ``x - beta_lo A x`` and ``x - beta_hi A x`` with the same weights for every point of the cone:
+    carrying each vector with both bounds keeps every point inside the carried cone.
+    """
+    K, G = system.backend, system.gram
+    if len(vectors) > MAX_BETA_VECTORS:
+        return None
+    lam = [[v[j] / G[j][j] for j in J] for v in vectors]
+    glam = [[sum((G[i][j] * lv[t] for t, j in enumerate(J)), K.zero) for i in J] for lv in lam]
+    ratios, forms = [], []
+    for k, (a, la) in enumerate(zip(vectors, lam)):
+        for lb, gb in zip(lam[k:], glam[k:]):  # the forms are symmetric: each pair once
+            n = sum((a[j] * lb[t] for t, j in enumerate(J)), K.zero)
+            d = sum((x * y for x, y in zip(la, gb)), K.zero)
+            forms.append((n, d))
+            if K.sign(d) > 0:
+                ratios.append(n / d)
+    if not ratios:
+        return None
+    lo = hi = ratios[0]
+    for x in ratios[1:]:
+        lo = x if K.sign(x - lo) < 0 else lo
+        hi = x if K.sign(x - hi) > 0 else hi
+    if any(K.sign(d) <= 0 and (K.sign(n - lo * d) < 0 or K.sign(hi * d - n) < 0) for n, d in forms):
+        return None
+    return [lo] if lo == hi else [lo, hi]
+
+
+def _classify(K: Any, carried: Sequence[tuple[Vector, bool]]) -> tuple[list[int], list[int]] | None:
+    """(S, F) of the module docstring for the vectors carried so far, or None when S is empty."""
+    r = len(carried[0][0])
+    S, F = [], []
+    for i in range(r):
+        signs = [(K.sign(v[i]), strict) for v, strict in carried]
+        if all(s >= 0 for s, _ in signs):
+            continue
+        if all(s < 0 or (s == 0 and not strict) for s, strict in signs):
+            S.append(i)
+        else:
+            F.append(i)
+    return (S, F) if S else None
+
+
+Carried = list[tuple[Vector, bool]]
+
+
+def _direction(K: Any, v: Vector) -> tuple:
+    """v scaled by 1/|v_k| at its first non-zero entry k (rationals: positive multiples become equal);
+    v itself on other backends, where that sign could cut a parameter's range."""
+    if not getattr(K, "rationals", False):
+        return tuple(v)
+    k = next((x for x in v if x != K.zero), None)
+    if k is None:
+        return tuple(v)
+    size = abs(k)
+    return tuple(x / size for x in v)
+
+
+def split(K: Any, vectors: Carried, f: int) -> tuple[Carried, Carried]:
+    """The vectors of the two halves of their cone, ``x_f <= 0`` and ``x_f >= 0``: those on each side
+    (the ones with ``x_f = 0`` on both), and on both sides, for every pair u (``u_f > 0``), w
+    (``w_f < 0``), the point ``-w_f u + u_f w`` where the pair's edge crosses ``x_f = 0`` (strict when
+    u or w is). Every point of a half is a non-negative combination of its vectors.
+
+    >>> from verify.core.backends.rational import RationalBackend
+    >>> K = RationalBackend("python")
+    >>> low, high = split(K, [([K.convert(1), K.one], True), ([K.convert(-1), K.one], False)], 0)
+    >>> [([str(x) for x in v], s) for v, s in low]
+    [(['-1', '1'], False), (['0', '2'], True)]
+    """
+    neg = [(v, s) for v, s in vectors if K.sign(v[f]) < 0]
+    pos = [(v, s) for v, s in vectors if K.sign(v[f]) > 0]
+    zero = [(v, s) for v, s in vectors if v[f] == K.zero]
+    cross = [([(K.zero - w[f]) * a + u[f] * b for a, b in zip(u, w)], su or sw) for u, su in pos for w, sw in neg]
+    return neg + zero + cross, pos + zero + cross
+
+
+def _prune(K: Any, vectors: Carried) -> Carried:
+    """The vectors without those that are non-negative combinations of the others (with weight on a strict
+    one, for a strict vector): the same cone, fewer vectors to split and carry. Rationals only (elsewhere
+    each test would be decided for a whole parameter range)."""
+    if not getattr(K, "rationals", False) or len(vectors) <= len(vectors[0][0]) + 1:
+        return vectors
+    kept = list(vectors)
+    for item in list(vectors):
+        others = [x for x in kept if x is not item]
+        d = feasible(K, item[0], [v for v, _ in others])
+        if d is not None and (not item[1] or any(others[k][1] for k in d)):
+            kept = others
+    return kept
+
+
+def carry(system: System, gens: Sequence[Vector], strict: Sequence[bool], p: int) -> Carried | None:
+    """The vectors after p impulses (the module docstring): at each impulse the cone of the vectors is cut
+    by ``x_f = 0`` for each f in F (:func:`split`), and each part is carried on its own impact set.
+    None when an impulse is not decided: S empty, an impact set of a part not linear, too many vectors."""
+    K = system.backend
+    current: Carried = [(list(g), s) for g, s in zip(gens, strict)]
+    for _ in range(p):
+        found = _classify(K, current)
+        if found is None:
+            return None
+        S, F = found
+        parts: list[tuple[Carried, tuple[int, ...]]] = [(current, tuple(S))]
+        for f in F:
+            cut: list[tuple[Carried, tuple[int, ...]]] = []
+            for vs, J in parts:
+                signs = [K.sign(v[f]) for v, _ in vs]
+                if all(x >= 0 for x in signs):
+                    cut.append((vs, J))
+                elif all(x <= 0 for x in signs):  # x_f = 0 is carried alike with or without f
+                    cut.append((vs, (*J, f)))
+                else:
+                    low, high = split(K, vs, f)
+                    cut += [(low, (*J, f)), (high, J)]
+            parts = cut
+        nxt: dict[tuple, bool] = {}  # the vectors, each once (strict if it comes strict from any part)
+        for vs, J in parts:
+            betas = [K.one] if linear_step(system, J) else beta_bounds(system, J, [v for v, _ in vs])
+            if betas is None:
+                return None
+            for v, s in vs:
+                for beta in betas:
+                    key = _direction(K, step(system, J, v, beta))
+                    nxt[key] = nxt.get(key, False) or s
+        current = _prune(K, [(list(v), s) for v, s in nxt.items()])
+        if len(current) > MAX_CARRIED:
+            return None
+    return current
+
+
+def member(K: Any, y: Sequence[Any], gens: Sequence[Vector]) -> dict[int, Any] | None:
+    """Non-negative coefficients ``{k: d_k}`` with ``y = sum d_k gens[k]``, or None if there are none.
+
+    Exact linear programming (:func:`verify.core.cones.lp.feasible`). On a parameter backend the
+    basis is found at one rational value of the parameter (a combination for the whole range is one
+    there too), then solved for the whole range and its signs decided there (which may cut the range).
+
+    >>> from verify.core.backends.rational import RationalBackend
+    >>> K = RationalBackend("python")
+    >>> g = [[K.convert(1), K.convert(0)], [K.convert(1), K.convert(1)]]
+    >>> sorted((k, str(d)) for k, d in member(K, [K.convert(3), K.convert(1)], g).items())
+    [(0, '2'), (1, '1')]
+    """
+    at = getattr(K, "at_sample", None)
+    if at is None or at(K.zero) is None:
+        return feasible(K, y, gens)
+    from verify.core.backends.rational import RationalBackend
+
+    d = feasible(RationalBackend("python"), [at(x) for x in y], [[at(x) for x in g] for g in gens])
+    if d is None:
+        return None
+    cols = sorted(d)
+    c = solve_columns(K, [gens[k] for k in cols], y)
+    if c is None or any(K.sign(x) < 0 for x in c):
+        return None
+    return {k: x for k, x in zip(cols, c) if x != K.zero}
+
+
+def _rule_steps(system: System, b: Sequence[Any], p: int) -> Vector | None:
+    """The rates after p impulses of the rule from b (None when one finds nothing to hit)."""
+    x: Vector | None = list(b)
+    for _ in range(p):
+        x = _rule_step(system, x) if x is not None else None
+    return x
+
+
+def _rule_step(system: System, x: Sequence[Any]) -> Vector | None:
+    """One impulse of the rule from the rates x: on the incoming set, with its own beta."""
+    K, G = system.backend, system.gram
+    J = [i for i, v in enumerate(x) if K.sign(v) < 0]
+    if not J:
+        return None
+    if linear_step(system, J):
+        return step(system, J, x)
+    lam = [x[j] / G[j][j] for j in J]
+    n = sum((x[j] * lam[t] for t, j in enumerate(J)), K.zero)
+    d = sum((lam[s] * G[i][j] * lam[t] for s, i in enumerate(J) for t, j in enumerate(J)), K.zero)
+    return step(system, J, x, n / d)
+
+
+def _growth(K: Any, earlier: Sequence[Any], now: Sequence[Any]) -> Any | None:
+    """now_i / earlier_i on the first rate that is non-zero in both (the growth over a period)."""
+    for a, b in zip(earlier, now):
+        if K.zero not in (a, b):
+            return b / a
+    return None
+
+
+def close(
+    system: System, p: int, seeds: Sequence[Vector], extra: Sequence[Vector], rounds: int = 8
+) -> tuple[list[Vector], list[bool], list[tuple[Vector, dict[int, Any]]]] | None:
+    """A cone of the seeds (strict), the ``extra`` strict vectors and the weak unit vectors of the
+    constraints no seed is hit on in p impulses, closed under p impulses: (generators, strict flags, the
+    vectors carried through p impulses with their combinations), or None."""
+    K, r = system.backend, system.r
+    gens = [list(g) for g in (*seeds, *extra)]
+    strict = [True] * len(gens)
+    hit = {i for g in seeds for i in _hit(system, g, p)}
+    never = [i for i in range(r) if i not in hit]
+    for m in never:
+        gens.append([K.one if i == m else K.zero for i in range(r)])
+        strict.append(False)
+    limit = len(gens) + MAX_GENERATORS
+    for _ in range(rounds):
+        carried = carry(system, gens, strict, p)
+        if carried is None:
+            return None
+        out, missing = [], []
+        for y, s in carried:
+            d = member(K, y, gens)
+            if d is None or (s and not any(strict[k] for k in d)):
+                missing.append((y, s))
+            else:
+                out.append((y, d))
+        if not missing:
+            return gens, strict, out
+        if len(gens) + len(missing) > limit:
+            return None
+        for y, s in missing:
+            gens.append(y)
+            strict.append(s)
+    return None
+
+
+def box_seeds(K: Any, center: Sequence[Any], radius: Sequence[Any]) -> list[Vector]:
+    """Points ``center +- a_i e_i`` whose cone contains the box ``center +- radius`` (each a_i at least
+    k radius_i, k the number of non-zero radii; the center alone when they are all 0).
+
+    Every point ``center + t`` of the box is ``(1/k) sum_i ((1/2 + k t_i / (2 a_i)) (center + a_i e_i)
+    + (1/2 - k t_i / (2 a_i)) (center - a_i e_i))``, with non-negative weights. Each a_i is twice
+    k radius_i, or larger when that is still small beside the center's own size (a rounder cone).
+
+    >>> from verify.core.backends.rational import RationalBackend
+    >>> K = RationalBackend("python")
+    >>> [[str(x) for x in v] for v in box_seeds(K, [K.convert(-1), K.convert(2)], [K.zero, K.convert(Fraction(1, 8))])]
+    [['-1', '5/2'], ['-1', '3/2']]
+    """
+    wide = [i for i, w in enumerate(radius) if w != K.zero]
+    if not wide:
+        return [list(center)]
+    k = K.convert(Fraction(len(wide)))
+    size = max((abs(x) for x in center), default=K.zero)  # exact rationals here: abs and max are exact
+    out = []
+    for i in wide:
+        a = max(k * radius[i] * 2, min(abs(center[i]) / 2, size / 2**30))
+        for sign in (1, -1):
+            out.append([x + sign * a if j == i else x for j, x in enumerate(center)])
+    return out
+
+
+def _rounded(K: Any, v: Sequence[Any], on: Sequence[int], bits: int = 64) -> Vector:
+    """v / max |v_i| over i in ``on``, each entry rounded down to a multiple of 2^-bits (exact integers)."""
+    values = [Fraction(K.to_number(x)) for x in v]
+    top = max(abs(values[i]) for i in on)
+    out = []
+    for x in values:
+        q = x * 2**bits / top
+        out.append(K.convert(Fraction(q.numerator // q.denominator, 2**bits)))
+    return out
+
+
+def _hit(system: System, b: Sequence[Any], p: int) -> list[int]:
+    """The constraints the rule hits in p impulses from b."""
+    K = system.backend
+    x: Vector | None = list(b)
+    hit: set[int] = set()
+    for _ in range(p):
+        if x is None:
+            break
+        hit |= {i for i, v in enumerate(x) if K.sign(v) < 0}
+        x = _rule_step(system, x)
+    return sorted(hit)
+
+
+def _around_limit(system: System, b: Sequence[Any], p: int, periods: int = 400) -> list[Vector]:
+    """Points around the direction the rates tend to (rationals only), with b's own scale.
+
+    The rates of the constraints hit (H) evolve on their own, so the direction is found on them alone:
+    p-impulse steps of the rule from b's H-rates (the others set to 0), scaled and rounded after each.
+    The points are that direction and it +- 2^-12 times each unit vector of H, scaled to b's H-rates,
+    with b's other rates (the weak generators add to those what the cone needs)."""
+    K = system.backend
+    on = _hit(system, b, p)
+    if not on or all(b[i] == K.zero for i in on):
+        return []
+    v = _rounded(K, [x if i in on else K.zero for i, x in enumerate(b)], on)
+    for _ in range(periods):
+        w = _rule_steps(system, v, p)
+        if w is None or all(w[i] == K.zero for i in on):
+            return []
+        v = _rounded(K, [x if i in on else K.zero for i, x in enumerate(w)], on)
+    scale = max(abs(Fraction(K.to_number(b[i]))) for i in on)
+    size = K.convert(scale)
+    delta = K.convert(scale / 2**12)
+    base = [v[i] * size if i in on else b[i] for i in range(len(b))]
+    out = [base]
+    for i in on:
+        if v[i] == K.zero:  # a rate 0 in that direction (a COR of 0): moving it would change the impact sets
+            continue
+        for sign in (1, -1):
+            out.append([x + sign * delta if j == i else x for j, x in enumerate(base)])
+    return out
+
+
+def _beyond(system: System, p: int, guide: tuple[Sequence[Any], Sequence[Any] | None]) -> list[Vector]:
+    """``2 P b - lam b``: past the direction the rates tend to, from (b, the rates p impulses before)."""
+    K = system.backend
+    b, earlier = guide
+    lam = _growth(K, earlier, b) if earlier is not None else None
+    ahead = _rule_steps(system, b, p) if lam is not None and K.sign(lam) > 0 else None
+    return [[a + a - lam * x for a, x in zip(ahead, b)]] if ahead is not None else []
+
+
+def cone_search(
+    system: System, p: int, seeds: Sequence[Vector], guide: tuple[Sequence[Any], Sequence[Any] | None]
+) -> tuple[list[Vector], list[bool], list[tuple[Vector, dict[int, Any]]]] | None:
+    """A closed cone containing the seeds: first with one point beyond the direction the rates tend to
+    (``2 P b - lam b``, from ``guide`` = (b, the rates one period before)), then (rational backends)
+    with points around that direction (:func:`_around_limit`)."""
+    K = system.backend
+    b, _ = guide
+    found = close(system, p, seeds, _beyond(system, p, guide))
+    if found is None and getattr(K, "rationals", False):
+        around = _around_limit(system, b, p)
+        if around:
+            found = close(system, p, seeds, around, MAX_ROUNDS)
+    return found
+
+
+class _Sampled:
+    """A system on a parameter backend, at the parameter's sample value (rationals): what the cone
+    search reads of a system."""
+
+    def __init__(self, system: System):
+        from verify.core.backends.rational import RationalBackend
+
+        at = getattr(system.backend, "at_sample")  # noqa: B009 (a parameter backend's method)
+        self.backend = RationalBackend("python")
+        self.gram = [[at(x) for x in row] for row in system.gram]
+        self.restitution = [at(x) for x in system.restitution]
+        self.r = system.r
+        self.at = at
+
+
+def _at_sample(system: System, p: int, b: Sequence[Any], earlier: Sequence[Any] | None) -> bool:
+    """Whether the search for the whole range can succeed: it succeeds at the sample value of the parameter
+    (the same search in rationals; a point of the range, where the backend has none, passes)."""
+    if getattr(system.backend, "at_sample")(system.backend.zero) is None:  # noqa: B009
+        return True
+    q = _Sampled(system)
+    bq = [q.at(x) for x in b]
+    guide = (bq, [q.at(x) for x in earlier] if earlier is not None else None)
+    try:
+        return close(q, p, [bq], _beyond(q, p, guide)) is not None  # type: ignore[arg-type]
+    except Undecided:
+        return False
+
+
+def period_certificate(
+    system: System, p: int, b: Sequence[Any], earlier: Sequence[Any] | None
+) -> dict[str, Any] | None:
+    """A certificate that the rule never exits from rates ``b``, with a cone that p impulses map into
+    itself, or None. ``earlier`` are the rates p impulses before (they guide the search only). Every
+    sign is the backend's, so on a parameter backend a :class:`~verify.core.backends.symbolic.Split`
+    may ask to cut the range.
+
+    On certified intervals (rational inputs), the cone is built in exact rationals around the box
+    that encloses the rates (:func:`box_seeds`): the certificate is exact, and it holds for every
+    point of the box, the true rates among them.
+    """
+    K = system.backend
+    box: tuple[Vector, Vector] | None = None
+    if K.is_parametric and not _at_sample(system, p, b, earlier):
+        return None
+    if K.is_exact:
+        exact, seeds, guide = system, [list(b)], (b, earlier)
+    elif K.encloses and K.is_rigorous and hasattr(K, "bounds"):
+        exact = on_exact_field(system, [])
+        if not exact.backend.rationals:
+            return None
+        Q = exact.backend
+        ends = [K.bounds(x) for x in b]
+        box = ([Q.convert((lo + hi) / 2) for lo, hi in ends], [Q.convert((hi - lo) / 2) for lo, hi in ends])
+        seeds = box_seeds(Q, *box)
+        guide = (box[0], [Q.convert(sum(K.bounds(x)) / 2) for x in earlier] if earlier is not None else None)
+    else:
+        return None
+    try:
+        found = cone_search(exact, p, seeds, guide)
+    except Undecided as exc:
+        if hasattr(exc, "polys"):
+            raise
+        return None
+    return _certificate(exact, p, found, b if box is None else None, box) if found else None
+
+
+def _certificate(
+    system: System,
+    p: int,
+    found: tuple[list[Vector], list[bool], list[tuple[Vector, dict[int, Any]]]],
+    b: Sequence[Any] | None,
+    box: tuple[Vector, Vector] | None,
+) -> dict[str, Any]:
+    K = system.backend
+    gens, strict, carried = found
+    show = K.to_exact
+    where: dict[str, Any] = {"rates": [show(x) for x in b]} if b is not None else {}
+    if box is not None:
+        where["box"] = {"center": [show(x) for x in box[0]], "radius": [show(x) for x in box[1]]}
+    return {
+        "kind": "invariant cone of a period",
+        "statement": STATEMENT,
+        "rigorous": K.is_rigorous,
+        "impulses": p,
+        **where,
+        "gram": [[show(x) for x in row] for row in system.gram],
+        "restitution": [show(x) for x in system.restitution],
+        "generators": [[show(x) for x in g] for g in gens],
+        "strict": strict,
+        "carried": [
+            {"vector": [show(x) for x in y], "combination": {str(k): show(d) for k, d in sorted(c.items())}}
+            for y, c in carried
+        ],
+        "map": "b -> b - sum_{j in J} (1 + e_j) (b_j / G_jj) G[:, j] for J = S + T, T any subset of F (beta = 1)",
+        "checked": [
+            "at each of the p impulses, S (every strict vector carried so far < 0, the others <= 0) is not empty, "
+            "and S + F (F: the constraints where the vectors disagree) are mutually orthogonal",
+            "each generator's vectors after p impulses, carried on S + T for every subset T of F, are the listed ones",
+            "each listed vector is sum_k combination[k] * generator k, coefficients >= 0, with a positive "
+            "coefficient on a strict generator when it comes from a strict one",
+            "the rates are generator 0, which is strict"
+            if box is None
+            else "the rates lie in the box center +- radius (certified intervals), and the first generators are "
+            "center +- a_i e_i with a_i >= k radius_i (k the number of non-zero radii): the box lies in the cone",
+        ],
+    }
