@@ -114,7 +114,7 @@ def test_staircase_legend_shows_only_what_is_drawn():
             assert part.reason.split("; ", 1)[1] in "".join(labels)
 
 
-def test_four_balls_staircase_does_not_claim_an_exit_or_a_proof(tmp_path, monkeypatch):
+def test_four_balls_staircase_claims_only_what_is_proved(tmp_path, monkeypatch):
     pytest.importorskip("matplotlib")
     from matplotlib.figure import Figure
 
@@ -129,12 +129,14 @@ def test_four_balls_staircase_does_not_claim_an_exit_or_a_proof(tmp_path, monkey
 
     monkeypatch.setattr(Figure, "savefig", keep)
     m = cradle_map(4, ["1", "2", "3", "4"], max_impulses=6)
-    assert m.unexplored and not m.non_terminating
+    # what is proved never to exit carries a certificate (a cone of a period); nothing claims an exit beyond
+    assert m.unexplored and all(p.certificate["kind"] == "invariant cone of a period" for p in m.non_terminating)
     assert not any(p.exits_beyond_bound for p in m.unexplored)
     assert cradle_staircase(m, tmp_path / "s.png").read_bytes()[:4] == b"\x89PNG"
     (labels,) = saved
-    assert not any("exits after more than" in x or "never exits" in x for x in labels)
-    assert any("undecided" in x and "not decided for more than two contacts" in x for x in labels)
+    assert not any("exits after more than" in x for x in labels)
+    assert ("never exits (proved)" in labels) == bool(m.non_terminating)
+    assert any("undecided" in x and "no invariant cone found" in x for x in labels)
 
 
 def test_reversed_interval():

@@ -233,6 +233,9 @@ def test_non_termination_refutations_are_certified_independently(d: Drawn) -> No
     kind = result.certificate["kind"]
     if kind == "alternating invariant cone":
         assert certificate_check.check(result.certificate, masses, d.record["normals"]) == []
+    elif kind == "invariant cone of a period":
+        cors = d.record["restitution"]
+        assert certificate_check.check_period(result.certificate, masses, d.record["normals"], restitution=cors) == []
     else:
         assert kind == "repeating direction"
         assert certificate_check.check_repeating(result.certificate, masses, d.record["normals"]) == []

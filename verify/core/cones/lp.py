@@ -8,12 +8,13 @@ coefficients it returns belong to a basis, so they are found again by one exact 
 independent columns (:func:`solve_columns`), which is how a parameter backend uses it: the
 basis is searched at one rational value of the parameter, then solved for the whole range.
 
+>>> from fractions import Fraction
 >>> from verify.core.backends.rational import RationalBackend
 >>> K = RationalBackend("python")
->>> g = [[K.convert(1), K.convert(0)], [K.convert(1), K.convert(1)], [K.convert(0), K.convert(1)]]
->>> sorted((k, str(d)) for k, d in feasible(K, [K.convert(3), K.convert(1)], g).items())
+>>> g = [[K.one, K.zero], [K.one, K.one], [K.zero, K.one]]
+>>> sorted((k, str(d)) for k, d in feasible(K, [K.convert(Fraction(3)), K.one], g).items())
 [(0, '2'), (1, '1')]
->>> feasible(K, [K.convert(-1), K.convert(1)], g) is None
+>>> feasible(K, [K.convert(Fraction(-1)), K.one], g) is None
 True
 """
 
@@ -27,9 +28,10 @@ def solve_columns(K: Any, columns: Sequence[Sequence[Any]], y: Sequence[Any]) ->
     """The coefficients c with ``sum c_k columns[k] = y`` (columns independent), or None when
     the columns are dependent or y is not in their span (exact elimination).
 
+    >>> from fractions import Fraction
     >>> from verify.core.backends.rational import RationalBackend
     >>> K = RationalBackend("python")
-    >>> [str(c) for c in solve_columns(K, [[K.convert(2), K.convert(0)]], [K.convert(1), K.convert(0)])]
+    >>> [str(c) for c in solve_columns(K, [[K.convert(Fraction(2)), K.zero]], [K.one, K.zero])]
     ['1/2']
     """
     n, m = len(y), len(columns)

@@ -87,7 +87,7 @@ def step(system: System, J: Sequence[int], x: Sequence[Any], beta: Any = None) -
     >>> from verify.models.cradle import cradle_system
     >>> s = cradle_system("1/2", 3)
     >>> K = s.backend
-    >>> [str(v) for v in step(s, (0,), [K.convert(-1), K.zero])]
+    >>> [str(v) for v in step(s, (0,), [K.convert(Fraction(-1)), K.zero])]
     ['1/2', '-3/4']
     """
     K, G, e = system.backend, system.gram, system.restitution
@@ -177,7 +177,7 @@ def split(K: Any, vectors: Carried, f: int) -> tuple[Carried, Carried]:
 
     >>> from verify.core.backends.rational import RationalBackend
     >>> K = RationalBackend("python")
-    >>> low, high = split(K, [([K.convert(1), K.one], True), ([K.convert(-1), K.one], False)], 0)
+    >>> low, high = split(K, [([K.one, K.one], True), ([K.convert(Fraction(-1)), K.one], False)], 0)
     >>> [([str(x) for x in v], s) for v, s in low]
     [(['-1', '1'], False), (['0', '2'], True)]
     """
@@ -251,8 +251,8 @@ def member(K: Any, y: Sequence[Any], gens: Sequence[Vector]) -> dict[int, Any] |
 
     >>> from verify.core.backends.rational import RationalBackend
     >>> K = RationalBackend("python")
-    >>> g = [[K.convert(1), K.convert(0)], [K.convert(1), K.convert(1)]]
-    >>> sorted((k, str(d)) for k, d in member(K, [K.convert(3), K.convert(1)], g).items())
+    >>> g = [[K.one, K.zero], [K.one, K.one]]
+    >>> sorted((k, str(d)) for k, d in member(K, [K.convert(Fraction(3)), K.one], g).items())
     [(0, '2'), (1, '1')]
     """
     at = getattr(K, "at_sample", None)
@@ -346,8 +346,9 @@ def box_seeds(K: Any, center: Sequence[Any], radius: Sequence[Any]) -> list[Vect
 
     >>> from verify.core.backends.rational import RationalBackend
     >>> K = RationalBackend("python")
-    >>> [[str(x) for x in v] for v in box_seeds(K, [K.convert(-1), K.convert(2)], [K.zero, K.convert(Fraction(1, 8))])]
-    [['-1', '5/2'], ['-1', '3/2']]
+    >>> center, radius = [K.convert(Fraction(-1)), K.convert(Fraction(2))], [K.zero, K.convert(Fraction(1, 8))]
+    >>> [[str(x) for x in v] for v in box_seeds(K, center, radius)]
+    [['-1', '9/4'], ['-1', '7/4']]
     """
     wide = [i for i, w in enumerate(radius) if w != K.zero]
     if not wide:
