@@ -341,7 +341,8 @@ def test_a_failing_case_is_named(tmp_path, monkeypatch, capsys):
         return real(system, velocity, **kw)
 
     monkeypatch.setattr(rule, "solve", solve)
-    path = case_file(tmp_path, SMALL, CRADLE_4)
+    four = cradle_case("cradle-4-masses-1234", ["1", "2", "3", "4"], ["0.01", "0.02", "0.03"], ["1", "0", "0", "0"])
+    path = case_file(tmp_path, SMALL, four)
     assert main(["solve", path, "--backend", "interval"]) == 2
     out, err = capsys.readouterr()
     assert out == "" and err.count("\n") == 1
