@@ -47,6 +47,7 @@ from fractions import Fraction
 from typing import Any
 
 from verify.core.cones.lp import feasible, solve_columns
+from verify.core.engines.rates import beta_from_rates
 from verify.core.system import System, on_exact_field
 from verify.errors import Undecided
 
@@ -280,16 +281,13 @@ def _rule_steps(system: System, b: Sequence[Any], p: int) -> Vector | None:
 
 def _rule_step(system: System, x: Sequence[Any]) -> Vector | None:
     """One impulse of the rule from the rates x: on the incoming set, with its own beta."""
-    K, G = system.backend, system.gram
+    K = system.backend
     J = [i for i, v in enumerate(x) if K.sign(v) < 0]
     if not J:
         return None
     if linear_step(system, J):
         return step(system, J, x)
-    lam = [x[j] / G[j][j] for j in J]
-    n = sum((x[j] * lam[t] for t, j in enumerate(J)), K.zero)
-    d = sum((lam[s] * G[i][j] * lam[t] for s, i in enumerate(J) for t, j in enumerate(J)), K.zero)
-    return step(system, J, x, n / d)
+    return step(system, J, x, beta_from_rates(system, x, J))
 
 
 def _growth(K: Any, earlier: Sequence[Any], now: Sequence[Any]) -> Any | None:
@@ -453,6 +451,7 @@ class _Sampled:
         self.backend = RationalBackend("python")
         self.gram = [[at(x) for x in row] for row in system.gram]
         self.restitution = [at(x) for x in system.restitution]
+        self.inverse_gram_diag = [1 / self.gram[i][i] for i in range(system.r)]
         self.r = system.r
         self.at = at
 
