@@ -16,6 +16,7 @@ C_0 and the rates lie in C_phase, then single impacts alternate forever.
 from __future__ import annotations
 
 import itertools
+from fractions import Fraction
 
 import sympy as sp
 
@@ -248,21 +249,62 @@ def _betas(G: sp.Matrix, J: list[int], vectors: list, sign: _Signs) -> list | No
 
 
 def _cone_lp(y: list, gens: list, strict: list, need_strict: bool) -> bool:
-    """y is a non-negative combination of gens (with weight on a strict one if asked): SymPy's own
-    simplex (rationals only)."""
-    from sympy.solvers.simplex import InfeasibleLPError, lpmax
+    """y is a non-negative combination of gens (with weight on a strict one if asked), at a rational point:
+    a simplex method written here for the checker (dense tableau over Fractions, Bland's rule), apart
+    from the search's (verify/core/cones/lp.py) and from SymPy's (whose lpmax stalled on some of them)."""
+    rows = [[_q(g[m]) for g in gens] + [_q(y[m])] for m in range(len(y))]
+    try:  # the largest strict weight (or 0 with no objective), None if y is not in the cone
+        best = _simplex(rows, len(gens), [Fraction(1 if s else 0) for s in strict] if need_strict else None)
+    except OverflowError:  # an unbounded strict weight: positive
+        return True
+    return best is not None and (best > 0 if need_strict else True)
 
-    ds = sp.symbols(f"d0:{len(gens)}")
-    eqs = [sp.Eq(sum(d * g[m] for d, g in zip(ds, gens)), y[m]) for m in range(len(y))]
-    if any(q is sp.false for q in eqs):
-        return False
-    eqs = [q for q in eqs if q is not sp.true]
-    weight = sum(d for d, s in zip(ds, strict) if s) if need_strict else sp.Integer(0)
-    try:
-        best, _ = lpmax(weight, [q for q in [*eqs, *(d >= 0 for d in ds), weight <= 1] if q is not sp.true])
-    except InfeasibleLPError:
-        return False
-    return best > 0 if need_strict else True
+
+def _q(x: object) -> Fraction:
+    """A rational number (SymPy's, or an int) as a Fraction."""
+    r = sp.Rational(x)  # raises on anything but a rational: membership is decided at a rational point only
+    return Fraction(int(r.p), int(r.q))
+
+
+def _simplex(rows: list[list[Fraction]], n: int, objective: list[Fraction] | None) -> Fraction | None:
+    """max objective . d subject to rows (``[A | b]``, A d = b) and d >= 0 (0 with no objective), or None
+    when infeasible. Phase one with an artificial column per row, then phase two; Bland's rule in both."""
+    m = len(rows)
+    t = [[-x for x in row] if row[n] < 0 else list(row) for row in rows]
+    t = [row[:n] + [Fraction(int(i == k)) for k in range(m)] + [row[n]] for i, row in enumerate(t)]
+    basis = list(range(n, n + m))
+
+    def run(cost: list[Fraction], allowed: int) -> None:
+        while True:
+            reduced = [cost[j] - sum(cost[basis[i]] * t[i][j] for i in range(m)) for j in range(allowed)]
+            enter = next((j for j in range(allowed) if reduced[j] > 0 and j not in basis), None)
+            if enter is None:
+                return
+            ratios = [(t[i][-1] / t[i][enter], basis[i], i) for i in range(m) if t[i][enter] > 0]
+            if not ratios:
+                raise OverflowError("the objective is unbounded")
+            _, _, leave = min(ratios)
+            pivot(leave, enter)
+
+    def pivot(i: int, j: int) -> None:
+        t[i] = [x / t[i][j] for x in t[i]]
+        for k in range(m):
+            if k != i and t[k][j] != 0:
+                t[k] = [a - t[k][j] * b for a, b in zip(t[k], t[i])]
+        basis[i] = j
+
+    run([Fraction(0)] * n + [Fraction(-1)] * m, n + m)  # phase one: maximise minus the artificials
+    if any(basis[i] >= n and t[i][-1] != 0 for i in range(m)):
+        return None
+    for i in range(m):  # artificials left at 0: pivot them out, or their row is redundant
+        if basis[i] >= n:
+            j = next((j for j in range(n) if t[i][j] != 0), None)
+            if j is not None:
+                pivot(i, j)
+    if objective is None:
+        return Fraction(0)
+    run(objective + [Fraction(0)] * m, n)
+    return sum((objective[basis[i]] * t[i][-1] for i in range(m) if basis[i] < n), Fraction(0))
 
 
 def _carry(G: sp.Matrix, e: list, vectors: list, p: int, *, sign: _Signs, failures: list, prune: bool) -> list:
@@ -343,7 +385,7 @@ def check_period(
     generators' cone lands in itself (every vector carried from a strict generator with a positive weight
     on a strict generator), and the rates are the first generator (or lie in the stated box, which lies in
     the cone). The vectors are carried here by this module's own formulas; at a rational point, membership
-    is decided by SymPy's simplex; over an interval of eps, each vector carried here must be a positive
+    is decided by this module's own simplex; over an interval of eps, each vector carried here must be a positive
     multiple of a listed one whose stated combination is checked identically and for sign.
     """
     G = gram(_read_masses(masses), [[read(x) for x in row] for row in normals])
@@ -375,6 +417,11 @@ def check_period(
                 failures.append(f"a vector carried through the period is not a listed combination: {y}")
     if "box" in cert:
         failures += _box_in_cone(cert["box"], gens, strict)
+        if rates or "rates" in cert:  # exact rates boxed by short rationals: they must lie in the box
+            b = [read(x) for x in (rates or cert["rates"])]
+            box = [[read(x) for x in cert["box"][k]] for k in ("center", "radius")]
+            if any(abs(x - c) > w for x, c, w in zip(b, *box)):
+                failures.append("the rates do not lie in the box")
         return failures
     b = [read(x) for x in (rates or cert["rates"])]
     if not strict[0] or any(sp.cancel(x - y) != 0 for x, y in zip(b, gens[0])):

@@ -17,7 +17,7 @@ from verify.core.system import System
 from verify.models.cradle import cradle_geometry
 
 # cradles of four and five balls (rational masses, a COR per contact) that the general rule never
-# lets go; found by the termination census of `verify properties`
+# lets go; found by the termination census of `verify properties` (the last two were undecided before)
 CASES = {
     "4 balls, a COR of 0 (a contact never hit)": (
         ["2", "1", "5/2", "3"], ["4/5", "0", "1"], ["-79/102", "-65/51", "-65/51", "-65/51"]
@@ -29,6 +29,12 @@ CASES = {
         ["5/2", "7/3", "3", "3/2", "1/3"], ["0", "0", "0", "0"],
         ["165/58", "107/58", "49/58", "-125/58", "-125/58"],
     ),
+    # the rates' direction is found on the constraints hit, the others kept at 0 between impulses
+    "5 balls, eps 1/7, period (0,2)(1), a contact never hit": (
+        ["3/2", "3/2", "5/3", "1", "3"], ["1/7", "1/7", "1/7", "1/7"], ["3", "106/75", "106/75", "-163/150", "3"]
+    ),
+    # rates of over 512 bits from the first impulses: the cone is built around a box of short rationals
+    "4 balls, long rationals, period (2)(1)": (["2", "1", "5/2", "3"], ["1", "0", "0"], ["8/9", "-1/9", "-7/3", "-3"]),
 }  # fmt: skip
 
 
@@ -68,6 +74,18 @@ def test_the_checker_rejects_wrong_certificates():
     assert certificate_check.check_period(all_weak, g, normals)
     heavier = [masses[0], "5", *masses[2:]]
     assert certificate_check.check_period(cert, _system(heavier, cors)[1], normals)
+
+
+def test_a_box_of_short_rationals_holds_the_long_rates():
+    masses, cors, velocity = CASES["4 balls, long rationals, period (2)(1)"]
+    system, g, normals = _system(masses, cors)
+    cert = solve(system, velocity, max_iterations=200).certificate
+    assert "box" in cert and max(len(x) for x in cert["rates"]) > max(len(x) for x in cert["box"]["center"])
+    assert certificate_check.check_period(cert, g, normals, restitution=cors) == []
+    outside = copy.deepcopy(cert)  # the rates moved by two radii: out of the box, though the cone is the same
+    k = next(i for i, w in enumerate(cert["box"]["radius"]) if w != "0")
+    outside["rates"][k] = str(F(cert["rates"][k]) + 2 * F(cert["box"]["radius"][k]))
+    assert certificate_check.check_period(outside, g, normals) == ["the rates do not lie in the box"]
 
 
 def test_linear_steps():

@@ -273,8 +273,8 @@ MAX_PERIOD = 6
 #: on a parameter backend, the impulses after which no cone of a period is looked for: its rational
 #: functions grow in degree with every impulse, and so does the cost of a search (``verify cradle-map``)
 PARAMETRIC_IMPULSES = 16
-#: exact rates of more bits than this are not searched for a cone (a run on certified intervals, past a size
-#: budget, searches around rationals of its own precision instead)
+#: exact rates of more bits than this are not searched for a cone, unless they are rationals (the search
+#: then works on a box of short rationals around them; a run on certified intervals does so too)
 MAX_BITS = 512
 
 
@@ -293,8 +293,9 @@ def period_halt(history: list[tuple[int, Any, tuple[int, ...]]]) -> Any:
             return None
         if system.backend.is_parametric and count > PARAMETRIC_IMPULSES:
             return None
-        if max(system.backend.size(x) for x in b) > MAX_BITS:  # a search on such numbers costs too much
-            return None
+        K = system.backend
+        if not getattr(K, "rationals", False) and max(K.size(x) for x in b) > MAX_BITS:
+            return None  # a search on such numbers costs too much (long rationals are boxed by the search)
         sets = [set(h[2]) for h in history] + [set(J)]
         for p in range(1, MAX_PERIOD + 1):
             if count < 3 * p:

@@ -42,6 +42,7 @@ True
 from __future__ import annotations
 
 import itertools
+import math
 from collections.abc import Sequence
 from fractions import Fraction
 from typing import Any
@@ -58,6 +59,9 @@ MAX_ROUNDS = 16
 MAX_CARRIED = 400
 #: the most vectors whose beta is bounded at a multiple impact (the bound takes every pair)
 MAX_BETA_VECTORS = 40
+#: exact rational rates longer than this (bits) are replaced by a box of 64-bit rationals that holds them
+#: (:func:`rounded_box`): the cone is searched around the box, at the cost of short numbers
+MAX_BITS = 512
 
 STATEMENT = (
     "From this state on the rule hits a non-empty set at every impulse, forever: the rates stay in the cone "
@@ -138,6 +142,16 @@ def beta_bounds(system: System, J: Sequence[int], vectors: Sequence[Vector]) -> 
     if any(K.sign(d) <= 0 and (K.sign(n - lo * d) < 0 or K.sign(hi * d - n) < 0) for n, d in forms):
         return None
     return [lo] if lo == hi else [lo, hi]
+
+
+def _widened(K: Any, betas: list[Any] | None) -> list[Any] | None:
+    """Bounds of beta widened outwards to 64 significant bits (rationals): every beta between the bounds is
+    still between them, and the carried vectors keep short numbers (exact bounds, ratios of quadratic forms
+    of the carried vectors, grow in size at every impulse)."""
+    if betas is None or len(betas) < 2 or not getattr(K, "rationals", False):
+        return betas
+    (lo, _), (hi, unit) = rounded_box(K, betas[:1]), rounded_box(K, betas[1:])
+    return [lo[0], hi[0] + unit[0]]  # rounded_box rounds down: lo[0] <= beta_lo, beta_hi < hi[0] + unit[0]
 
 
 def _classify(K: Any, carried: Sequence[tuple[Vector, bool]]) -> tuple[list[int], list[int]] | None:
@@ -230,7 +244,7 @@ def carry(system: System, gens: Sequence[Vector], strict: Sequence[bool], p: int
             parts = cut
         nxt: dict[tuple, bool] = {}  # the vectors, each once (strict if it comes strict from any part)
         for vs, J in parts:
-            betas = [K.one] if linear_step(system, J) else beta_bounds(system, J, [v for v, _ in vs])
+            betas = [K.one] if linear_step(system, J) else _widened(K, beta_bounds(system, J, [v for v, _ in vs]))
             if betas is None:
                 return None
             for v, s in vs:
@@ -340,7 +354,7 @@ def box_seeds(K: Any, center: Sequence[Any], radius: Sequence[Any]) -> list[Vect
 
     Every point ``center + t`` of the box is ``(1/k) sum_i ((1/2 + k t_i / (2 a_i)) (center + a_i e_i)
     + (1/2 - k t_i / (2 a_i)) (center - a_i e_i))``, with non-negative weights. Each a_i is twice
-    k radius_i, or larger when that is still small beside the center's own size (a rounder cone).
+    k radius_i, or ``|center_i| 2^-30`` when that is larger (a rounder cone).
 
     >>> from verify.core.backends.rational import RationalBackend
     >>> K = RationalBackend("python")
@@ -352,10 +366,9 @@ def box_seeds(K: Any, center: Sequence[Any], radius: Sequence[Any]) -> list[Vect
     if not wide:
         return [list(center)]
     k = K.convert(Fraction(len(wide)))
-    size = max((abs(x) for x in center), default=K.zero)  # exact rationals here: abs and max are exact
     out = []
     for i in wide:
-        a = max(k * radius[i] * 2, min(abs(center[i]) / 2, size / 2**30))
+        a = max(k * radius[i] * 2, abs(center[i]) / 2**30)  # exact rationals here: abs and max are exact
         for sign in (1, -1):
             out.append([x + sign * a if j == i else x for j, x in enumerate(center)])
     return out
@@ -389,7 +402,7 @@ def _around_limit(system: System, b: Sequence[Any], p: int, periods: int = 400) 
     """Points around the direction the rates tend to (rationals only), with b's own scale.
 
     The rates of the constraints hit (H) evolve on their own, so the direction is found on them alone:
-    p-impulse steps of the rule from b's H-rates (the others set to 0), scaled and rounded after each.
+    p-impulse steps of the rule from b's H-rates (the others kept at 0), scaled and rounded after each.
     The points are that direction and it +- 2^-12 times each unit vector of H, scaled to b's H-rates,
     with b's other rates (the weak generators add to those what the cone needs)."""
     K = system.backend
@@ -398,10 +411,13 @@ def _around_limit(system: System, b: Sequence[Any], p: int, periods: int = 400) 
         return []
     v = _rounded(K, [x if i in on else K.zero for i, x in enumerate(b)], on)
     for _ in range(periods):
-        w = _rule_steps(system, v, p)
+        w: Vector | None = v
+        for _ in range(p):  # the other rates are kept at 0: an impulse on H would make them incoming
+            w = _rule_step(system, w) if w is not None else None
+            w = [x if i in on else K.zero for i, x in enumerate(w)] if w is not None else None
         if w is None or all(w[i] == K.zero for i in on):
             return []
-        v = _rounded(K, [x if i in on else K.zero for i, x in enumerate(w)], on)
+        v = _rounded(K, w, on)
     scale = max(abs(Fraction(K.to_number(b[i]))) for i in on)
     size = K.convert(scale)
     delta = K.convert(scale / 2**12)
@@ -484,9 +500,15 @@ def period_certificate(
     """
     K = system.backend
     box: tuple[Vector, Vector] | None = None
+    guide: tuple[Sequence[Any], Sequence[Any] | None]
     if K.is_parametric and not _at_sample(system, p, b, earlier):
         return None
-    if K.is_exact:
+    if K.is_exact and getattr(K, "rationals", False) and max(K.size(x) for x in b) > MAX_BITS:
+        # long exact rationals: the cone is built around a box of short ones that holds the rates exactly
+        exact, box = system, rounded_box(K, b)
+        seeds = box_seeds(K, *box)
+        guide = (box[0], rounded_box(K, earlier)[0] if earlier is not None else None)
+    elif K.is_exact:
         exact, seeds, guide = system, [list(b)], (b, earlier)
     elif K.encloses and K.is_rigorous and hasattr(K, "bounds"):
         exact = on_exact_field(system, [])
@@ -505,7 +527,40 @@ def period_certificate(
         if hasattr(exc, "polys"):
             raise
         return None
-    return _certificate(exact, p, found, b if box is None else None, box) if found else None
+    return _certificate(exact, p, found, b if K.is_exact else None, box) if found else None
+
+
+def rounded_box(K: Any, b: Sequence[Any], bits: int = 64) -> tuple[Vector, Vector]:
+    """(center, radius): each rate rounded down to ``bits`` significant bits (exact rationals), with a radius
+    of one unit in its last place, so that ``center_i <= b_i < center_i + radius_i`` (0 for a rate of 0).
+
+    >>> from verify.core.backends.rational import RationalBackend
+    >>> K = RationalBackend("python")
+    >>> center, radius = rounded_box(K, [K.convert(Fraction(1, 3)), K.zero], bits=4)
+    >>> [str(x) for x in center], [str(x) for x in radius]
+    (['5/16', '0'], ['1/32', '0'])
+    """
+    center, radius = [], []
+    for x in b:
+        q = Fraction(K.to_number(x))
+        if q == 0:
+            center.append(K.zero)
+            radius.append(K.zero)
+            continue
+        unit = Fraction(2) ** (_exponent(abs(q)) - bits)  # a unit of the bits-th significant bit of q
+        center.append(K.convert(Fraction(math.floor(q / unit)) * unit))
+        radius.append(K.convert(unit))
+    return center, radius
+
+
+def _exponent(q: Fraction) -> int:
+    """The e with 2^(e-1) <= q < 2^e (q > 0), from the exact integers of q."""
+    e = q.numerator.bit_length() - q.denominator.bit_length()
+    while Fraction(2) ** e <= q:
+        e += 1
+    while Fraction(2) ** (e - 1) > q:
+        e -= 1
+    return e
 
 
 def _certificate(
@@ -544,7 +599,9 @@ def _certificate(
             "coefficient on a strict generator when it comes from a strict one",
             "the rates are generator 0, which is strict"
             if box is None
-            else "the rates lie in the box center +- radius (certified intervals), and the first generators are "
+            else "the rates lie in the box center +- radius ("
+            + ("exactly: the listed rates" if b is not None else "certified intervals")
+            + "), and the first generators are "
             "center +- a_i e_i with a_i >= k radius_i (k the number of non-zero radii): the box lies in the cone",
         ],
     }
