@@ -207,3 +207,20 @@ def test_random_systems_on_both_loops(drawn) -> None:
     budget = Budget(bits=4096)  # multiple impacts can triple the sizes: bound them
     out = solve_batch(systems_batch(systems, velocities), 60, budget=budget)
     _assert_exact(list(zip(systems, velocities)), out, max_iterations=60, budget=budget)
+
+
+def test_a_run_decided_below_the_working_precision_is_flagged():
+    """4 balls of masses 1, 2, 3, 4, eps = 0.1: exact arithmetic proves that the rule never lets go, while
+    mp and float runs "exit" after their rates fall below the working precision: both say so."""
+    from verify.models.cradle import cradle_system
+
+    velocity = ["100", "0", "0", "0"]
+    exact = solve(cradle_system("1/10", 4, ["1", "2", "3", "4"]), velocity, max_iterations=10_000)
+    assert exact.stop == "non_terminating" and exact.doubtful is None
+    for backend in ("mp", "float"):
+        r = solve(cradle_system("1/10", 4, ["1", "2", "3", "4"], backend=backend), velocity, max_iterations=10_000)
+        assert r.stop == "exit" and r.doubtful is not None and r.doubtful < r.iterations  # the false exit, flagged
+        assert any(n.startswith(f"not to be trusted from impulse {r.doubtful} on") for n in r.notes)
+        assert "--backend exact" in r.notes[-1]
+    clear = solve(cradle_system("1/2", 4, ["1", "2", "3", "4"], backend="mp"), velocity)  # a short run, clear signs
+    assert clear.stop == "exit" and clear.doubtful is None and not clear.notes

@@ -60,6 +60,9 @@ class Result:
     law: str = "rule"
     #: the simultaneous law's impulse magnitudes lambda_i, one per constraint (None for the rule)
     impulses: tuple | None = None
+    #: on a backend that is not rigorous (mp, float): the first impulse whose impact set was decided on a
+    #: rate below the working precision (the run is not to be trusted from there on; a note says so), or None
+    doubtful: int | None = None
 
     @cached_property
     def kinetic_energy_in(self) -> Any:

@@ -392,12 +392,14 @@ def _iterate(
     b = system.rates(v)
     after = [h for h in halts if getattr(h, "after_impulse", False)]  # tested before the exit check
     halts = [h for h in halts if h not in after]
+    doubt = _Doubt(K)
     while True:
         reason = next((r for r in (h(system, v) for h in after) if r), None) if impact_sets else None
         if reason:
             stop, certificate = reason if isinstance(reason, tuple) else (reason, None)
             break
         J, b = _impact_set_of(system, b, impact_sets, exact)
+        doubt.see(len(impact_sets), b)
         if not J:
             stop = "exit"
             break
@@ -421,7 +423,35 @@ def _iterate(
         if J not in structures:
             structures[J] = _structure(couplings, J)
         b = _rates_after(system, v, b, J, structure=structures[J], minus_e=minus_e)
-    return Run(v, stop, impact_sets, betas, tuple(steps), certificate)
+    return Run(v, stop, impact_sets, betas, tuple(steps), certificate, doubt.first)
+
+
+#: a rate closer to 0 than this many units in the last place of the rates' size (at the backend's decimal
+#: digits) is below the working precision of a backend that is not rigorous: its sign is noise
+DOUBT_UNITS = 10**5
+
+
+class _Doubt:
+    """The first impulse whose impact set a non-rigorous backend (mp, float) decided on a rate below its
+    working precision: non-zero and under :data:`DOUBT_UNITS` units in the last place of the largest rate
+    seen so far. Rigorous backends decide every sign with proof: nothing is watched there."""
+
+    def __init__(self, K: Backend) -> None:
+        self.watch = not K.is_rigorous
+        self.digits = 10 ** (K.dps or 0) if self.watch else 1  # the rates' size over this: one unit in the last place
+        self.scale: Any = None
+        self.first: tuple[int, Any, Any] | None = None
+
+    def see(self, impulses: int, b: Sequence[Any]) -> None:
+        """Watch the rates b from which the impact set of impulse ``impulses + 1`` is decided."""
+        if not self.watch or self.first is not None:
+            return
+        sizes = [abs(x) for x in b]
+        top = max(sizes, default=0)
+        self.scale = top if self.scale is None or top > self.scale else self.scale
+        low = min((x for x in sizes if x != 0), default=None)
+        if low is not None and low * self.digits <= self.scale * DOUBT_UNITS:
+            self.first = (impulses + 1, low, self.scale)
 
 
 #: impulses on the rationals before a run without trace or stop tests moves to integers
@@ -466,6 +496,38 @@ def _run(
     if K.ball_form and not trace and not halts and progress is None:
         return balls.iterate(system, v0, limits, exact=checks)
     return _iterate(system, v0, limits, halts, trace, progress=progress, exact=checks)
+
+
+def _result(system: System, rule: str, v0: tuple, out: Run, *, max_iterations: int, notes: list[str]) -> Result:
+    """The :class:`Result` of a run (with the note of a run not to be trusted, :class:`_Doubt`)."""
+    if out.doubt is not None:
+        notes = [*notes, _doubt_note(system.backend, *out.doubt)]
+    return Result(
+        system=system,
+        rule=rule,
+        velocity_in=v0,
+        exit_velocity=out.v,
+        stop=out.stop,
+        steps=out.steps,
+        impact_sets=out.impact_sets,
+        betas=out.betas,
+        max_iterations=max_iterations,
+        notes=tuple(notes),
+        certificate=out.certificate,
+        doubtful=out.doubt[0] if out.doubt is not None else None,
+    )
+
+
+def _doubt_note(K: Backend, impulse: int, rate: Any, scale: Any) -> str:
+    """The note of a run that is not to be trusted (:class:`_Doubt`)."""
+    from mpmath import mpf, nstr
+
+    return (
+        f"not to be trusted from impulse {impulse} on: its impact set was decided on a rate of "
+        f"{nstr(mpf(rate), 3)}, below the working precision ({K.dps} digits of the rates' size "
+        f"{nstr(mpf(scale), 3)}), so its sign may be noise; the exact or the interval backend decides every sign "
+        "(--backend exact, --backend interval)"
+    )
 
 
 def _no_convergence(K: Backend, exc: Undecided, exact: _ExactRates) -> NoConvergence:
@@ -553,19 +615,7 @@ def solve(
                 raise _no_convergence(K, exc, exact or _ExactRates(system, velocity)) from None
             notes.append(f"precision raised from {K.dps} to {finer.dps} digits after an undecided sign")
             system = system.convert_to(finer)
-    result = Result(
-        system=system,
-        rule=rule,
-        velocity_in=v0,
-        exit_velocity=out.v,
-        stop=out.stop,
-        steps=out.steps,
-        impact_sets=out.impact_sets,
-        betas=out.betas,
-        max_iterations=max_iterations,
-        notes=tuple(notes),
-        certificate=out.certificate,
-    )
+    result = _result(system, rule, v0, out, max_iterations=max_iterations, notes=notes)
     options = {"rule": rule, "max_iterations": max_iterations, "halt": halt, "trace": trace, "certify": certify}
     return _decided_on_intervals(result, velocity, budget, options)
 

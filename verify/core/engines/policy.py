@@ -74,6 +74,9 @@ class Run:
     betas: list[Any]
     steps: tuple[Any, ...] = ()
     certificate: dict[str, Any] | None = field(default=None)
+    #: on a backend that is not rigorous: (the first impulse decided on a rate below the working precision,
+    #: that rate's size, the rates' size so far), or None
+    doubt: tuple[int, Any, Any] | None = None
 
     def then(self, later: Run) -> Run:
         """This run continued by ``later`` (which started from this run's velocity)."""
