@@ -112,3 +112,18 @@ def test_exact_arithmetic_only():
     gens = [[K.convert(F(1)), K.convert(F(0))], [K.convert(F(1)), K.convert(F(1))]]
     c = member(K, [Poison(3), Poison(1)], gens)
     assert c == {0: 2, 1: 1} and all(type(x) is F or isinstance(x, F) for x in c.values())
+
+
+def test_the_checkers_own_simplex():
+    """Cone membership as the checker decides it (its own simplex, not the search's): a strict weight
+    above 1 counts (y = 5 g0), a point of the weak generators alone has none, a point outside is out."""
+    import sympy as sp
+
+    g0, weak, g2 = [sp.Integer(-1), sp.Integer(1), sp.Integer(0)], [0, 0, 1], [sp.Rational(-1, 2), 0, 1]
+    gens, strict = [g0, weak, g2], [True, False, True]
+    assert certificate_check._cone_lp([-5, 5, 0], gens, strict, True)
+    assert certificate_check._cone_lp([0, 0, 3], gens, strict, False)
+    assert not certificate_check._cone_lp([0, 0, 3], gens, strict, True)
+    assert not certificate_check._cone_lp([1, 0, 0], gens, strict, False)
+    assert certificate_check._cone_lp([-2, 1, 2], gens, strict, True)  # g0 + 2 g2
+    assert not certificate_check._cone_lp([-3, 1, 2], gens, strict, False)  # g0 + 4 g2 - 2 weak: a negative weight
