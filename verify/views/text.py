@@ -438,7 +438,7 @@ def cradle_map_text(
     cmap: Any, *, aeev_rows: list[dict[str, Any]], approach: Sequence[tuple[Fraction, int | str]]
 ) -> str:
     """The cradle map in words and tables."""
-    from verify.checks.paper.cradle_map import termination_boundaries, threshold_between
+    from verify.checks.paper.cradle_map import termination_boundaries, threshold_between, undecided_measure
 
     masses = ", ".join(format_exact(m) for m in cmap.masses)
     lines = [
@@ -488,6 +488,10 @@ def cradle_map_text(
         lines.append(f"Termination boundary: eps = {bound} = {format_decimal(bound, 20)}")
     for part in cmap.unexplored:
         lines += ["", f"Unexplored {part.piece}: {part.reason}"]
+    lo, hi = undecided_measure(cmap)
+    if hi > 0:
+        middle, error = format_decimal((lo + hi) / 2, 12), format_decimal((hi - lo) / 2, 2)
+        lines += ["", f"Undecided in all: a set of eps of length {middle} (+- {error})"]
     lines += approach_table(approach)
     if aeev_rows:
         lines += ["", "The paper's AEEV rows (Table 1), read off the map:"]

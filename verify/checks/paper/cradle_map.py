@@ -333,7 +333,27 @@ def map_json(cmap: CradleMap) -> dict[str, Any]:
             for p in cmap.non_terminating
         ],
         "unexplored": [{**_ends(p.piece), "reason": p.reason} for p in cmap.unexplored],
+        "undecided_measure": [str(x) for x in undecided_measure(cmap)],
     }
+
+
+def undecided_measure(cmap: CradleMap, width: Fraction = Fraction(1, 10**15)) -> tuple[Fraction, Fraction]:
+    """Bounds (exact rationals, at most ``width`` apart per endpoint) of the total length of the unexplored
+    parts whose runs are not proved to exit later: the measure of the eps still undecided.
+
+    >>> undecided_measure(cradle_map(max_impulses=6))
+    (Fraction(0, 1), Fraction(0, 1))
+    """
+    lo = hi = Fraction(0)
+    for part in cmap.unexplored:
+        if part.exits_beyond_bound:
+            continue
+        a, b = part.piece.lower, part.piece.upper
+        for x in (a, b):
+            while x.hi - x.lo > width:
+                x.refine()
+        lo, hi = lo + max(Fraction(0), b.lo - a.hi), hi + (b.hi - a.lo)
+    return lo, hi
 
 
 def aeev_rows_explained(cmap: CradleMap) -> list[dict[str, Any]]:
