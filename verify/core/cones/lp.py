@@ -42,12 +42,7 @@ def solve_columns(K: Any, columns: Sequence[Sequence[Any]], y: Sequence[Any]) ->
         if p is None:
             return None
         rows[at], rows[p] = rows[p], rows[at]
-        piv = rows[at][col]
-        rows[at] = [v / piv for v in rows[at]]
-        for i in range(n):
-            if i != at and rows[i][col] != K.zero:
-                f = rows[i][col]
-                rows[i] = [a - f * b for a, b in zip(rows[i], rows[at])]
+        _pivot(K, rows, at, col)
         at += 1
     if any(rows[i][m] != K.zero for i in range(at, n)):
         return None
@@ -94,13 +89,18 @@ def feasible(K: Any, y: Sequence[Any], gens: Sequence[Sequence[Any]]) -> dict[in
                     leave, best = i, ratio
         if leave is None:  # unbounded: cannot happen in phase one (the objective is bounded below)
             return None
-        piv = rows[leave][entering]
-        rows[leave] = [v / piv for v in rows[leave]]
-        for i in range(n):
-            if i != leave and rows[i][entering] != K.zero:
-                f = rows[i][entering]
-                rows[i] = [a - f * b for a, b in zip(rows[i], rows[leave])]
+        _pivot(K, rows, leave, entering)
         basis[leave] = entering
     if any(basis[i] >= m and rows[i][-1] != K.zero for i in range(n)):
         return None  # an artificial variable stays positive: no combination
     return {basis[i]: rows[i][-1] for i in range(n) if basis[i] < m and rows[i][-1] != K.zero}
+
+
+def _pivot(K: Any, rows: list[list[Any]], r: int, c: int) -> None:
+    """Scale row r so that its entry in column c is 1, and clear column c from every other row."""
+    piv = rows[r][c]
+    rows[r] = [v / piv for v in rows[r]]
+    for i in range(len(rows)):
+        if i != r and rows[i][c] != K.zero:
+            f = rows[i][c]
+            rows[i] = [a - f * b for a, b in zip(rows[i], rows[r])]
