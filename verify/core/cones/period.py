@@ -57,6 +57,8 @@ from verify.errors import Undecided
 MAX_GENERATORS = 24
 MAX_ROUNDS = 16
 MAX_CARRIED = 400
+#: the most edges of a carried cone that may cross one hyperplane x_f = 0 (each gives a vector)
+MAX_CROSSINGS = 10_000
 #: the most vectors whose beta is bounded at a multiple impact (the bound takes every pair)
 MAX_BETA_VECTORS = 40
 #: exact rational rates longer than this (bits) are replaced by a box of 64-bit rationals that holds them
@@ -239,6 +241,8 @@ def carry(system: System, gens: Sequence[Vector], strict: Sequence[bool], p: int
                 elif all(x <= 0 for x in signs):  # x_f = 0 is carried alike with or without f
                     cut.append((vs, (*J, f)))
                 else:
+                    if sum(x > 0 for x in signs) * sum(x < 0 for x in signs) > MAX_CROSSINGS:
+                        return None  # a cone too wide to carry: its edges would cross x_f = 0 too often
                     low, high = split(K, vs, f)
                     cut += [(low, (*J, f)), (high, J)]
             parts = cut
@@ -515,10 +519,9 @@ def period_certificate(
         if not exact.backend.rationals:
             return None
         Q = exact.backend
-        ends = [K.bounds(x) for x in b]
-        box = ([Q.convert((lo + hi) / 2) for lo, hi in ends], [Q.convert((hi - lo) / 2) for lo, hi in ends])
+        box = enclosing_box(Q, [K.bounds(x) for x in b])
         seeds = box_seeds(Q, *box)
-        guide = (box[0], [Q.convert(sum(K.bounds(x)) / 2) for x in earlier] if earlier is not None else None)
+        guide = (box[0], enclosing_box(Q, [K.bounds(x) for x in earlier])[0] if earlier is not None else None)
     else:
         return None
     try:
@@ -550,6 +553,32 @@ def rounded_box(K: Any, b: Sequence[Any], bits: int = 64) -> tuple[Vector, Vecto
         unit = Fraction(2) ** (_exponent(abs(q)) - bits)  # a unit of the bits-th significant bit of q
         center.append(K.convert(Fraction(math.floor(q / unit)) * unit))
         radius.append(K.convert(unit))
+    return center, radius
+
+
+def enclosing_box(K: Any, ends: Sequence[tuple[Fraction, Fraction]], bits: int = 64) -> tuple[Vector, Vector]:
+    """(center, radius) of short rationals whose box holds each interval ``[lo, hi]`` of ``ends``: its ends
+    rounded outwards to multiples of a unit of the ``bits``-th significant bit of max(|lo|, |hi|). A search
+    on the intervals' own ends, of thousands of bits at a high precision, costs far more and finds no more:
+    the seeds of :func:`box_seeds` are already |center_i| 2^-30 wide.
+
+    >>> from verify.core.backends.rational import RationalBackend
+    >>> K = RationalBackend("python")
+    >>> center, radius = enclosing_box(K, [(Fraction(1, 3), Fraction(1, 3) + Fraction(1, 10**40)), (0, 0)], bits=4)
+    >>> [str(x) for x in center], [str(x) for x in radius]
+    (['21/64', '0'], ['1/64', '0'])
+    """
+    center, radius = [], []
+    for lo, hi in ends:
+        top = max(abs(Fraction(lo)), abs(Fraction(hi)))
+        if top == 0:
+            center.append(K.zero)
+            radius.append(K.zero)
+            continue
+        unit = Fraction(2) ** (_exponent(top) - bits)
+        a, b = Fraction(math.floor(Fraction(lo) / unit)) * unit, Fraction(math.ceil(Fraction(hi) / unit)) * unit
+        center.append(K.convert((a + b) / 2))
+        radius.append(K.convert((b - a) / 2))
     return center, radius
 
 
