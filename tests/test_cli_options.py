@@ -37,6 +37,7 @@ ROOT = Path(__file__).resolve().parent.parent
 REQUIRED = {
     ("cradle",): {"--eps": "0.5"},
     ("solve",): {"CASES.json": "cases.json"},
+    ("map",): {"CASE.json": "case.json"},
     ("corner",): {"--alpha": "pi/6", "--phi": "0", "--eps1": "0.5", "--eps2": "0.5"},
     ("oracle", "check"): {"CASES.json": "cases.json", "RESULTS.json": "results.json"},
     ("oracle", "export"): {"DIR": "golden-out"},

@@ -39,6 +39,23 @@ from verify.models.cradle import cradle_system, cradle_system_full, run_cradle
 
 __version__ = "0.1.0"
 
+#: names imported when first used (they load SymPy and Hypothesis, which the command line's parser does not)
+_LAZY = {
+    "eps_map": "verify.checks.maps.general",
+    "family_verdicts": "verify.checks.properties.own",
+}
+
+
+def __getattr__(name: str) -> object:
+    """:func:`~verify.checks.maps.general.eps_map` (the map of any system's CORs as parameters) and
+    :func:`~verify.checks.properties.own.family_verdicts` (the property suite on a family of your own)."""
+    if name in _LAZY:
+        import importlib
+
+        return getattr(importlib.import_module(_LAZY[name]), name)
+    raise AttributeError(f"module 'verify' has no attribute {name!r}")
+
+
 __all__ = [
     "BACKENDS",
     "RULES",
@@ -56,6 +73,8 @@ __all__ = [
     "beta",
     "cradle_system",
     "cradle_system_full",
+    "eps_map",
+    "family_verdicts",
     "format_decimal",
     "format_exact",
     "get_backend",

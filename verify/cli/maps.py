@@ -156,5 +156,49 @@ def cmd_cradle_map(args: argparse.Namespace) -> int:
     return 0
 
 
+def map_options(p: argparse.ArgumentParser) -> None:
+    """The options of ``verify map``."""
+    from verify.checks.maps import DEFAULT_LINES, MAX_LINES
+
+    p.add_argument("case", metavar="CASE.json", help='a case file {"cases": [...]} whose CORs name parameters')
+    p.add_argument("--case", dest="case_id", metavar="ID", help="the case to map (needed when the file has several)")
+    p.add_argument(
+        "--parameter",
+        action="append",
+        default=[],
+        metavar="NAME=LO,HI",
+        help="the interval of a parameter (default 0,1 for each); repeat for several",
+    )
+    p.add_argument("--lines", type=BoundedInt(2, MAX_LINES), default=DEFAULT_LINES,
+                   help=f"with two or more parameters: values per parameter (default {DEFAULT_LINES})")  # fmt: skip
+    p.add_argument("--max-impulses", type=BoundedInt(0, MAX_IMPULSES_MAP), default=40,
+                   help="bound on the exploration (default 40)")  # fmt: skip
+    p.add_argument("--json", action="store_true", help="print the map as JSON")
+
+
+def _parameters(args: argparse.Namespace) -> dict[str, list[str]]:
+    out: dict[str, list[str]] = {}
+    for text in args.parameter:
+        name, sep, ends = text.partition("=")
+        values = split_option(ends) if sep else []
+        if not name.strip() or len(values) != 2:
+            raise UsageError(f"{PROG} map: --parameter takes NAME=LO,HI, got {text!r}")
+        if name.strip() in out:
+            raise UsageError(f"{PROG} map: --parameter {name.strip()} is given twice")
+        out[name.strip()] = values
+    return out
+
+
+def cmd_map(args: argparse.Namespace) -> int:
+    """``verify map``: a case's CORs as parameters, mapped exactly (one interval, or a grid of lines)."""
+    from verify.checks.maps.general import case_map, eps_map_json
+    from verify.records.results import dumps
+    from verify.views.text import eps_map_text
+
+    m = case_map(args.case, args.case_id, _parameters(args), lines=args.lines, max_impulses=args.max_impulses)
+    sys.stdout.write(dumps(eps_map_json(m)) if args.json else eps_map_text(m))
+    return 0
+
+
 #: this group's subcommands, in the order of ``verify --help`` (each N has ``N_options`` and ``cmd_N``)
-COMMANDS = ("corner-claims", "sweep", "cradle-map")
+COMMANDS = ("corner-claims", "sweep", "cradle-map", "map")

@@ -75,6 +75,12 @@ class Result:
         return self.system.kinetic_energy(self.exit_velocity)
 
     @property
+    def last_velocity(self) -> tuple:
+        """The velocity after the last impulse: the exit velocity when ``stop == "exit"``, else where the run
+        stopped (``exit_velocity`` holds it too, under the name of the common case)."""
+        return self.exit_velocity
+
+    @property
     def iterations(self) -> int:
         """The number of impulses applied (Table 1's "# Iterations")."""
         return len(self.impact_sets)
@@ -82,3 +88,45 @@ class Result:
     @property
     def backend(self) -> Any:
         return self.system.backend
+
+    def __repr__(self) -> str:
+        return (
+            f"Result(stop={self.stop!r}, iterations={self.iterations}, law={self.law!r}, rule={self.rule!r}, "
+            f"backend={self.backend.name!r})"
+        )
+
+    def summary(self, digits: int = 12) -> str:
+        """The run in a few lines: how it stopped, the impact sets by contact name, the kinetic energies and
+        the exit velocity (or, for a run that does not exit, the last one) in decimals, ``digits`` at most:
+        all of them correct on exact backends, only the certified ones on intervals, and marked as not
+        certified on mp and float.
+
+        >>> from verify.core.rule import solve
+        >>> from verify.core.system import System
+        >>> s = System([[1, 0, 0], [0, 1, 0], [0, 0, 1]], [[-1, 1, 0], [0, -1, 1]], ["1/3", "1/3"],
+        ...            names=["left", "right"], coordinates=["x1", "x2", "x3"])
+        >>> print(solve(s, ["1", "0", "0"]).summary(digits=6))
+        exit after 3 impulses (general rule, exact (rationals, ...), rigorous)
+          impact sets: (left)(right)(left)
+          kinetic energy: 0.5 -> 0.176269
+          exit velocity: x1 = 0.259259, x2 = 0.296296, x3 = 0.444444
+        """
+        K = self.backend
+        names = self.system.names
+        words = ["(" + ",".join(names[j] for j in J) + ")" for J in self.impact_sets]
+        if len(words) > 12:
+            words = [*words[:6], f" ... {len(words) - 9} more ... ", *words[-3:]]
+        how = {"exit": "exit", "non_terminating": "never exits (proved)", "max_iterations": "still impacting"}
+        head = f"{how.get(self.stop, self.stop)} after {self.iterations} impulses"
+        law = f"{self.rule} rule" if self.law == "rule" else f"simultaneous law, {self.rule} CORs"
+        coordinates = self.system.coordinates
+        shown = ", ".join(f"{q} = {K.to_decimal(x, digits)}" for q, x in zip(coordinates, self.exit_velocity))
+        energy = f"{K.to_decimal(self.kinetic_energy_in, digits)} -> {K.to_decimal(self.kinetic_energy_out, digits)}"
+        caveat = "" if K.is_rigorous else f" ({K.name}: digits not certified)"
+        lines = [
+            f"{head} ({law}, {K.describe()})",
+            f"  impact sets: {''.join(words) or 'none'}",
+            f"  kinetic energy: {energy}",
+            f"  {'exit' if self.stop == 'exit' else 'last'} velocity: {shown}{caveat}",
+        ]
+        return "\n".join(lines + [f"  note: {n}" for n in self.notes])

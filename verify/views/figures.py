@@ -487,3 +487,44 @@ def engines_cradle(record: dict[str, Any], path: str | Path) -> Path:
     axes[-1].legend(fontsize=7, loc="best")
     fig.tight_layout()
     return _save(fig, path)
+
+
+def eps_map_figure(m: Any, path: str | Path) -> Path:
+    """A map of :func:`verify.checks.maps.general.eps_map` drawn: for one parameter, the impulses against it
+    (as the cradle's staircase); for two, each line of the grid in the plane of the first two parameters,
+    coloured by its impulses, red where the rule never exits, grey where unexplored (a third parameter and
+    more: the lines where they take their lowest value)."""
+    plt = _pyplot()
+    names = list(m.parameters)
+    fig, ax = plt.subplots(figsize=(5.5, 4.5), constrained_layout=True)
+    top = max([p.iterations for line in m.lines for p in line.parts if p.stop == "exit"], default=1)
+    cmap = plt.get_cmap("viridis")
+    for line in m.lines:
+        if any(v != m.parameters[n][0] for n, v in line.fixed.items() if n not in names[:2]):
+            continue
+        for part in line.parts:
+            a, b = _x(part.piece.lower), _x(part.piece.upper)
+            color = (
+                cmap(part.iterations / top)
+                if part.stop == "exit"
+                else "C3"
+                if part.stop == "non_terminating"
+                else "0.6"
+            )
+            if len(names) == 1:
+                ax.hlines(part.iterations if part.stop == "exit" else 0, a, b, color=color, lw=2)
+            elif line.free == names[0]:
+                ax.hlines(float(line.fixed[names[1]]), a, b, color=color, lw=3)
+            elif line.free == names[1]:
+                ax.vlines(float(line.fixed[names[0]]), a, b, color=color, lw=3)
+    ax.set_xlabel(names[0])
+    ax.set_ylabel("impulses" if len(names) == 1 else names[1])
+    if len(names) > 1:
+        sm = plt.cm.ScalarMappable(cmap=cmap, norm=plt.Normalize(0, top))
+        fig.colorbar(sm, ax=ax, label="impulses to exit (red: never exits; grey: unexplored)")
+    ax.set_title(f"the exact map on {len(m.lines)} lines" if len(names) > 1 else "the exact map")
+    path = Path(path)
+    path.parent.mkdir(parents=True, exist_ok=True)
+    fig.savefig(path, dpi=120, metadata=METADATA)
+    plt.close(fig)
+    return path

@@ -439,6 +439,7 @@ def cradle_map_text(
 ) -> str:
     """The cradle map in words and tables."""
     from verify.checks.paper.cradle_map import termination_boundaries, threshold_between, undecided_measure
+    from verify.models.cradle import cradle_system
 
     masses = ", ".join(format_exact(m) for m in cmap.masses)
     lines = [
@@ -447,20 +448,8 @@ def cradle_map_text(
         f"eps in {cmap.domain}; explored up to {cmap.max_impulses} impulses; exact endpoints, "
         "decimals rounded to 12 digits",
         "",
-        f"{'eps from':>16} {'to':>16}  {'impulses':>8}  what happens",
+        *parts_table(cmap.parts, contacts=cradle_system("1", cmap.balls).names),
     ]
-    for part in cmap.parts:
-        a, b = format_decimal(part.piece.lower, 12), format_decimal(part.piece.upper, 12)
-        left = "[" if part.piece.lower_closed else "("
-        right = "]" if part.piece.upper_closed else ")"
-        if part.stop == "exit":
-            what = "exit: " + _sequence(part.impact_sets)
-        elif part.stop == "non_terminating":
-            what = "never exits (certificate: invariant cones)"
-        else:
-            what = "unexplored"
-        count = str(part.iterations) if part.stop == "exit" else "-"
-        lines.append(f"{left}{a:>15} {b:>16}{right} {count:>8}  {what}")
     points = [cmap.parts[0].piece.lower] + [p.piece.upper for p in cmap.parts]
     lines += ["", "Exact endpoints (polynomials of degree 4 or less; all of them, as CRootOf, in --json):"]
     seen: list[Any] = []
@@ -500,9 +489,28 @@ def cradle_map_text(
     return "\n".join(lines) + "\n"
 
 
-def _sequence(impact_sets: list[tuple[int, ...]]) -> str:
-    """``(0)(1)(0)`` with runs folded: ``(0)(1) x 5``."""
-    words = ["(" + ",".join(str(j) for j in J) + ")" for J in impact_sets]
+def parts_table(parts: Sequence[Any], name: str = "eps", contacts: Sequence[str] | None = None) -> list[str]:
+    """The lines of a map's table: each part's interval of the parameter ``name`` (decimals rounded to 12
+    digits), its impulses and what happens; impact sets by index, or by the ``contacts``' names."""
+    lines = [f"{name + ' from':>16} {'to':>16}  {'impulses':>8}  what happens"]
+    for part in parts:
+        a, b = format_decimal(part.piece.lower, 12), format_decimal(part.piece.upper, 12)
+        left = "[" if part.piece.lower_closed else "("
+        right = "]" if part.piece.upper_closed else ")"
+        if part.stop == "exit":
+            what = "exit: " + _sequence(part.impact_sets, contacts)
+        elif part.stop == "non_terminating":
+            what = "never exits (certificate: invariant cones)"
+        else:
+            what = "unexplored"
+        count = str(part.iterations) if part.stop == "exit" else "-"
+        lines.append(f"{left}{a:>15} {b:>16}{right} {count:>8}  {what}")
+    return lines
+
+
+def _sequence(impact_sets: list[tuple[int, ...]], contacts: Sequence[str] | None = None) -> str:
+    """``(0)(1)(0)`` with runs folded: ``(0)(1) x 5``; the contacts' names instead of indices when given."""
+    words = ["(" + ",".join(contacts[j] if contacts else str(j) for j in J) + ")" for J in impact_sets]
     if len(words) > 8 and len(set(words[0::2])) == 1 and len(set(words[1::2])) == 1:
         return f"{words[0]}{words[1]} alternating, {len(words)} impulses"
     return "".join(words)
@@ -800,3 +808,32 @@ def all_summary(
     if contradictions:
         lines.append(f"PROGRAM ERROR: {len(contradictions)} rows contradict a SymPy proof (see reports/properties.md)")
     return "\n".join(lines) + "\n", failed
+
+
+def eps_map_text(m: Any) -> str:
+    """A map of :func:`verify.checks.maps.general.eps_map` in words and tables, one table per line."""
+    from verify.checks.maps.line import undecided_length
+
+    cors = ", ".join(f"{name} = {cor}" for name, cor in zip(m.system.names, m.restitution))
+    ranges = ", ".join(f"{n} in [{format_exact(lo)}, {format_exact(hi)}]" for n, (lo, hi) in m.parameters.items())
+    lines = [
+        f"A system of {m.system.n} coordinates and {m.system.r} contacts ({', '.join(m.system.names)}), velocity "
+        f"({', '.join(format_exact(v) for v in m.velocity)}); CORs {cors}",
+        f"{ranges}; explored up to {m.max_impulses} impulses; exact endpoints (in --json), decimals rounded to "
+        "12 digits",
+    ]
+    if m.layout != "interval":
+        grid = "; ".join(f"{n}: {', '.join(format_exact(x) for x in xs)}" for n, xs in m.grid.items())
+        lines.append(
+            f"Two or more parameters: an exact grid of {len(m.lines)} lines, each parameter running over its "
+            f"interval while the others take the grid values ({grid}); points off the lines are not mapped."
+        )
+    for line in m.lines:
+        fixed = ", ".join(f"{n} = {format_exact(v)}" for n, v in line.fixed.items())
+        lines += ["", f"{line.free} in {line.domain}" + (f", {fixed}" if fixed else "") + ":"]
+        lines += parts_table(line.parts, line.free, m.system.names)
+        lo, hi = undecided_length(line.parts)
+        if hi > 0:
+            middle, error = format_decimal((lo + hi) / 2, 12), format_decimal((hi - lo) / 2, 2)
+            lines.append(f"  undecided: a set of {line.free} of length {middle} (+- {error})")
+    return "\n".join(lines) + "\n"

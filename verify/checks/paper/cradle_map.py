@@ -27,44 +27,15 @@ from dataclasses import dataclass, field
 from fractions import Fraction
 from typing import Any
 
-import sympy as sp
-
+from verify.checks.maps.line import Part, line_parts, parts_json, piece_json, undecided_length
 from verify.core.algebraic import RealAlgebraic
 from verify.core.backends.symbolic import EPS, Piece, RootCache, Split, SymbolicBackend
-from verify.core.format import format_decimal, format_exact
+from verify.core.format import format_exact
 from verify.core.parse import to_number
-from verify.core.rule import solve
 from verify.errors import InvalidInput, InvalidSystem
 from verify.models.cradle import cradle_system, cradle_velocity
 
 DEFAULT_MAX_IMPULSES = 40
-
-
-@dataclass
-class Part:
-    """One part of the map: an interval of eps and what the rule does on all of it."""
-
-    piece: Piece
-    stop: str  # "exit", "non_terminating" or "max_iterations"
-    iterations: int
-    impact_sets: list[tuple[int, ...]]
-    exit_velocity: list[Any]  # SymPy expressions in eps
-    certificate: dict[str, Any] | None = None
-    reason: str = ""
-    exits_beyond_bound: bool = False  # unexplored, but every eps of it is proved to exit
-
-    def same_behaviour(self, other: Part) -> bool:
-        return (
-            self.stop == other.stop
-            and self.impact_sets == other.impact_sets
-            and _cone_of(self.certificate) == _cone_of(other.certificate)
-        )
-
-
-def _cone_of(certificate: dict[str, Any] | None) -> tuple:
-    """What a certificate's cone is made of (two parts with equal cones can be merged)."""
-    c = certificate or {}
-    return c.get("mu"), c.get("generators"), c.get("images"), c.get("strict")
 
 
 @dataclass
@@ -147,31 +118,7 @@ def cradle_map(
     v = cradle_velocity(balls, v0, velocity)
     cache = RootCache()
     domain = Piece.closed(lo, hi)
-    work: list[Piece] = [domain]
-    done: list[Part] = []
-    while work:
-        piece = work.pop()
-        K = SymbolicBackend(piece, cache)
-        system = cradle_system(EPS, balls, masses, backend=K)
-        try:
-            r = solve(system, v, max_iterations=max_impulses, trace=False)
-        except Split as split:
-            cuts = piece.cut([root for p in split.polys for root in cache.roots(p)])
-            if len(cuts) < 2:
-                raise RuntimeError(f"cutting {piece} made no progress ({split})") from None
-            work.extend(cuts)
-            continue
-        done.append(
-            Part(
-                piece,
-                r.stop,
-                r.iterations,
-                list(r.impact_sets),
-                [K.to_number(x) for x in r.exit_velocity],
-                r.certificate,
-            )
-        )
-    parts = _merge(sorted(done, key=lambda p: (p.piece.lower, not p.piece.is_point)))
+    parts = line_parts(lambda K: cradle_system(EPS, balls, masses, backend=K), v, domain, max_impulses, cache)
     system0 = cradle_system("1", balls, masses)
     for part in parts:
         if part.stop == "max_iterations":
@@ -184,17 +131,6 @@ def cradle_map(
         max_impulses,
         parts,
     )
-
-
-def _merge(parts: list[Part]) -> list[Part]:
-    out: list[Part] = []
-    for part in parts:
-        if out and out[-1].same_behaviour(part):
-            prev = out[-1]
-            prev.piece = Piece(prev.piece.lower, part.piece.upper, prev.piece.lower_closed, part.piece.upper_closed)
-        else:
-            out.append(part)
-    return out
 
 
 def _unexplored_reason(part: Part, balls: int, masses: Sequence[Any] | None, cache: RootCache) -> tuple[str, bool]:
@@ -300,17 +236,6 @@ def approach_counts(
 # -- output -------------------------------------------------------------------------------------
 
 
-def _ends(piece: Piece) -> dict[str, Any]:
-    return {
-        "lower": str(piece.lower),
-        "upper": str(piece.upper),
-        "lower_closed": piece.lower_closed,
-        "upper_closed": piece.upper_closed,
-        "lower_decimal": format_decimal(piece.lower, 30),
-        "upper_decimal": format_decimal(piece.upper, 30),
-    }
-
-
 def map_json(cmap: CradleMap) -> dict[str, Any]:
     """The map in the JSON shape of the contracts (exit velocities for the map's v0)."""
     return {
@@ -318,22 +243,8 @@ def map_json(cmap: CradleMap) -> dict[str, Any]:
         "masses": [format_exact(m) for m in cmap.masses],
         "velocity": [format_exact(v) for v in cmap.velocity],
         "max_impulses": cmap.max_impulses,
-        "interval": _ends(cmap.domain),
-        "pieces": [
-            {
-                **_ends(p.piece),
-                "iterations": p.iterations,
-                "impact_sets": [list(J) for J in p.impact_sets],
-                "exit_velocity": [str(sp.factor(x)) for x in p.exit_velocity],
-            }
-            for p in cmap.pieces
-        ],
-        "non_terminating": [
-            {**_ends(p.piece), "impulses_before": p.iterations, "certificate": p.certificate}
-            for p in cmap.non_terminating
-        ],
-        "unexplored": [{**_ends(p.piece), "reason": p.reason} for p in cmap.unexplored],
-        "undecided_measure": [str(x) for x in undecided_measure(cmap)],
+        "interval": piece_json(cmap.domain),
+        **parts_json(cmap.parts),
     }
 
 
@@ -344,16 +255,7 @@ def undecided_measure(cmap: CradleMap, width: Fraction = Fraction(1, 10**15)) ->
     >>> undecided_measure(cradle_map(max_impulses=6))
     (Fraction(0, 1), Fraction(0, 1))
     """
-    lo = hi = Fraction(0)
-    for part in cmap.unexplored:
-        if part.exits_beyond_bound:
-            continue
-        a, b = part.piece.lower, part.piece.upper
-        for x in (a, b):
-            while x.hi - x.lo > width:
-                x.refine()
-        lo, hi = lo + max(Fraction(0), b.lo - a.hi), hi + (b.hi - a.lo)
-    return lo, hi
+    return undecided_length(cmap.parts, width)
 
 
 def aeev_rows_explained(cmap: CradleMap) -> list[dict[str, Any]]:

@@ -201,11 +201,19 @@ def _check(prop: Property, runner: Runner, item: Any) -> str | None:
 
 
 def search(
-    prop: Property, family: str, rule: str, examples: int, *, law: str = "rule", seed: int | None = None
+    prop: Property,
+    family: str,
+    rule: str,
+    examples: int,
+    *,
+    law: str = "rule",
+    seed: int | None = None,
+    strategy: Any = None,
 ) -> Verdict:
     """Search one row for a counterexample with ``examples`` cases (the law's runs). Hypothesis is
     derandomised (the same cases on every run), or seeded with ``seed`` (another chunk of a split row's
-    cases, :func:`merge_chunks`)."""
+    cases, :func:`merge_chunks`). The cases are the family's, or those of ``strategy`` (of
+    :class:`~verify.checks.properties.strategies.Drawn` cases: :mod:`verify.checks.properties.own`)."""
     from hypothesis import HealthCheck, Phase, find, settings
     from hypothesis import strategies as st
     from hypothesis.errors import NoSuchExample, Unsatisfiable
@@ -225,7 +233,7 @@ def search(
         shrinking = True
         return True
 
-    strategy: Any = cases(family, rule)
+    strategy = cases(family, rule) if strategy is None else strategy
     if prop.extra is not None:
         strategy = st.tuples(strategy, prop.extra)
     config = settings(

@@ -1,0 +1,168 @@
+"""One parameter over an interval: the rule run once for every value, cut where a sign changes.
+
+The system is built on the symbolic backend (:mod:`verify.core.backends.symbolic`), whose
+parameter ``eps`` ranges over a :class:`~verify.core.backends.symbolic.Piece`. Whenever the rule
+asks a sign that changes inside the current piece, the piece is cut at the real roots of that
+polynomial (exact algebraic numbers) and each part is run again. Every part ends
+
+- with an exit after k impulses: on it the impact sequence is fixed and the exit velocity is a
+  rational function of the parameter;
+- with a proof that the rule never exits (:mod:`verify.core.termination`), whose certificate
+  holds for every value of the part;
+- at the bound on impulses: unexplored.
+
+Neighbouring parts that behave the same are merged, so each endpoint belongs to exactly one
+part, decided exactly; the union is the whole piece.
+
+>>> from verify.core.backends.symbolic import EPS
+>>> from verify.models.corner import corner_system
+>>> def corner(K):  # a corner of slope 1/2, eps1 the parameter and eps2 = 1/2
+...     return corner_system("1/2", EPS, "1/2", backend=K)
+>>> parts = line_parts(corner, ["1", "-1/10", "0"], Piece.closed(0, 1), 40)
+>>> [(str(p.piece), p.stop, p.iterations) for p in parts]
+[('[0, 3/65)', 'exit', 2), ('[3/65, 20/117]', 'exit', 1), ('(20/117, 1]', 'exit', 2)]
+"""
+
+from __future__ import annotations
+
+from collections.abc import Callable, Sequence
+from dataclasses import dataclass
+from fractions import Fraction
+from typing import Any
+
+import sympy as sp
+
+from verify.core.backends.symbolic import EPS, Piece, RootCache, Split, SymbolicBackend
+from verify.core.format import format_decimal
+from verify.core.rule import solve
+from verify.core.system import System
+
+
+@dataclass
+class Part:
+    """One part of a map: an interval of the parameter and what the rule does on all of it."""
+
+    piece: Piece
+    stop: str  # "exit", "non_terminating" or "max_iterations"
+    iterations: int
+    impact_sets: list[tuple[int, ...]]
+    exit_velocity: list[Any]  # SymPy expressions in eps: the exit velocity, or the last one when not "exit"
+    certificate: dict[str, Any] | None = None
+    reason: str = ""
+    exits_beyond_bound: bool = False  # unexplored, but every value of it is proved to exit
+
+    def same_behaviour(self, other: Part) -> bool:
+        return (
+            self.stop == other.stop
+            and self.impact_sets == other.impact_sets
+            and _cone_of(self.certificate) == _cone_of(other.certificate)
+        )
+
+
+def _cone_of(certificate: dict[str, Any] | None) -> tuple:
+    """What a certificate's cone is made of (two parts with equal cones can be merged)."""
+    c = certificate or {}
+    return c.get("mu"), c.get("generators"), c.get("images"), c.get("strict")
+
+
+def line_parts(
+    build: Callable[[SymbolicBackend], System],
+    velocity: Sequence[Any],
+    domain: Piece,
+    max_impulses: int,
+    cache: RootCache | None = None,
+) -> list[Part]:
+    """The parts of ``domain``, in order: ``build(K)`` is the system on the symbolic backend ``K`` (its
+    parameter, :data:`~verify.core.backends.symbolic.EPS`, ranging over one piece), ``velocity`` the
+    exact entrance velocity. See the module's example."""
+    cache = cache or RootCache()
+    work: list[Piece] = [domain]
+    done: list[Part] = []
+    while work:
+        piece = work.pop()
+        K = SymbolicBackend(piece, cache)
+        system = build(K)
+        try:
+            r = solve(system, velocity, max_iterations=max_impulses, trace=False)
+        except Split as split:
+            cuts = piece.cut([root for p in split.polys for root in cache.roots(p)])
+            if len(cuts) < 2:
+                raise RuntimeError(f"cutting {piece} made no progress ({split})") from None
+            work.extend(cuts)
+            continue
+        velocity_out = [K.to_number(x) for x in r.exit_velocity]
+        done.append(Part(piece, r.stop, r.iterations, list(r.impact_sets), velocity_out, r.certificate))
+    return merge(sorted(done, key=lambda p: (p.piece.lower, not p.piece.is_point)))
+
+
+def merge(parts: list[Part]) -> list[Part]:
+    """Neighbouring parts (in order) that behave the same, joined into one."""
+    out: list[Part] = []
+    for part in parts:
+        if out and out[-1].same_behaviour(part):
+            prev = out[-1]
+            prev.piece = Piece(prev.piece.lower, part.piece.upper, prev.piece.lower_closed, part.piece.upper_closed)
+        else:
+            out.append(part)
+    return out
+
+
+def undecided_length(parts: Sequence[Part], width: Fraction = Fraction(1, 10**15)) -> tuple[Fraction, Fraction]:
+    """Bounds (exact rationals, at most ``width`` apart per endpoint) of the total length of the unexplored
+    parts not proved to exit later: the measure of the values still undecided.
+
+    >>> undecided_length([Part(Piece.closed(0, "1/4"), "max_iterations", 9, [], [])])
+    (Fraction(1, 4), Fraction(1, 4))
+    """
+    lo = hi = Fraction(0)
+    for part in parts:
+        if part.stop != "max_iterations" or part.exits_beyond_bound:
+            continue
+        a, b = part.piece.lower, part.piece.upper
+        for x in (a, b):
+            while x.hi - x.lo > width:
+                x.refine()
+        lo, hi = lo + max(Fraction(0), b.lo - a.hi), hi + (b.hi - a.lo)
+    return lo, hi
+
+
+def piece_json(piece: Piece) -> dict[str, Any]:
+    """A piece's exact ends (as SymPy prints them), whether each is closed, and 30-digit decimals.
+
+    >>> piece_json(Piece.closed(0, "1/3"))["upper_decimal"]
+    '0.333333333333333333333333333333'
+    """
+    return {
+        "lower": str(piece.lower),
+        "upper": str(piece.upper),
+        "lower_closed": piece.lower_closed,
+        "upper_closed": piece.upper_closed,
+        "lower_decimal": format_decimal(piece.lower, 30),
+        "upper_decimal": format_decimal(piece.upper, 30),
+    }
+
+
+def parts_json(parts: Sequence[Part], *, name: str = "eps") -> dict[str, Any]:
+    """The parts in the JSON shape of the maps: exits, non-terminating parts, unexplored parts and the
+    measure of the undecided values (exit velocities as SymPy prints them, factored, in the parameter
+    called ``name``)."""
+    symbol = sp.Symbol(name)
+    return {
+        "pieces": [
+            {
+                **piece_json(p.piece),
+                "iterations": p.iterations,
+                "impact_sets": [list(J) for J in p.impact_sets],
+                "exit_velocity": [str(sp.factor(sp.sympify(x).subs(EPS, symbol))) for x in p.exit_velocity],
+            }
+            for p in parts
+            if p.stop == "exit"
+        ],
+        "non_terminating": [
+            {**piece_json(p.piece), "impulses_before": p.iterations, "certificate": p.certificate}
+            for p in parts
+            if p.stop == "non_terminating"
+        ],
+        "unexplored": [{**piece_json(p.piece), "reason": p.reason} for p in parts if p.stop == "max_iterations"],
+        "undecided_measure": [str(x) for x in undecided_length(parts)],
+    }
