@@ -139,3 +139,13 @@ def test_the_json_and_the_text_name_the_contacts_and_the_parameter() -> None:
     velocities = [v for p in data["lines"][0]["pieces"] for v in p["exit_velocity"]]
     assert any("e" in v for v in velocities) and not any("eps" in v for v in velocities)
     assert "exit: (S(1,2))(S(2,3))" in eps_map_text(m)
+
+
+@pytest.mark.parametrize("cors", [["e", "e"], ["e1", "e2"]])
+def test_the_map_figure_is_drawn_for_one_and_two_parameters(tmp_path, cors) -> None:
+    pytest.importorskip("matplotlib")
+    from verify.views.figures import eps_map_figure
+
+    m = eps_map(cradle_system("1", 3), ["1", "0", "0"], cors, lines=2, max_impulses=6)
+    path = eps_map_figure(m, tmp_path / "map.png")
+    assert path.read_bytes()[:8] == b"\x89PNG\r\n\x1a\n" and path.stat().st_size > 5000

@@ -20,8 +20,41 @@ True
 
 from __future__ import annotations
 
-from collections.abc import Sequence
+from collections.abc import Iterator, Sequence
+from contextlib import contextmanager
+from contextvars import ContextVar
 from typing import Any
+
+from verify.errors import Undecided
+
+#: [pivots left, pivots allowed] to the search under way (:func:`pivot_budget`), or None: no bound
+_LEFT: ContextVar[list[int] | None] = ContextVar("pivots_left", default=None)
+
+
+class SearchTooLong(Undecided):
+    """A search spent its budget of pivots (:func:`pivot_budget`): it found nothing within it."""
+
+
+@contextmanager
+def pivot_budget(pivots: int) -> Iterator[None]:
+    """Within the block, the simplex and the eliminations may pivot ``pivots`` times in all; the next pivot
+    raises :class:`SearchTooLong`. A bound on the work of a search that counts steps, not seconds: the
+    same on every machine.
+
+    >>> from fractions import Fraction
+    >>> from verify.core.backends.rational import RationalBackend
+    >>> K = RationalBackend("python")
+    >>> with pivot_budget(0):
+    ...     solve_columns(K, [[K.convert(Fraction(2)), K.zero]], [K.one, K.zero])
+    Traceback (most recent call last):
+    ...
+    verify.core.cones.lp.SearchTooLong: the search spent its 0 pivots
+    """
+    token = _LEFT.set([pivots, pivots])
+    try:
+        yield
+    finally:
+        _LEFT.reset(token)
 
 
 def solve_columns(K: Any, columns: Sequence[Sequence[Any]], y: Sequence[Any]) -> list[Any] | None:
@@ -98,6 +131,11 @@ def feasible(K: Any, y: Sequence[Any], gens: Sequence[Sequence[Any]]) -> dict[in
 
 def _pivot(K: Any, rows: list[list[Any]], r: int, c: int) -> None:
     """Scale row r so that its entry in column c is 1, and clear column c from every other row."""
+    left = _LEFT.get()
+    if left is not None:
+        left[0] -= 1
+        if left[0] < 0:
+            raise SearchTooLong(f"the search spent its {left[1]} pivots")
     piv = rows[r][c]
     rows[r] = [v / piv for v in rows[r]]
     for i in range(len(rows)):
