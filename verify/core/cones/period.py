@@ -57,9 +57,9 @@ from verify.errors import Undecided
 MAX_GENERATORS = 24
 MAX_ROUNDS = 16
 MAX_CARRIED = 400
-#: the most pivots of exact linear programming one search may make: twice the most that a search which
+#: the most pivots of exact linear programming one search may make: a little more than the most that a search which
 #: found its cone made in the tests and the ci census (5,501); failing searches made up to 22,000, 30 s each
-MAX_PIVOTS = 12_000
+MAX_PIVOTS = 6_000
 #: the most edges of a carried cone that may cross one hyperplane x_f = 0 (each gives a vector)
 MAX_CROSSINGS = 10_000
 #: the most vectors whose beta is bounded at a multiple impact (the bound takes every pair)
