@@ -97,13 +97,9 @@ class EpsMap:
                 if part.stop != "exit":
                     return part, None
                 x = sp.Rational(values[line.free].numerator, values[line.free].denominator)
-                return part, [_fraction(sp.sympify(v).subs(EPS, x)) for v in part.exit_velocity]
+                return part, [_rational(sp.sympify(v).subs(EPS, x), "exit velocity") for v in part.exit_velocity]
         shown = ", ".join(f"{n} = {format_exact(v)}" for n, v in values.items())
         raise InvalidInput(f"({shown}) is on no line of the map: take one coordinate from the grid {self.grid}")
-
-
-def _fraction(x: Any) -> Fraction:
-    return Fraction(int(x.p), int(x.q))
 
 
 def _rational(value: Any, where: str) -> Fraction:

@@ -12,7 +12,7 @@ The rule column: ``general`` runs your systems with their own CORs, ``ideal`` wi
 ``symmetric`` with every COR equal to the first contact's.
 
 >>> from hypothesis import strategies as st
->>> from verify.core.system import System
+>>> from verify.core.system import System, source_numbers
 >>> def slide(e):  # a block hitting a wall, COR e, from velocity -1
 ...     return System([[1]], [[1]], [e]), ["-1"]
 >>> found = family_verdicts(st.sampled_from(["0", "1/2", "1"]).map(slide), "block",
@@ -31,7 +31,7 @@ from verify.checks.properties.catalogue import PROPERTIES, property_named
 from verify.checks.properties.strategies import MAX_ITERATIONS, Drawn
 from verify.checks.properties.verdicts import LAW_RULES, Verdict, search
 from verify.core.parse import to_number
-from verify.core.system import System
+from verify.core.system import System, source_numbers
 from verify.errors import InvalidInput
 from verify.records.results import case_record
 
@@ -49,11 +49,10 @@ def drawn_case(name: str, rule: str, system: System, velocity: Sequence[Any]) ->
     if rule not in OWN_RULES:
         raise InvalidInput(f"rule {rule!r}: an own family runs under {', '.join(OWN_RULES)}")
     src = system.source
-    numbers = [x for row in (*src["mass_matrix"], *src["normals"]) for x in row] + list(src["time_terms"])
     if isinstance(velocity, str) or len(velocity) != system.n:
         raise InvalidInput(f"{name}: the velocity needs {system.n} numbers")
     v = [to_number(x, where=f"velocity[{i}]") for i, x in enumerate(velocity)]
-    if not all(isinstance(x, Fraction) for x in [*numbers, *src["restitution"], *v]):
+    if not all(isinstance(x, Fraction) for x in [*source_numbers(system), *v]):
         raise InvalidInput(f"{name}: the property suite draws systems of rational numbers")
     cors = list(src["restitution"])
     if rule == "ideal":
