@@ -313,34 +313,9 @@ def _carry(G: sp.Matrix, e: list, vectors: list, p: int, *, sign: _Signs, failur
     by its impact set, with beta = 1 (orthogonal sets) or both beta bounds."""
     r = G.shape[0]
     for n in range(p):
-        S, F = [], []
-        for i in range(r):
-            signs = [(sign(v[i]), s) for v, s in vectors]
-            if any(x is None for x, _ in signs):
-                failures.append(f"impulse {n}: a sign of constraint {i} changes over the interval")
-                return []
-            if all(x >= 0 for x, _ in signs):
-                continue
-            (S if all(x == -1 or (x == 0 and not s) for x, s in signs) else F).append(i)
-        if not S:
-            failures.append(f"impulse {n}: no constraint is hit for sure")
+        parts = _parts(vectors, r, n, sign=sign, failures=failures)
+        if failures:
             return []
-        parts = [(vectors, list(S))]
-        for f in F:
-            cut = []
-            for vs, J in parts:
-                neg = [(v, s) for v, s in vs if sign(v[f]) == -1]
-                pos = [(v, s) for v, s in vs if sign(v[f]) == 1]
-                if not neg:
-                    cut.append((vs, J))
-                elif not pos:
-                    cut.append((vs, [*J, f]))
-                else:
-                    zero = [(v, s) for v, s in vs if sign(v[f]) == 0]
-                    cross = [([sp.cancel(-w[f] * a + u[f] * b) for a, b in zip(u, w)], su or sw)
-                             for u, su in pos for w, sw in neg]  # fmt: skip
-                    cut += [(neg + zero + cross, [*J, f]), (pos + zero + cross, J)]
-            parts = cut
         out: list = []
         for vs, J in parts:
             betas = [1] if len(J) == 1 or _linear(G, J) else _betas(G, J, [v for v, _ in vs], sign)
@@ -354,6 +329,45 @@ def _carry(G: sp.Matrix, e: list, vectors: list, p: int, *, sign: _Signs, failur
                         out.append((w, s))
         vectors = _pruned(out) if prune else out
     return vectors
+
+
+def _parts(vectors: list, r: int, n: int, *, sign: _Signs, failures: list) -> list:
+    """The parts of the cone at impulse n, each with its impact set: S (strict vectors < 0, the others <= 0)
+    must not be empty; the cone is cut by x_f = 0 for each f where the vectors disagree."""
+    S, F = [], []
+    for i in range(r):
+        signs = [(sign(v[i]), s) for v, s in vectors]
+        if any(x is None for x, _ in signs):
+            failures.append(f"impulse {n}: a sign of constraint {i} changes over the interval")
+            return []
+        if all(x >= 0 for x, _ in signs):
+            continue
+        (S if all(x == -1 or (x == 0 and not s) for x, s in signs) else F).append(i)
+    if not S:
+        failures.append(f"impulse {n}: no constraint is hit for sure")
+        return []
+    parts = [(vectors, list(S))]
+    for f in F:
+        cut = []
+        for vs, J in parts:
+            neg = [(v, s) for v, s in vs if sign(v[f]) == -1]
+            pos = [(v, s) for v, s in vs if sign(v[f]) == 1]
+            if not neg:
+                cut.append((vs, J))
+            elif not pos:
+                cut.append((vs, [*J, f]))
+            else:
+                zero = [(v, s) for v, s in vs if sign(v[f]) == 0]
+                cross = [([_tidy(-w[f] * a + u[f] * b) for a, b in zip(u, w)], su or sw)
+                         for u, su in pos for w, sw in neg]  # fmt: skip
+                cut += [(neg + zero + cross, [*J, f]), (pos + zero + cross, J)]
+        parts = cut
+    return parts
+
+
+def _tidy(x: object) -> object:
+    """A Fraction as it is, a SymPy expression cancelled."""
+    return x if isinstance(x, Fraction) else sp.cancel(x)
 
 
 def _pruned(vectors: list) -> list:
@@ -400,6 +414,11 @@ def check_period(
     gens = [[read(x) for x in g] for g in cert["generators"]]
     strict = list(cert["strict"])
     sign = _Signs(interval, closed)
+    if cert.get("multiple impulses") == "polar values":
+        if interval is not None:
+            return ["polar values are checked at a rational point only"]
+        failures += _check_polar(G, e, cert, gens, strict)
+        return failures + _rates_in_cone(cert, gens, strict, rates)
     carried = _carry(
         G, e, list(zip(gens, strict)), int(cert["impulses"]), sign=sign, failures=failures, prune=interval is None
     )
@@ -415,8 +434,13 @@ def check_period(
         for y, s in carried:
             if not any(_matches(y, z, d, gens=gens, strict=strict, s=s, sign=sign) for z, d in listed):
                 failures.append(f"a vector carried through the period is not a listed combination: {y}")
+    return failures + _rates_in_cone(cert, gens, strict, rates)
+
+
+def _rates_in_cone(cert: dict, gens: list, strict: list, rates: list[str] | None) -> list[str]:
+    """The rates are the first generator (strict), or lie in the stated box, which lies in the cone."""
     if "box" in cert:
-        failures += _box_in_cone(cert["box"], gens, strict)
+        failures = _box_in_cone(cert["box"], gens, strict)
         if rates or "rates" in cert:  # exact rates boxed by short rationals: they must lie in the box
             b = [read(x) for x in (rates or cert["rates"])]
             box = [[read(x) for x in cert["box"][k]] for k in ("center", "radius")]
@@ -425,8 +449,108 @@ def check_period(
         return failures
     b = [read(x) for x in (rates or cert["rates"])]
     if not strict[0] or any(sp.cancel(x - y) != 0 for x, y in zip(b, gens[0])):
-        failures.append("the rates are not the first generator, or it is not strict")
+        return ["the rates are not the first generator, or it is not strict"]
+    return []
+
+
+def _check_polar(G: sp.Matrix, e: list, cert: dict, gens: list, strict: list) -> list[str]:
+    """A certificate whose multiple impulses move by polar values, checked stage by stage at a rational point:
+    the vectors of stage n (stage 0 and stage p: the generators), cut and moved by impulse n+1 as in _carry,
+    must lie in the cone of stage n+1. A multiple impulse moves a part by the values of the cubic form
+    C(x) = D(x) x - N(x) A x on every triple of its vectors, found here by the polarization identity
+    6 P(u, v, w) = C(u+v+w) - C(u+v) - C(u+w) - C(v+w) + C(u) + C(v) + C(w) (the search expands P instead)."""
+    r, p = G.shape[0], int(cert["impulses"])
+    Gq = [[_q(G[i, j]) for j in range(r)] for i in range(r)]
+    eq = [_q(x) for x in e]
+    listed = [([[_q(read(x)) for x in v] for v in st["vectors"]], list(st["strict"])) for st in cert.get("stages", [])]
+    stages = [([[_q(x) for x in g] for g in gens], strict), *listed, ([[_q(x) for x in g] for g in gens], strict)]
+    if len(stages) != p + 1:
+        return [f"{len(stages) - 2} stages listed for a period of {p} impulses"]
+    failures: list = []
+    for n in range(p):
+        vectors = list(zip(*stages[n]))
+        sign = _Signs(None)
+        parts = _parts(vectors, r, n, sign=sign, failures=failures)
+        if failures:
+            return failures
+        target, flags = stages[n + 1]
+        cone = _Facets(target)
+        for vs, J in parts:
+            if len(J) == 1 or all(Gq[i][j] == 0 for i in J for j in J if i < j):
+                moved = [([v[m] - _push(Gq, eq, J, v)[m] for m in range(r)], t) for v, t in vs]
+            else:
+                moved = _polar(Gq, eq, J, vs)
+            for y, t in moved:
+                inside = cone.contains(y) if all(flags) else _cone_lp(y, target, flags, t)
+                if not inside:
+                    failures.append(f"impulse {n}: a moved vector is not in the cone of the next stage: {y}")
+                    return failures
     return failures
+
+
+def _push(G: list, e: list, J: list, x: list) -> list:
+    """A x = sum_{j in J} (1 + e_j) (x_j / G_jj) G[:, j] (Fractions)."""
+    return [sum(((1 + e[j]) * x[j] / G[j][j] * G[m][j] for j in J), Fraction(0)) for m in range(len(x))]
+
+
+def _cubic(G: list, e: list, J: list, x: list) -> list:
+    """C(x) = D(x) x - N(x) A x, with N = sum_j x_j^2 / G_jj and D = lam^T G_JJ lam (lam_j = x_j / G_jj)."""
+    lam = {j: x[j] / G[j][j] for j in J}
+    N = sum((x[j] * lam[j] for j in J), Fraction(0))
+    D = sum((lam[i] * G[i][j] * lam[j] for i in J for j in J), Fraction(0))
+    a = _push(G, e, J, x)
+    return [D * v - N * w for v, w in zip(x, a)]
+
+
+def _polar(G: list, e: list, J: list, vs: list) -> list:
+    """6 P(u, v, w) for every triple of the vectors (polarization), strict when one of the three is."""
+    add = lambda *xs: [sum(c) for c in zip(*xs)]  # noqa: E731
+    C = {}
+    vecs = [v for v, _ in vs]
+    for k in range(len(vecs)):
+        C[(k,)] = _cubic(G, e, J, vecs[k])
+    for k, l in itertools.combinations(range(len(vecs)), 2):
+        C[(k, l)] = _cubic(G, e, J, add(vecs[k], vecs[l]))
+    out = []
+    for k, l, m in itertools.combinations_with_replacement(range(len(vecs)), 3):
+
+        def c(*idx: int) -> list:
+            key = tuple(sorted(set(idx)))
+            if len(key) == 1:  # C(2u) = 8 C(u), C(3u) = 27 C(u)
+                return [len(idx) ** 3 * x for x in C[key]]
+            if len(idx) == 2:
+                return C[key]
+            return _cubic(G, e, J, add(*(vecs[i] for i in idx)))
+
+        parts = [c(k, l, m), c(k, l), c(k, m), c(l, m), c(k), c(l), c(m)]
+        y = [a - b - cc - d + f + g + h for a, b, cc, d, f, g, h in zip(*parts)]
+        if any(y):
+            out.append((y, vs[k][1] or vs[l][1] or vs[m][1]))
+    return out
+
+
+class _Facets:
+    """The cone of three-dimensional generators by its facets (planes through two generators with every
+    generator on one side); membership is then a list of signs. Falls back to the simplex method when the
+    cone is not pointed and full (fewer than three facets)."""
+
+    def __init__(self, gens: list):
+        self.gens = gens
+        self.normals = []
+        for a, b in itertools.combinations(gens, 2):
+            n = [a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0]]
+            if not any(n):
+                continue
+            sides = [sum(x * y for x, y in zip(n, g)) for g in gens]
+            if all(t >= 0 for t in sides):
+                self.normals.append(n)
+            elif all(t <= 0 for t in sides):
+                self.normals.append([-x for x in n])
+
+    def contains(self, y: list) -> bool:
+        if len(y) != 3 or len(self.normals) < 3:
+            return _cone_lp(y, self.gens, [True] * len(self.gens), False)
+        return any(y) and all(sum(x * v for x, v in zip(n, y)) >= 0 for n in self.normals)
 
 
 def _matches(y: list, z: list, d: dict, *, gens: list, strict: list, s: bool, sign: _Signs) -> bool:

@@ -12,7 +12,7 @@ from tests import certificate_check
 from tests.helpers import Poison
 from verify.core.backends.rational import RationalBackend
 from verify.core.cones.period import linear_step, member, period_certificate
-from verify.core.rule import solve
+from verify.core.rule import Budget, solve
 from verify.core.system import System
 from verify.models.cradle import cradle_geometry
 
@@ -127,3 +127,35 @@ def test_the_checkers_own_simplex():
     assert not certificate_check._cone_lp([1, 0, 0], gens, strict, False)
     assert certificate_check._cone_lp([-2, 1, 2], gens, strict, True)  # g0 + 2 g2
     assert not certificate_check._cone_lp([-3, 1, 2], gens, strict, False)  # g0 + 4 g2 - 2 weak: a negative weight
+
+
+# two general systems of three plastic contacts under the symmetric rule, found undecided at 200 impulses by the
+# ci census of `verify properties`: period (0,1)(1,2) of two multiple impulses whose beta changes with the rates,
+# and whose direction turns around its limit (a spiral). Both bounds of beta widen the cone faster than the period
+# shrinks it; the polar values of the impulses' cubic forms close it
+SPIRAL = {
+    "mass_matrix": [["1/4", "1/2", "1/2", "-1/4"], ["1/2", "5", "-1", "-5/2"], ["1/2", "-1", "9/4", "3/4"],
+                    ["-1/4", "-5/2", "3/4", "11/2"]],
+    "normals": [["2", "0", "2", "0"], ["0", "1", "-2", "0"], ["0", "0", "2", "1"]],
+    "restitution": ["0", "0", "0"],
+    "velocity": ["-195/428", "-447/214", "-447/428", "447/214"],
+}  # fmt: skip
+
+
+def test_a_spiral_is_proved_by_polar_values_and_the_checker_agrees():
+    system = System(SPIRAL["mass_matrix"], SPIRAL["normals"], SPIRAL["restitution"])
+    # the census' settings: exact numbers past 4,096 bits go on on certified intervals (without a budget they
+    # grow at every impulse, and 200 impulses take many minutes)
+    r = solve(
+        system, SPIRAL["velocity"], rule="symmetric", max_iterations=200, budget=Budget(bits=4096, intervals=True)
+    )
+    assert r.stop == "non_terminating"
+    cert = r.certificate
+    assert cert["kind"] == "invariant cone of a period" and cert["multiple impulses"] == "polar values"
+    assert cert["impulses"] == 2 and len(cert["stages"]) == 1
+    args = (cert, SPIRAL["mass_matrix"], SPIRAL["normals"])
+    assert certificate_check.check_period(*args, restitution=SPIRAL["restitution"]) == []
+    # a corner taken off the middle stage: what the first impulse carries there is no longer in its cone
+    fewer = copy.deepcopy(cert)
+    fewer["stages"][0]["vectors"].pop(len(fewer["stages"][0]["vectors"]) // 2)
+    assert certificate_check.check_period(fewer, *args[1:])[0].startswith("impulse 0: a moved vector is not")

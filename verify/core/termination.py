@@ -297,14 +297,17 @@ def period_halt(history: list[tuple[int, Any, tuple[int, ...]]]) -> Any:
         if not getattr(K, "rationals", False) and max(K.size(x) for x in b) > MAX_BITS:
             return None  # a search on such numbers costs too much (long rationals are boxed by the search)
         sets = [set(h[2]) for h in history] + [set(J)]
-        for p in range(1, MAX_PERIOD + 1):
-            if count < 3 * p:
-                break
-            tail = sets[-3 * p - 1 :]
-            if all(tail[i] & tail[i + p] for i in range(2 * p + 1)):
-                next_try[0] = count + max(8, count)
-                cert = period_certificate(system, p, b, history[-p][1])
-                return ("non_terminating", cert) if cert else None
+        periods = [p for p in range(1, MAX_PERIOD + 1) if count >= 3 * p]
+        tails = {p: sets[-3 * p - 1 :] for p in periods}
+        same = [p for p in periods if all(tails[p][i] == tails[p][i + p] for i in range(2 * p + 1))]
+        near = [p for p in periods if all(tails[p][i] & tails[p][i + p] for i in range(2 * p + 1))]
+        tried = list(dict.fromkeys(same[:1] + near[:1]))  # the least exact period first, then the least overlap
+        if tried:
+            next_try[0] = count + max(8, count)
+        for p in tried:
+            cert = period_certificate(system, p, b, history[-p][1])
+            if cert:
+                return ("non_terminating", cert)
         return None
 
     return test

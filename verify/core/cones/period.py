@@ -14,8 +14,10 @@ look at every vector carried so far and split the constraints into
 - F, those where the vectors disagree (hit or not, depending on the point of the cone),
 - the rest, where every vector is ``>= 0`` (not hit);
 
-S must not be empty and S + F must be mutually orthogonal, and each vector v goes on as all of
-``M_{S+T} v`` for T a subset of F. After p impulses, each vector must be a non-negative
+S must not be empty; the cone is cut at ``x_f = 0`` for each f in F (:func:`split`), and each part
+moves on its own impact set J = S + T: by ``M_J`` when the impulse is linear, else with both bounds
+of beta over the part (:func:`beta_bounds`), or by the polar values of the impulse's cubic form
+(:mod:`verify.core.cones.polar`). After p impulses, each vector must be a non-negative
 combination of the generators, with a positive weight on a strict generator when it comes from
 a strict one. The rates must be a generator (or lie in the cone, :func:`box_seeds`).
 
@@ -48,6 +50,7 @@ from fractions import Fraction
 from typing import Any
 
 from verify.core.cones.lp import feasible, pivot_budget, solve_columns
+from verify.core.cones.polar import MAX_VECTORS, extreme, polar_values, pushed, spiral_seeds
 from verify.core.engines.rates import beta_from_rates
 from verify.core.system import System, on_exact_field
 from verify.errors import Undecided
@@ -100,18 +103,8 @@ def step(system: System, J: Sequence[int], x: Sequence[Any], beta: Any = None) -
     >>> [str(v) for v in step(s, (0,), [K.convert(Fraction(-1)), K.zero])]
     ['1/2', '-3/4']
     """
-    K, G, e = system.backend, system.gram, system.restitution
-    out = list(x)
-    for j in J:
-        if x[j] == K.zero:
-            continue
-        c = (K.one + e[j]) * x[j] / G[j][j]
-        if beta is not None:
-            c = beta * c
-        for lo in range(system.r):
-            if G[lo][j] != K.zero:
-                out[lo] = out[lo] - c * G[lo][j]
-    return out
+    a = pushed(system, J, x)
+    return [v - (w if beta is None else beta * w) for v, w in zip(x, a)]
 
 
 def beta_bounds(system: System, J: Sequence[int], vectors: Sequence[Vector]) -> list[Any] | None:
@@ -223,13 +216,19 @@ def _prune(K: Any, vectors: Carried) -> Carried:
     return kept
 
 
-def carry(system: System, gens: Sequence[Vector], strict: Sequence[bool], p: int) -> Carried | None:
+def carry(
+    system: System, gens: Sequence[Vector], strict: Sequence[bool], p: int, stages: list[Carried] | None = None
+) -> Carried | None:
     """The vectors after p impulses (the module docstring): at each impulse the cone of the vectors is cut
     by ``x_f = 0`` for each f in F (:func:`split`), and each part is carried on its own impact set.
-    None when an impulse is not decided: S empty, an impact set of a part not linear, too many vectors."""
+    None when an impulse is not decided: S empty, an impact set of a part not linear, too many vectors.
+
+    With ``stages`` (a list, filled here), a multiple impulse whose beta varies is carried by its polar
+    values (:mod:`verify.core.cones.polar`) instead of both bounds of beta, and the vectors after each
+    impulse but the last are kept, reduced to the corners of their cone: the certificate lists them."""
     K = system.backend
     current: Carried = [(list(g), s) for g, s in zip(gens, strict)]
-    for _ in range(p):
+    for n in range(p):
         found = _classify(K, current)
         if found is None:
             return None
@@ -251,16 +250,24 @@ def carry(system: System, gens: Sequence[Vector], strict: Sequence[bool], p: int
             parts = cut
         nxt: dict[tuple, bool] = {}  # the vectors, each once (strict if it comes strict from any part)
         for vs, J in parts:
-            betas = [K.one] if linear_step(system, J) else _widened(K, beta_bounds(system, J, [v for v, _ in vs]))
-            if betas is None:
-                return None
-            for v, s in vs:
-                for beta in betas:
-                    key = _direction(K, step(system, J, v, beta))
-                    nxt[key] = nxt.get(key, False) or s
-        current = _prune(K, [(list(v), s) for v, s in nxt.items()])
+            if stages is not None and not linear_step(system, J):
+                if len(vs) > MAX_VECTORS:
+                    return None
+                moved = extreme(K, polar_values(system, J, vs))
+            else:
+                betas = [K.one] if linear_step(system, J) else _widened(K, beta_bounds(system, J, [v for v, _ in vs]))
+                if betas is None:
+                    return None
+                moved = [(step(system, J, v, beta), s) for v, s in vs for beta in betas]
+            for v, s in moved:
+                key = _direction(K, v)
+                nxt[key] = nxt.get(key, False) or s
+        current = [(list(v), s) for v, s in nxt.items()]
+        current = extreme(K, current) if stages is not None else _prune(K, current)
         if len(current) > MAX_CARRIED:
             return None
+        if stages is not None and n < p - 1:
+            stages.append(current)
     return current
 
 
@@ -319,12 +326,16 @@ def _growth(K: Any, earlier: Sequence[Any], now: Sequence[Any]) -> Any | None:
     return None
 
 
+Found = tuple[list[Vector], list[bool], list[tuple[Vector, dict[int, Any]]], list[Carried]]
+
+
 def close(
-    system: System, p: int, seeds: Sequence[Vector], extra: Sequence[Vector], rounds: int = 8
-) -> tuple[list[Vector], list[bool], list[tuple[Vector, dict[int, Any]]]] | None:
+    system: System, p: int, seeds: Sequence[Vector], extra: Sequence[Vector], rounds: int = 8, *, polar: bool = False
+) -> Found | None:
     """A cone of the seeds (strict), the ``extra`` strict vectors and the weak unit vectors of the
     constraints no seed is hit on in p impulses, closed under p impulses: (generators, strict flags, the
-    vectors carried through p impulses with their combinations), or None."""
+    vectors carried through p impulses with their combinations, the stages of :func:`carry` when
+    ``polar``), or None."""
     K, r = system.backend, system.r
     gens = [list(g) for g in (*seeds, *extra)]
     strict = [True] * len(gens)
@@ -335,7 +346,8 @@ def close(
         strict.append(False)
     limit = len(gens) + MAX_GENERATORS
     for _ in range(rounds):
-        carried = carry(system, gens, strict, p)
+        stages: list[Carried] | None = [] if polar else None
+        carried = carry(system, gens, strict, p, stages)
         if carried is None:
             return None
         out, missing = [], []
@@ -346,7 +358,7 @@ def close(
             else:
                 out.append((y, d))
         if not missing:
-            return gens, strict, out
+            return gens, strict, out, stages or []
         if len(gens) + len(missing) > limit:
             return None
         for y, s in missing:
@@ -405,17 +417,15 @@ def _hit(system: System, b: Sequence[Any], p: int) -> list[int]:
     return sorted(hit)
 
 
-def _around_limit(system: System, b: Sequence[Any], p: int, periods: int = 400) -> list[Vector]:
-    """Points around the direction the rates tend to (rationals only), with b's own scale.
+def _limit(system: System, b: Sequence[Any], p: int, periods: int = 400) -> tuple[Vector, list[int]] | None:
+    """The direction the rates tend to (rationals only), and the constraints hit (H), or None.
 
-    The rates of the constraints hit (H) evolve on their own, so the direction is found on them alone:
-    p-impulse steps of the rule from b's H-rates (the others kept at 0), scaled and rounded after each.
-    The points are that direction and it +- 2^-12 times each unit vector of H, scaled to b's H-rates,
-    with b's other rates (the weak generators add to those what the cone needs)."""
+    The rates of H evolve on their own, so the direction is found on them alone: p-impulse steps of the
+    rule from b's H-rates (the others kept at 0), scaled and rounded after each."""
     K = system.backend
     on = _hit(system, b, p)
     if not on or all(b[i] == K.zero for i in on):
-        return []
+        return None
     v = _rounded(K, [x if i in on else K.zero for i, x in enumerate(b)], on)
     for _ in range(periods):
         w: Vector | None = v
@@ -423,8 +433,15 @@ def _around_limit(system: System, b: Sequence[Any], p: int, periods: int = 400) 
             w = _rule_step(system, w) if w is not None else None
             w = [x if i in on else K.zero for i, x in enumerate(w)] if w is not None else None
         if w is None or all(w[i] == K.zero for i in on):
-            return []
+            return None
         v = _rounded(K, w, on)
+    return v, on
+
+
+def _around(K: Any, b: Sequence[Any], v: Vector, on: list[int]) -> list[Vector]:
+    """Points around the direction v (:func:`_limit`), with b's own scale: v and v +- 2^-12 times each unit
+    vector of H, scaled to b's H-rates, with b's other rates (the weak generators add to those what the cone
+    needs)."""
     scale = max(abs(Fraction(K.to_number(b[i]))) for i in on)
     size = K.convert(scale)
     delta = K.convert(scale / 2**12)
@@ -449,17 +466,23 @@ def _beyond(system: System, p: int, guide: tuple[Sequence[Any], Sequence[Any] | 
 
 def cone_search(
     system: System, p: int, seeds: Sequence[Vector], guide: tuple[Sequence[Any], Sequence[Any] | None]
-) -> tuple[list[Vector], list[bool], list[tuple[Vector, dict[int, Any]]]] | None:
+) -> Found | None:
     """A closed cone containing the seeds: first with one point beyond the direction the rates tend to
     (``2 P b - lam b``, from ``guide`` = (b, the rates one period before)), then (rational backends)
-    with points around that direction (:func:`_around_limit`)."""
+    with points around that direction (:func:`_limit`, :func:`_around`), then, for three rates turning around that
+    direction, with a polygon around it and multiple impulses carried by their polar values
+    (:func:`verify.core.cones.polar.spiral_seeds`)."""
     K = system.backend
     b, _ = guide
     found = close(system, p, seeds, _beyond(system, p, guide))
     if found is None and getattr(K, "rationals", False):
-        around = _around_limit(system, b, p)
-        if around:
-            found = close(system, p, seeds, around, MAX_ROUNDS)
+        limit = _limit(system, b, p)
+        if limit is not None:
+            found = close(system, p, seeds, _around(K, b, *limit), MAX_ROUNDS)
+        if found is None and limit is not None and system.r == 3:
+            turned = spiral_seeds(K, limit[0], lambda x: _rule_steps(system, x, p), b)
+            if turned:
+                found = close(system, p, seeds, turned, 2, polar=True)
     return found
 
 
@@ -599,14 +622,18 @@ def _exponent(q: Fraction) -> int:
 def _certificate(
     system: System,
     p: int,
-    found: tuple[list[Vector], list[bool], list[tuple[Vector, dict[int, Any]]]],
+    found: Found,
     b: Sequence[Any] | None,
     box: tuple[Vector, Vector] | None,
 ) -> dict[str, Any]:
     K = system.backend
-    gens, strict, carried = found
+    gens, strict, carried, stages = found
     show = K.to_exact
     where: dict[str, Any] = {"rates": [show(x) for x in b]} if b is not None else {}
+    if stages:  # the vectors after each impulse of the period but the last (polar values)
+        where["stages"] = [
+            {"vectors": [[show(x) for x in v] for v, _ in st], "strict": [t for _, t in st]} for st in stages
+        ]
     if box is not None:
         where["box"] = {"center": [show(x) for x in box[0]], "radius": [show(x) for x in box[1]]}
     return {
@@ -623,11 +650,19 @@ def _certificate(
             {"vector": [show(x) for x in y], "combination": {str(k): show(d) for k, d in sorted(c.items())}}
             for y, c in carried
         ],
-        "map": "b -> b - sum_{j in J} (1 + e_j) (b_j / G_jj) G[:, j] for J = S + T, T any subset of F (beta = 1)",
+        "multiple impulses": "polar values" if stages else "beta bounds",
+        "map": "b -> b - beta sum_{j in J} (1 + e_j) (b_j / G_jj) G[:, j] for J = S + T, T any subset of F",
         "checked": [
-            "at each of the p impulses, S (every strict vector carried so far < 0, the others <= 0) is not empty, "
-            "and S + F (F: the constraints where the vectors disagree) are mutually orthogonal",
-            "each generator's vectors after p impulses, carried on S + T for every subset T of F, are the listed ones",
+            "at each of the p impulses, S (every strict vector carried so far < 0, the others <= 0) is not empty; "
+            "the cone is cut by x_f = 0 for each f in F (the constraints where the vectors disagree)",
+            "a part hit on one constraint, or on mutually orthogonal ones, moves with beta = 1; else "
+            + (
+                "by the polar values of the cubic form D(x) x - N(x) A x of its vectors (every triple), and the "
+                "vectors after each impulse but the last lie in the cone of the listed stage"
+                if stages
+                else "each vector moves with both bounds of beta over the part (from the pairwise forms N_kl, D_kl)"
+            ),
+            "each generator's vectors after p impulses are the listed ones",
             "each listed vector is sum_k combination[k] * generator k, coefficients >= 0, with a positive "
             "coefficient on a strict generator when it comes from a strict one",
             "the rates are generator 0, which is strict"

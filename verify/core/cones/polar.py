@@ -1,0 +1,252 @@
+"""Multiple impulses carried exactly through a cone: the polar values of the impulse's cubic form.
+
+A multiple impulse on J moves the rates by ``x -> x - beta(x) A x`` with ``A x = sum_{j in J} (1 + e_j)
+(x_j / G_jj) G[:, j]`` and ``beta = N(x) / D(x)``, ``N(x) = sum_j x_j^2 / G_jj``, ``D(x) = lam^T G_JJ lam``
+(lam_j = x_j / G_jj; Sect. 3.5 c). Multiplied by ``D(x) > 0`` (lam != 0 wherever J is hit), the new rates
+point along the cubic form
+
+    C(x) = D(x) x - N(x) A x.
+
+For ``x = sum_k c_k v_k`` with ``c >= 0``, ``C(x) = sum c_k c_l c_m P(v_k, v_l, v_m)`` over all triples,
+where P is the symmetric trilinear (polar) form of C, here three times it:
+
+    P(u, v, w) = D(u, v) w + D(v, w) u + D(u, w) v - N(u, v) A w - N(v, w) A u - N(u, w) A v
+
+(D(u, v), N(u, v) the bilinear forms). So every point of the cone of the v_k is carried into the cone of the
+polar values, with weight ``c_k^3 > 0`` on ``P(v_k, v_k, v_k) = 3 C(v_k)`` when c_k > 0. Unlike the two
+bounds of beta (:func:`verify.core.cones.period.beta_bounds`), which widen a cone of width w by a first-order
+amount, the polar values lie within O(w^2) of the image: a cone around a direction that the period map draws
+in slowly (a spiral, whose contraction is close to 1) can close under them.
+
+:func:`spiral_seeds` gives such a cone: a polygon around the direction the rates tend to, shaped by the
+linear part of the period map there.
+
+>>> from verify.models.cradle import cradle_system
+>>> s = cradle_system("0", 4)
+>>> K = s.backend
+>>> x = [K.convert(Fraction(-1)), K.convert(Fraction(-2)), K.one]
+>>> [str(v) for v in pushed(s, (0, 1), x)]
+['0', '-3/2', '1']
+"""
+
+from __future__ import annotations
+
+import itertools
+import math
+from collections.abc import Callable, Sequence
+from fractions import Fraction
+from typing import Any
+
+from verify.core.cones.lp import feasible
+
+Vector = list[Any]
+Carried = list[tuple[Vector, bool]]
+
+#: the most vectors whose polar values a search takes at once (48 give 19,600 values)
+MAX_VECTORS = 48
+
+
+def pushed(system: Any, J: Sequence[int], x: Sequence[Any]) -> Vector:
+    """``A x = sum_{j in J} (1 + e_j) (x_j / G_jj) G[:, j]``: what an impulse on J with beta = 1 takes off
+    the rates x (the doctest of the module)."""
+    K, G, e = system.backend, system.gram, system.restitution
+    out = [K.zero] * system.r
+    for j in J:
+        if x[j] == K.zero:
+            continue
+        c = (K.one + e[j]) * x[j] / G[j][j]
+        for i in range(system.r):
+            if G[i][j] != K.zero:
+                out[i] = out[i] + c * G[i][j]
+    return out
+
+
+def polar_values(system: Any, J: Sequence[int], vectors: Carried) -> Carried:
+    """The polar values ``P(v_k, v_l, v_m)`` of the vectors (module docstring), each triple once, the zero
+    ones left out; a value is strict when one of its three vectors is (a point with weight on a strict
+    vector has weight on its own value, so marking more values strict only asks more of them).
+
+    >>> from verify.models.cradle import cradle_system
+    >>> s = cradle_system("0", 4)
+    >>> K = s.backend
+    >>> x = [K.convert(Fraction(-1)), K.convert(Fraction(-2)), K.one]
+    >>> [([str(v) for v in y], t) for y, t in polar_values(s, (0, 1), [(x, True)])]
+    [(['-9/2', '9/4', '-3'], True)]
+
+    One vector's value is ``3 D(x) = 9/2`` times the rates after the rule's own impulse (beta = 5/3):
+
+    >>> from verify.core.cones.period import _rule_step
+    >>> [str(v) for v in _rule_step(s, x)]
+    ['-1', '1/2', '-2/3']
+    """
+    K, G = system.backend, system.gram
+    vs = [v for v, _ in vectors]
+    lam = [[v[j] / G[j][j] for j in J] for v in vs]
+    glam = [[sum((G[i][j] * lv[t] for t, j in enumerate(J)), K.zero) for i in J] for lv in lam]
+    pushes = [pushed(system, J, v) for v in vs]
+    m = len(vs)
+    N: dict[tuple[int, int], Any] = {}
+    D: dict[tuple[int, int], Any] = {}
+    for a in range(m):
+        for b in range(a, m):
+            N[a, b] = N[b, a] = sum((vs[a][j] * lam[b][t] for t, j in enumerate(J)), K.zero)
+            D[a, b] = D[b, a] = sum((x * y for x, y in zip(lam[a], glam[b])), K.zero)
+    out: Carried = []
+    for a, b, c in itertools.combinations_with_replacement(range(m), 3):
+        y = [
+            D[a, b] * vs[c][i] + D[b, c] * vs[a][i] + D[a, c] * vs[b][i]
+            - N[a, b] * pushes[c][i] - N[b, c] * pushes[a][i] - N[a, c] * pushes[b][i]
+            for i in range(system.r)
+        ]  # fmt: skip
+        if any(x != K.zero for x in y):
+            out.append((y, vectors[a][1] or vectors[b][1] or vectors[c][1]))
+    return out
+
+
+def extreme(K: Any, vectors: Carried) -> Carried:
+    """The vectors whose cone is the same, fewer: for rates of three constraints (a polygon seen from the
+    origin) the corners of the exact convex hull in a plane that cuts every vector; otherwise each vector
+    is kept unless it is a combination of those kept before it (strict vectors first). A dropped strict
+    vector must be a combination with weight on a strict kept one; else it is kept."""
+    if len(vectors) <= 3:
+        return list(vectors)
+    corners = _hull3(K, vectors) if len(vectors[0][0]) == 3 else None
+    if corners is None:
+        kept: Carried = []
+        for v, s in sorted(vectors, key=lambda item: not item[1]):
+            d = feasible(K, v, [g for g, _ in kept]) if kept else None
+            if d is None or (s and not any(kept[k][1] for k in d)):
+                kept.append((v, s))
+        return kept
+    kept = [vectors[i] for i in corners]
+    if all(s for _, s in kept):
+        return kept
+    for i, (v, s) in enumerate(vectors):
+        if s and i not in corners:
+            d = feasible(K, v, [g for g, _ in kept])
+            if d is None or not any(kept[k][1] for k in d):
+                kept.append((v, s))
+    return kept
+
+
+def _hull3(K: Any, vectors: Carried) -> list[int] | None:
+    """The indices of the vectors on the corners of the cone's section by the plane ``h . x = 1`` (exact
+    signs, the backend's rationals), with h the sum of the vectors each scaled to a largest entry of 1 and
+    rounded to 16 bits; None when h is not positive on every vector (then the section does not show the
+    cone)."""
+    h = [Fraction(0)] * 3
+    for v, _ in vectors:
+        q = [Fraction(K.to_number(x)) for x in v]
+        top = max(abs(x) for x in q)
+        h = [a + Fraction(math.floor(x * 2**16 / top), 2**16) for a, x in zip(h, q)]
+    hk = [K.convert(x) for x in h]
+    heights = [sum((a * b for a, b in zip(hk, v)), K.zero) for v, _ in vectors]
+    if any(K.sign(t) <= 0 for t in heights):
+        return None
+    k = max(range(3), key=lambda i: abs(h[i]))
+    axes = [i for i in range(3) if i != k]  # the section seen along e_k: a projection, corners kept
+    points = sorted((v[axes[0]] / t, v[axes[1]] / t, n) for n, ((v, _), t) in enumerate(zip(vectors, heights)))
+
+    def turn(o: tuple, a: tuple, b: tuple) -> int:
+        return int(K.sign((a[0] - o[0]) * (b[1] - o[1]) - (a[1] - o[1]) * (b[0] - o[0])))
+
+    lower: list[tuple] = []
+    upper: list[tuple] = []
+    for chain, seq in ((lower, points), (upper, points[::-1])):
+        for pt in seq:
+            while len(chain) >= 2 and turn(chain[-2], chain[-1], pt) <= 0:
+                chain.pop()
+            chain.append(pt)
+    corners = {pt[2] for pt in lower[:-1] + upper[:-1]}
+    return sorted(corners) if len(corners) >= 3 else None
+
+
+def spiral_seeds(
+    K: Any, direction: Sequence[Any], period_map: Callable[[Vector], Vector | None], b: Sequence[Any], sides: int = 16
+) -> list[Vector]:
+    """A polygon of ``sides`` rate vectors around ``direction`` (three rates, rationals), where the linear part of
+    the period map (``period_map``, a direction to a direction) turns and shrinks directions alike: the real
+    Jordan basis of its 2 x 2 Jacobian in the chart ``x_k = direction_k`` (k the largest entry), found by
+    exact central differences. Its size is a few times the distance of the rates b from the direction, so
+    that b lies inside. Empty when the Jacobian has real eigenvalues (no spiral) or the chart fails.
+    """
+    d = [Fraction(K.to_number(x)) for x in direction]
+    if len(d) != 3:
+        return []
+    k = max(range(3), key=lambda i: abs(d[i]))
+    axes = [i for i in range(3) if i != k]
+
+    def chart(x: Sequence[Any]) -> list[Fraction] | None:
+        q = [Fraction(K.to_number(v)) for v in x]
+        if q[k] == 0 or (q[k] > 0) != (d[k] > 0):
+            return None
+        return [q[i] * d[k] / q[k] for i in axes]
+
+    def point(c: Sequence[Fraction]) -> Vector:
+        out = [Fraction(0)] * 3
+        out[k], out[axes[0]], out[axes[1]] = d[k], c[0], c[1]
+        return [K.convert(x) for x in out]
+
+    c0 = [d[i] for i in axes]
+    h = max(abs(x) for x in d) / 2**20
+    cols = []
+    for t in range(2):
+        ends = []
+        for sign in (1, -1):
+            c = list(c0)
+            c[t] += sign * h
+            y = period_map(point(c))
+            ends.append(chart(y) if y is not None else None)
+        if ends[0] is None or ends[1] is None:
+            return []
+        cols.append([((u - w) / (2 * h)).limit_denominator(2**24) for u, w in zip(*ends)])  # a shape, rounded
+    a, bb, c, dd = cols[0][0], cols[1][0], cols[0][1], cols[1][1]  # the Jacobian [[a, bb], [c, dd]]
+    disc = (a - dd) ** 2 + 4 * bb * c
+    if disc >= 0 or bb == 0:
+        return []
+    alpha, beta = (a + dd) / 2, _root(-disc, 24) / 2  # eigenvalues alpha +- i beta (beta rounded)
+    basis = ((bb, alpha - a), (Fraction(0), beta))  # Re and Im of the eigenvector (bb, lambda - a)
+    start = chart(b)
+    if start is None:
+        return []
+    off = [x - y for x, y in zip(start, c0)]
+    det = basis[0][0] * basis[1][1] - basis[1][0] * basis[0][1]
+    u = [(off[0] * basis[1][1] - off[1] * basis[1][0]) / det, (basis[0][0] * off[1] - basis[0][1] * off[0]) / det]
+    size = 2 * (abs(u[0]) + abs(u[1]))  # at least twice the rates' distance (the 1-norm bounds the 2-norm)
+    if size == 0:
+        return []
+    unit = Fraction(2) ** (size.numerator.bit_length() - size.denominator.bit_length() - 8)
+    radius = math.ceil(size / unit) * unit  # rounded up to 8 significant bits
+    if radius * max(abs(x) for row in basis for x in row) > abs(d[k]) / 4:
+        return []  # the rates are still far from the direction: a polygon that wide does not close
+    out = []
+    unit = radius * max(abs(x) for row in basis for x in row) / 2**16  # the corners rounded to short numbers
+    for cs, sn in _circle(sides):
+        shift = [radius * (cs * basis[0][i] + sn * basis[1][i]) for i in range(2)]
+        out.append(point([x + round(s / unit) * unit for x, s in zip(c0, shift)]))
+    return out
+
+
+def _root(q: Fraction, bits: int = 64) -> Fraction:
+    """A rational within 2^-bits relative of sqrt(q) (q > 0), from integer square roots."""
+    scale = 4**bits
+    return Fraction(math.isqrt(q.numerator * scale * q.denominator), 2**bits * q.denominator)
+
+
+def _circle(sides: int) -> list[tuple[Fraction, Fraction]]:
+    """``sides`` points near the unit circle, nearly evenly spaced: (1, 0) turned again and again by the
+    rational rotation ``((1 - t^2, -2t), (2t, 1 - t^2)) / (1 + t^2)`` with t near tan(pi / sides) (a few terms of
+    its series at pi ~ 355/113), each rounded to 20 bits. Exact rationals throughout; the polygon need not be
+    regular.
+
+    >>> [(round(float(x), 3), round(float(y), 3)) for x, y in _circle(4)]
+    [(1.0, 0.0), (0.003, 1.0), (-1.0, 0.007), (-0.01, -1.0)]
+    """
+    x = Fraction(355, 113) / sides
+    t = x + x**3 / 3 + 2 * x**5 / 15 + 17 * x**7 / 315
+    c, s = (1 - t * t) / (1 + t * t), 2 * t / (1 + t * t)
+    out, point = [], (Fraction(1), Fraction(0))
+    for _ in range(sides):
+        out.append(tuple(Fraction(round(v * 2**20), 2**20) for v in point))
+        point = (c * point[0] - s * point[1], s * point[0] + c * point[1])
+    return out  # type: ignore[return-value]
