@@ -107,7 +107,15 @@ def extreme(K: Any, vectors: Carried) -> Carried:
     """The vectors whose cone is the same, fewer: for rates of three constraints (a polygon seen from the
     origin) the corners of the exact convex hull in a plane that cuts every vector; otherwise each vector
     is kept unless it is a combination of those kept before it (strict vectors first). A dropped strict
-    vector must be a combination with weight on a strict kept one; else it is kept."""
+    vector must be a combination with weight on a strict kept one; else it is kept.
+
+    >>> from verify.core.backends.rational import RationalBackend
+    >>> K = RationalBackend("python")
+    >>> square = [[1, 1, 2], [1, -1, 2], [-1, -1, 2], [-1, 1, 2], [0, 0, 2], [1, 0, 2]]
+    >>> [v for v, _ in extreme(K, [([K.convert(Fraction(x)) for x in v], True) for v in square])] == [
+    ...     [K.convert(Fraction(x)) for x in v] for v in square[:4]]
+    True
+    """
     if len(vectors) <= 3:
         return list(vectors)
     corners = _hull3(K, vectors) if len(vectors[0][0]) == 3 else None
@@ -168,7 +176,20 @@ def spiral_seeds(
     the period map (``period_map``, a direction to a direction) turns and shrinks directions alike: the real
     Jordan basis of its 2 x 2 Jacobian in the chart ``x_k = direction_k`` (k the largest entry), found by
     exact central differences. Its size is a few times the distance of the rates b from the direction, so
-    that b lies inside. Empty when the Jacobian has real eigenvalues (no spiral) or the chart fails.
+    that b lies inside. Empty when the Jacobian has real eigenvalues (no spiral), when the rates are still
+    far from the direction, or when the chart fails.
+
+    A map that turns the directions around (-1, 0, 0) by 45 degrees and shrinks them by 1/sqrt(2):
+
+    >>> from verify.core.backends.rational import RationalBackend
+    >>> K = RationalBackend("python")
+    >>> q = lambda *xs: [K.convert(Fraction(x)) for x in xs]
+    >>> turn = lambda x: [x[0], (x[1] - x[2]) / 2, (x[1] + x[2]) / 2]
+    >>> corners = spiral_seeds(K, q(-1, 0, 0), turn, q(-1, "1/100", 0))
+    >>> len(corners), {str(v[0]) for v in corners}, max(abs(v[1]) for v in corners) < Fraction(1, 10)
+    (16, {'-1'}, True)
+    >>> spiral_seeds(K, q(-1, 0, 0), lambda x: [x[0], x[1] / 2, x[2] / 3], q(-1, "1/100", 0))  # no turn
+    []
     """
     d = [Fraction(K.to_number(x)) for x in direction]
     if len(d) != 3:
