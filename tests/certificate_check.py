@@ -546,9 +546,13 @@ class _Facets:
                 self.normals.append(n)
             elif all(t <= 0 for t in sides):
                 self.normals.append([-x for x in n])
+        # the planes through pairs are the facets only for a pointed cone with an interior: then the sum of
+        # the inward normals is positive on every generator (a flat cone, or one holding a line, fails this)
+        total = [sum(c) for c in zip(*self.normals)] if self.normals else [0, 0, 0]
+        self.pointed = all(sum(x * v for x, v in zip(total, g)) > 0 for g in gens)
 
     def contains(self, y: list) -> bool:
-        if len(y) != 3 or len(self.normals) < 3:
+        if len(y) != 3 or len(self.normals) < 3 or not self.pointed:
             return _cone_lp(y, self.gens, [True] * len(self.gens), False)
         return any(y) and all(sum(x * v for x, v in zip(n, y)) >= 0 for n in self.normals)
 

@@ -50,7 +50,7 @@ from fractions import Fraction
 from typing import Any
 
 from verify.core.cones.lp import feasible, pivot_budget, solve_columns
-from verify.core.cones.polar import MAX_VECTORS, extreme, polar_values, pushed, spiral_seeds
+from verify.core.cones.polar import MAX_VECTORS, extreme, forms, polar_values, pushed, spiral_seeds
 from verify.core.engines.rates import beta_from_rates
 from verify.core.system import System, on_exact_field
 from verify.errors import Undecided
@@ -118,26 +118,19 @@ def beta_bounds(system: System, J: Sequence[int], vectors: Sequence[Vector]) -> 
     ``x - beta_lo A x`` and ``x - beta_hi A x`` with the same weights for every point of the cone:
     carrying each vector with both bounds keeps every point inside the carried cone.
     """
-    K, G = system.backend, system.gram
+    K = system.backend
     if len(vectors) > MAX_BETA_VECTORS:
         return None
-    lam = [[v[j] / G[j][j] for j in J] for v in vectors]
-    glam = [[sum((G[i][j] * lv[t] for t, j in enumerate(J)), K.zero) for i in J] for lv in lam]
-    ratios, forms = [], []
-    for k, (a, la) in enumerate(zip(vectors, lam)):
-        for lb, gb in zip(lam[k:], glam[k:]):  # the forms are symmetric: each pair once
-            n = sum((a[j] * lb[t] for t, j in enumerate(J)), K.zero)
-            d = sum((x * y for x, y in zip(la, gb)), K.zero)
-            forms.append((n, d))
-            if K.sign(d) > 0:
-                ratios.append(n / d)
+    N, D = forms(system, J, vectors)
+    pairs = [(N[k, l], D[k, l]) for k in range(len(vectors)) for l in range(k, len(vectors))]
+    ratios = [n / d for n, d in pairs if K.sign(d) > 0]
     if not ratios:
         return None
     lo = hi = ratios[0]
     for x in ratios[1:]:
         lo = x if K.sign(x - lo) < 0 else lo
         hi = x if K.sign(x - hi) > 0 else hi
-    if any(K.sign(d) <= 0 and (K.sign(n - lo * d) < 0 or K.sign(hi * d - n) < 0) for n, d in forms):
+    if any(K.sign(d) <= 0 and (K.sign(n - lo * d) < 0 or K.sign(hi * d - n) < 0) for n, d in pairs):
         return None
     return [lo] if lo == hi else [lo, hi]
 

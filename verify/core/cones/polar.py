@@ -61,6 +61,30 @@ def pushed(system: Any, J: Sequence[int], x: Sequence[Any]) -> Vector:
     return out
 
 
+def forms(system: Any, J: Sequence[int], vs: Sequence[Vector]) -> tuple[dict, dict]:
+    """The bilinear forms of beta's numerator and denominator on every pair of the vectors, ``N[k, l] =
+    sum_j v_k[j] lam_l[j]`` and ``D[k, l] = lam_k^T G_JJ lam_l`` (lam_j = v[j] / G_jj), each pair computed once
+    and stored both ways (the forms are symmetric).
+
+    >>> from verify.models.cradle import cradle_system
+    >>> s = cradle_system("0", 4)
+    >>> K = s.backend
+    >>> N, D = forms(s, (0, 1), [[K.convert(Fraction(-1)), K.convert(Fraction(-2)), K.one]])
+    >>> str(N[0, 0] / D[0, 0])  # beta of the doctest of polar_values
+    '5/3'
+    """
+    K, G = system.backend, system.gram
+    lam = [[v[j] / G[j][j] for j in J] for v in vs]
+    glam = [[sum((G[i][j] * lv[t] for t, j in enumerate(J)), K.zero) for i in J] for lv in lam]
+    N: dict[tuple[int, int], Any] = {}
+    D: dict[tuple[int, int], Any] = {}
+    for a in range(len(vs)):
+        for b in range(a, len(vs)):
+            N[a, b] = N[b, a] = sum((vs[a][j] * lam[b][t] for t, j in enumerate(J)), K.zero)
+            D[a, b] = D[b, a] = sum((x * y for x, y in zip(lam[a], glam[b])), K.zero)
+    return N, D
+
+
 def polar_values(system: Any, J: Sequence[int], vectors: Carried) -> Carried:
     """The polar values ``P(v_k, v_l, v_m)`` of the vectors (module docstring), each triple once, the zero
     ones left out; a value is strict when one of its three vectors is (a point with weight on a strict
@@ -79,20 +103,12 @@ def polar_values(system: Any, J: Sequence[int], vectors: Carried) -> Carried:
     >>> [str(v) for v in _rule_step(s, x)]
     ['-1', '1/2', '-2/3']
     """
-    K, G = system.backend, system.gram
+    K = system.backend
     vs = [v for v, _ in vectors]
-    lam = [[v[j] / G[j][j] for j in J] for v in vs]
-    glam = [[sum((G[i][j] * lv[t] for t, j in enumerate(J)), K.zero) for i in J] for lv in lam]
     pushes = [pushed(system, J, v) for v in vs]
-    m = len(vs)
-    N: dict[tuple[int, int], Any] = {}
-    D: dict[tuple[int, int], Any] = {}
-    for a in range(m):
-        for b in range(a, m):
-            N[a, b] = N[b, a] = sum((vs[a][j] * lam[b][t] for t, j in enumerate(J)), K.zero)
-            D[a, b] = D[b, a] = sum((x * y for x, y in zip(lam[a], glam[b])), K.zero)
+    N, D = forms(system, J, vs)
     out: Carried = []
-    for a, b, c in itertools.combinations_with_replacement(range(m), 3):
+    for a, b, c in itertools.combinations_with_replacement(range(len(vs)), 3):
         y = [
             D[a, b] * vs[c][i] + D[b, c] * vs[a][i] + D[a, c] * vs[b][i]
             - N[a, b] * pushes[c][i] - N[b, c] * pushes[a][i] - N[a, c] * pushes[b][i]
@@ -175,9 +191,9 @@ def spiral_seeds(
     """A polygon of ``sides`` rate vectors around ``direction`` (three rates, rationals), where the linear part of
     the period map (``period_map``, a direction to a direction) turns and shrinks directions alike: the real
     Jordan basis of its 2 x 2 Jacobian in the chart ``x_k = direction_k`` (k the largest entry), found by
-    exact central differences. Its size is a few times the distance of the rates b from the direction, so
-    that b lies inside. Empty when the Jacobian has real eigenvalues (no spiral), when the rates are still
-    far from the direction, or when the chart fails.
+    exact central differences. Its radius is twice the rates' distance from the direction (in the 1-norm of
+    that basis, rounded up), so that b lies inside. Empty when the Jacobian has real eigenvalues (no spiral),
+    when the rates are still far from the direction, or when the chart fails.
 
     A map that turns the directions around (-1, 0, 0) by 45 degrees and shrinks them by 1/sqrt(2):
 
