@@ -22,7 +22,13 @@ from hypothesis import example, given
 
 import verify.core.rule as rule_module
 from verify.checks.properties import formulas
-from verify.checks.properties.catalogue import PROPERTIES, SKIP, energy_does_not_increase, property_named
+from verify.checks.properties.catalogue import (
+    LONG_RUNS,
+    PROPERTIES,
+    SKIP,
+    energy_does_not_increase,
+    property_named,
+)
 from verify.checks.properties.strategies import Drawn, cases
 from verify.checks.properties.verdicts import Runner, search
 from verify.cli import main
@@ -244,6 +250,44 @@ def test_non_termination_refutations_are_certified_independently(d: Drawn) -> No
 def test_the_found_non_terminating_case_still_refutes() -> None:
     prop = property_named("the rule exits")
     assert "proved never to exit" in prop.check(Runner(), Drawn("cradle", "symmetric", FOUND_NON_TERMINATING), None)
+
+
+#: four elastic contacts under the ideal rule (found by the thorough census, chunk 2 of ideal/general):
+#: the run needs more than the drawn records' 200 impulses to exit
+LONG_IDEAL = {
+    "id": "general-ideal",
+    "mass_matrix": [
+        ["1/9", "-1/3", "-1/3", "0", "1/3", "-1/3"],
+        ["-1/3", "34/9", "-2/3", "5/6", "-8/3", "-2/3"],
+        ["-1/3", "-2/3", "3", "-3/2", "1", "5/2"],
+        ["0", "5/6", "-3/2", "21/4", "-3/2", "-1"],
+        ["1/3", "-8/3", "1", "-3/2", "4", "3/2"],
+        ["-1/3", "-2/3", "5/2", "-1", "3/2", "181/36"],
+    ],
+    "normals": [
+        ["2", "1", "0", "0", "-1", "0"],
+        ["1/2", "0", "1", "0", "3/2", "0"],
+        ["-2", "0", "0", "-2", "1", "0"],
+        ["-2", "0", "0", "0", "0", "2"],
+    ],
+    "time_terms": ["0", "0", "0", "0"],
+    "restitution": ["1", "1", "1", "1"],
+    "velocity": ["62169/94613", "-460435/94613", "1040731/283839", "-88298/94613", "-336097/94613", "-159501/189226"],
+    "max_iterations": 200,
+}
+
+
+def test_a_long_ideal_run_exits_within_the_termination_cap() -> None:
+    """The termination property runs with its own cap (LONG_RUNS), so that this run, past the size budget and
+    decided on certified intervals, exits instead of stopping at 200 impulses undecided."""
+    prop = property_named("the rule exits")
+    assert prop.max_iterations == LONG_RUNS > LONG_IDEAL["max_iterations"]
+    record = dict(LONG_IDEAL, max_iterations=prop.max_iterations)
+    runner = Runner()
+    assert prop.check(runner, Drawn("general", "ideal", record), None) is None
+    result = runner(record, "ideal", decide=True)
+    assert result.stop == "exit" and result.iterations > LONG_IDEAL["max_iterations"], result.iterations
+    assert result.backend.name == "interval" and runner.counts["stop exit"] == 1
 
 
 # -- tests of the tests: each property catches a broken rule --------------------------------------

@@ -594,17 +594,35 @@ def solve(
     system = _system_for_rule(system, rule)
     if _other_law(law):
         return solve_simultaneous(system, velocity, rule=rule, max_iterations=max_iterations)
-    limits = budget.limits(max_iterations) if budget is not None else Limits(max_iterations)
+    options = {"rule": rule, "max_iterations": max_iterations, "halt": halt, "trace": trace, "certify": certify}
+    return _solve_rule(system, velocity, budget, progress, options, searched=set())
+
+
+def _solve_rule(
+    system: System,
+    velocity: Sequence[Any],
+    budget: Budget | None,
+    progress: Callable[[int], None] | None,
+    options: dict,
+    *,
+    searched: set[tuple[int, int]],
+) -> Result:
+    """:func:`solve` for the rule (``options``: its rule, max_iterations, halt, trace and certify), repeated at
+    higher precision on intervals. ``searched`` holds the cone searches (impulse, period) that failed in an
+    earlier attempt of the same run, at a lower precision or exactly: the stop test does not repeat them."""
+    limits = budget.limits(options["max_iterations"]) if budget is not None else Limits(options["max_iterations"])
     notes: list[str] = []
     exact = _ExactRates(system, velocity) if system.backend.refinable else None  # checks of undecided signs
+    halt, certify = options["halt"], options["certify"]
     while True:
         try:
             if system.backend.widens_to_inputs:
                 system, v0 = exact_backend_for_velocity(system, velocity)
             else:
                 v0 = system.velocity(velocity)
-            halts = [h for h in (halt, non_termination_halt(system) if certify else None) if h is not None]
-            out = _run(system, v0, limits, halts, trace=trace, progress=progress, exact=exact)
+            tests = (halt, non_termination_halt(system, searched=searched) if certify else None)
+            halts = [h for h in tests if h is not None]
+            out = _run(system, v0, limits, halts, trace=options["trace"], progress=progress, exact=exact)
             break
         except Undecided as exc:
             K = system.backend
@@ -615,15 +633,16 @@ def solve(
                 raise _no_convergence(K, exc, exact or _ExactRates(system, velocity)) from None
             notes.append(f"precision raised from {K.dps} to {finer.dps} digits after an undecided sign")
             system = system.convert_to(finer)
-    result = _result(system, rule, v0, out, max_iterations=max_iterations, notes=notes)
-    options = {"rule": rule, "max_iterations": max_iterations, "halt": halt, "trace": trace, "certify": certify}
-    return _decided_on_intervals(result, velocity, budget, options)
+    result = _result(system, options["rule"], v0, out, max_iterations=options["max_iterations"], notes=notes)
+    return _decided_on_intervals(result, velocity, budget, options, searched)
 
 
-def _decided_on_intervals(result: Result, velocity: Sequence[Any], budget: Budget | None, options: dict) -> Result:
+def _decided_on_intervals(
+    result: Result, velocity: Sequence[Any], budget: Budget | None, options: dict, searched: set[tuple[int, int]]
+) -> Result:
     """``result`` itself, or, for an exact run stopped by the size budget with :attr:`Budget.intervals`, the
     same run from the start on certified intervals if they decide it (the rule's system again: the rule's
-    CORs are already in it)."""
+    CORs are already in it; the cone searches that failed on the exact run are not repeated)."""
     import dataclasses
 
     from verify.core.backends import IntervalBackend
@@ -635,7 +654,9 @@ def _decided_on_intervals(result: Result, velocity: Sequence[Any], budget: Budge
         return result
     K = IntervalBackend(max_dps=budget.interval_dps)
     try:
-        decided = solve(system.convert_to(K), velocity, budget=Budget(seconds=budget.seconds), **options)
+        decided = _solve_rule(
+            system.convert_to(K), velocity, Budget(seconds=budget.seconds), None, options, searched=searched
+        )
     except (NoConvergence, InvalidInput):
         return result
     if decided.stop == "budget":

@@ -221,19 +221,20 @@ def repeating_certificate(
     }
 
 
-def non_termination_halt(system: System, memory: int = 8) -> Any:
+def non_termination_halt(system: System, memory: int = 8, *, searched: set[tuple[int, int]] | None = None) -> Any:
     """A stop test for :func:`verify.core.rule.solve` that returns ``("non_terminating", certificate)``
     as soon as the run is proved never to exit: rates that repeat their direction (any
     number of constraints, exact backends), rates inside a cone that a period of linear impacts
     maps into itself (three or more constraints: :mod:`verify.core.periodic`; exact, parameter and
-    interval backends), or rates inside invariant cones (two constraints)."""
+    interval backends), or rates inside invariant cones (two constraints). ``searched`` holds the cone
+    searches (impulse, period) that an earlier attempt of the same run made in vain (:func:`period_halt`)."""
     cone = cone_halt(system)
     history: list[tuple[int, Any, tuple[int, ...]]] = []  # (impulses so far, rates, impact set taken)
     # the earlier states by the direction of their rates (b / b_pivot): only a state in the same
     # direction can be a positive multiple, so one lookup replaces a scan of the last ``memory``
     directions: dict[tuple, list[int]] = {}
 
-    periodic = period_halt(history)
+    periodic = period_halt(history, set() if searched is None else searched)
 
     def halt(system: System, v: Sequence[Any]) -> Any:
         K = system.backend
@@ -278,13 +279,15 @@ PARAMETRIC_IMPULSES = 16
 MAX_BITS = 512
 
 
-def period_halt(history: list[tuple[int, Any, tuple[int, ...]]]) -> Any:
+def period_halt(history: list[tuple[int, Any, tuple[int, ...]]], searched: set[tuple[int, int]]) -> Any:
     """A test on the run's ``history`` (impulses so far, rates, impact set) and the current rates b and
     impact set J: ``("non_terminating", certificate)`` when the rates lie in a cone that p impulses map
     into itself (:func:`verify.core.cones.period.period_certificate`). Tried when the last three
     periods of p impulses overlap (each impact set shares a constraint with the one p impulses later:
     the same sets, or sets that change only where a rate is near 0), and, after a failure, again once
-    the run has gone on as long again."""
+    the run has gone on as long again. A search that fails is added to ``searched`` as (impulse, period),
+    and one found there is not made again: the run repeated at a higher precision, or on intervals after
+    an exact run, reaches the same rates (the search boxes long numbers by short rationals)."""
     next_try = [0]
 
     def test(system: System, b: Sequence[Any], J: tuple[int, ...]) -> Any:
@@ -305,9 +308,12 @@ def period_halt(history: list[tuple[int, Any, tuple[int, ...]]]) -> Any:
         if tried:
             next_try[0] = count + max(8, count)
         for p in tried:
+            if (count, p) in searched:
+                continue
             cert = period_certificate(system, p, b, history[-p][1])
             if cert:
                 return ("non_terminating", cert)
+            searched.add((count, p))
         return None
 
     return test

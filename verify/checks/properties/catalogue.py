@@ -34,6 +34,9 @@ from verify.checks.properties import formulas
 from verify.checks.properties.strategies import FAMILIES, RULES, Drawn, small_rationals
 
 SKIP = "skip"  #: a check's answer when the property does not apply to the case
+#: the termination property's cap of impulses: long but finite runs exit before it (an ideal-rule case
+#: of the thorough census exits after 210 impulses, ``tests/test_properties.py``)
+LONG_RUNS = 1000
 DONE = ("exit", "non_terminating", "max_iterations")  #: stops that do not depend on number sizes
 
 
@@ -542,6 +545,8 @@ class Property:
     laws: tuple[str, ...] = ("rule",)
     simultaneous_proof: str | None = None
     simultaneous_explain: str | None = None
+    #: the cap of impulses of its runs, if not the drawn records' (``strategies.MAX_ITERATIONS``)
+    max_iterations: int | None = None
 
     def statement(self, law: str) -> tuple[str | None, str | None]:
         """The proof and the explanation of a failure for the law (names or a sentence)."""
@@ -619,6 +624,7 @@ PROPERTIES: tuple[Property, ...] = (
         "the rule exits (termination)",
         terminates,
         census=True,
+        max_iterations=LONG_RUNS,
         explain=(
             "for two constraints the rule never exits exactly when the run enters the invariant cones of "
             "verify/core/termination.py; for three unit balls that is eps <= 7 - 4*sqrt(3) (verify cradle-map), for "

@@ -45,7 +45,7 @@ from verify.records.results import case_record
 
 RULES = (*CORE_RULES[1:], CORE_RULES[0])  # the core's rules in the suite's order: the general rule last
 FAMILIES = ("general", "cradle", "corner")
-MAX_ITERATIONS = 200
+MAX_ITERATIONS = 200  #: the cap of impulses in a drawn case record (a property may raise it: :func:`capped`)
 
 _Q = RationalBackend("python")  # plain Fractions: the strategies need no speed
 
@@ -256,6 +256,17 @@ def make_drawn(family: str, rule: str, inputs: tuple, v: Any) -> Drawn:
     g, normals, time_terms, eps = inputs
     record = case_record(f"{family}-{rule}", g, normals, eps, v, time_terms=time_terms, max_iterations=MAX_ITERATIONS)
     return Drawn(family, rule, record)
+
+
+def capped(strategy: st.SearchStrategy[Drawn], max_iterations: int) -> st.SearchStrategy[Drawn]:
+    """The same cases with another cap of impulses in their records (the draws, and so the cases and
+    their shrinking, are unchanged).
+
+    >>> from hypothesis import find
+    >>> find(capped(cases("corner", "ideal"), 1000), lambda d: True).record["max_iterations"]
+    1000
+    """
+    return strategy.map(lambda d: Drawn(d.family, d.rule, dict(d.record, max_iterations=max_iterations)))
 
 
 def rates(d: Drawn, v: list[Fraction] | None = None) -> list[Fraction]:

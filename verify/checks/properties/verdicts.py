@@ -13,10 +13,10 @@ SymPy proves the property (:mod:`verify.checks.properties.proofs`) the verdict i
 still runs: it tests that the implementation agrees with the proof (a counterexample then
 means the code is wrong, and the verdict is ``refuted``).
 
-Every run has a size budget (:data:`BUDGET`) and the record's ``max_iterations`` (200), so
-that a search never hangs on cases whose exact numbers explode; such runs are counted in
-the note. Profiles: ``dev`` (25 cases a row), ``ci`` (100), ``thorough`` (100,000 cases per
-property and law, shared evenly between its rows).
+Every run has a size budget (:data:`BUDGET`) and the record's ``max_iterations`` (200, or the
+property's own: 1000 for termination), so that a search never hangs on cases whose exact numbers
+explode; such runs are counted in the note. Profiles: ``dev`` (25 cases a row), ``ci`` (100),
+``thorough`` (100,000 cases per property and law, shared evenly between its rows).
 
 >>> v = search(property_named("the exit velocity is outgoing"), "corner", "ideal", 10)
 >>> v.verdict, v.cases > 0
@@ -44,7 +44,7 @@ from typing import Any
 from verify.checks.properties.catalogue import PROPERTIES, SKIP, Property, property_named
 from verify.checks.properties.profiles import PER_PROPERTY, PROFILES
 from verify.checks.properties.proofs import PROOFS, prove
-from verify.checks.properties.strategies import FAMILIES, RULES, Drawn, cases
+from verify.checks.properties.strategies import FAMILIES, MAX_ITERATIONS, RULES, Drawn, capped, cases
 from verify.checks.tasks import Task, TaskRun, TaskRunner, TasksFailed
 from verify.core.rule import LAWS, Budget
 
@@ -59,12 +59,17 @@ LAW_RULES = {"rule": RULES, "simultaneous": tuple(r for r in RULES if r != "asym
 
 class Runner:
     """Runs case records on the engine under one law (``rule`` by default), memoised (a property
-    compares several runs). A check may ask another law's run with ``law=``."""
+    compares several runs). A check may ask another law's run with ``law=``.
+
+    ``cap``, when set, lowers the records' ``max_iterations`` to it (the search sets it while it shrinks a
+    failure); ``deepest`` is the most impulses of a run it returned since it was last set to 0."""
 
     def __init__(self, law: str = "rule") -> None:
         self.law = law
         self.memo: dict[str, Any] = {}
         self.counts: Counter[str] = Counter()
+        self.cap: int | None = None
+        self.deepest = 0
 
     def count(self, what: str) -> None:
         self.counts[what] += 1
@@ -73,12 +78,16 @@ class Runner:
         self, record: dict[str, Any], rule: str, backend: str = "exact", *, law: str | None = None, decide: bool = False
     ) -> Any:
         law = self.law if law is None else law
+        if self.cap is not None and record["max_iterations"] > self.cap:
+            record = dict(record, max_iterations=self.cap)
         key = json.dumps([record, rule, backend, law, decide], sort_keys=True)
         if key not in self.memo:
             if len(self.memo) > 512:
                 self.memo.clear()
             self.memo[key] = run_record(record, rule, backend, law=law, decide=decide)
-        return self.memo[key]
+        result = self.memo[key]
+        self.deepest = max(self.deepest, result.iterations)
+        return result
 
 
 def run_record(
@@ -224,16 +233,23 @@ def search(
 
     def fails(item: Any) -> bool:
         nonlocal shrinking
+        runner.deepest = 0
         why = _check(prop, runner, item)
         if not shrinking:
             tally["drawn"] += 1
             tally["skipped" if why == SKIP else "applied"] += 1
         if why is None or why == SKIP:
             return False
+        if not shrinking and prop.max_iterations is not None:
+            # a property's long runs are not repeated for every smaller candidate: those run no longer than
+            # the failure found (which fails again so: a run is the same up to its cap), or the usual cap
+            runner.cap = max(MAX_ITERATIONS, runner.deepest)
         shrinking = True
         return True
 
     strategy = cases(family, rule) if strategy is None else strategy
+    if prop.max_iterations is not None:
+        strategy = capped(strategy, prop.max_iterations)
     if prop.extra is not None:
         strategy = st.tuples(strategy, prop.extra)
     config = settings(
