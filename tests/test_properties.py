@@ -16,6 +16,7 @@ from __future__ import annotations
 
 import json
 from fractions import Fraction
+from typing import Any
 
 import pytest
 from hypothesis import example, given
@@ -288,6 +289,52 @@ def test_a_long_ideal_run_exits_within_the_termination_cap() -> None:
     result = runner(record, "ideal", decide=True)
     assert result.stop == "exit" and result.iterations > LONG_IDEAL["max_iterations"], result.iterations
     assert result.backend.name == "interval" and runner.counts["stop exit"] == 1
+
+
+#: five plastic balls under the symmetric rule: a period of two multiple impulses on four contacts, not proved;
+#: its exact numbers pass 4096 bits after 5 impulses, and its intervals run out of precision after 200
+STUCK_CRADLE = {
+    "id": "cradle-symmetric",
+    "mass_matrix": [
+        ["8/3", "0", "0", "0", "0"],
+        ["0", "1", "0", "0", "0"],
+        ["0", "0", "3", "0", "0"],
+        ["0", "0", "0", "3", "0"],
+        ["0", "0", "0", "0", "7/3"],
+    ],
+    "normals": [
+        ["-1", "1", "0", "0", "0"],
+        ["0", "-1", "1", "0", "0"],
+        ["0", "0", "-1", "1", "0"],
+        ["0", "0", "0", "-1", "1"],
+    ],
+    "time_terms": ["0"] * 4,
+    "restitution": ["0"] * 4,
+    "velocity": ["127/60", "127/60", "7/60", "-11/16", "-11/16"],
+    "max_iterations": 200,
+}
+
+
+def test_a_run_past_both_budgets_ends_with_budget(monkeypatch: pytest.MonkeyPatch) -> None:
+    """At the intervals' precision limit an undecided sign is checked by replaying the run exactly; that
+    replay gives up past the same 4096 bits as the exact run, so the run ends with ``budget`` instead of
+    replaying numbers that grow at every impulse for hundreds of impulses."""
+    exact_impulses = 0
+    real = rule_module._impulse_from_rates
+
+    def counted(system: System, b: Any, J: Any) -> Any:
+        nonlocal exact_impulses
+        if system.backend.is_exact:
+            exact_impulses += 1
+            assert exact_impulses <= 12, "the exact check replays past the size budget"  # 5 + 5 (the run, the check)
+        return real(system, b, J)
+
+    runner = Runner()
+    short = runner(STUCK_CRADLE, "symmetric", decide=True)
+    assert (short.stop, short.iterations, short.backend.name) == ("max_iterations", 200, "interval")
+    monkeypatch.setattr(rule_module, "_impulse_from_rates", counted)
+    long = runner(dict(STUCK_CRADLE, max_iterations=LONG_RUNS), "symmetric", decide=True)
+    assert (long.stop, long.backend.name) == ("budget", "exact"), long.notes
 
 
 # -- tests of the tests: each property catches a broken rule --------------------------------------

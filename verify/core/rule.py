@@ -272,11 +272,15 @@ class _ExactRates:
 
     Built only when first asked: the system and the velocity on the exact backend (the
     rationals, or the number field of the inputs). A state is reached by replaying the run's
-    impact sets (known, since every earlier sign was decided) from the last one asked.
+    impact sets (known, since every earlier sign was decided) from the last one asked. With ``bits``,
+    a replay whose numbers pass that size (:meth:`~verify.core.backends.Backend.size`) gives up: the sign
+    stays undecided (the run on intervals after an exact run stopped by the size budget: its replay
+    would pass the same budget).
     """
 
-    def __init__(self, system: System, velocity: Sequence[Any]):
+    def __init__(self, system: System, velocity: Sequence[Any], bits: int | None = None):
         self._source = (system, velocity)
+        self.bits = bits
         self._exact: tuple[System, tuple] | None = None
         self.unavailable: str | None = None  #: why no exact check exists (an input that is not algebraic)
         self._state: tuple[int, tuple] | None = None
@@ -325,10 +329,12 @@ class _ExactRates:
         """The exact rates after the impulses on ``impact_sets`` (from the run's left velocity)."""
         system, v0 = self._built()
         done, v = self._state if self._state is not None and self._state[0] <= len(impact_sets) else (0, v0)
-        for J in impact_sets[done:]:
+        for n, J in enumerate(impact_sets[done:], done + 1):
+            if self.bits is not None and _largest_size(system.backend, v) > self.bits:
+                raise Undecided(f"the exact check passed {self.bits} bits after {n - 1} impulses")
             I, _ = _impulse_from_rates(system, system.rates(v), J)
             v = tuple(x + y for x, y in zip(v, I))
-        self._state = (len(impact_sets), v)
+            self._state = (n, v)
         return system.rates(v)
 
     def __call__(self, system: System, impact_sets: Sequence[tuple[int, ...]], i: int, exc: Undecided) -> int:
@@ -339,7 +345,11 @@ class _ExactRates:
         if not self.available():
             raise Undecided(f"{where}: {exc}") from None
         exact_system = self._built()[0]
-        if exact_system.backend.sign(self.rates(impact_sets)[i]) == 0:
+        try:
+            rates = self.rates(impact_sets)
+        except Undecided as why:
+            raise Undecided(f"{where}: {exc}; {why}") from None
+        if exact_system.backend.sign(rates[i]) == 0:
             return 0
         raise Undecided(f"{where}: {exc}; exact arithmetic finds it non-zero: more precision separates it from 0")
 
@@ -606,13 +616,16 @@ def _solve_rule(
     options: dict,
     *,
     searched: set[tuple[int, int]],
+    exact_bits: int | None = None,
 ) -> Result:
     """:func:`solve` for the rule (``options``: its rule, max_iterations, halt, trace and certify), repeated at
     higher precision on intervals. ``searched`` holds the cone searches (impulse, period) that failed in an
-    earlier attempt of the same run, at a lower precision or exactly: the stop test does not repeat them."""
+    earlier attempt of the same run, at a lower precision or exactly: the stop test does not repeat them.
+    ``exact_bits`` bounds the exact checks of undecided signs (:class:`_ExactRates`)."""
     limits = budget.limits(options["max_iterations"]) if budget is not None else Limits(options["max_iterations"])
     notes: list[str] = []
-    exact = _ExactRates(system, velocity) if system.backend.refinable else None  # checks of undecided signs
+    # checks of undecided signs
+    exact = _ExactRates(system, velocity, exact_bits) if system.backend.refinable else None
     halt, certify = options["halt"], options["certify"]
     while True:
         try:
@@ -642,7 +655,8 @@ def _decided_on_intervals(
 ) -> Result:
     """``result`` itself, or, for an exact run stopped by the size budget with :attr:`Budget.intervals`, the
     same run from the start on certified intervals if they decide it (the rule's system again: the rule's
-    CORs are already in it; the cone searches that failed on the exact run are not repeated)."""
+    CORs are already in it; the cone searches that failed on the exact run are not repeated, and an exact
+    check of an undecided sign gives up past the same size budget)."""
     import dataclasses
 
     from verify.core.backends import IntervalBackend
@@ -655,7 +669,13 @@ def _decided_on_intervals(
     K = IntervalBackend(max_dps=budget.interval_dps)
     try:
         decided = _solve_rule(
-            system.convert_to(K), velocity, Budget(seconds=budget.seconds), None, options, searched=searched
+            system.convert_to(K),
+            velocity,
+            Budget(seconds=budget.seconds),
+            None,
+            options,
+            searched=searched,
+            exact_bits=budget.bits,
         )
     except (NoConvergence, InvalidInput):
         return result
