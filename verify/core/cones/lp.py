@@ -2,7 +2,7 @@
 given vectors?
 
 The question is a linear program: find ``d >= 0`` with ``sum_k d_k g_k = y``. :func:`feasible`
-answers it by the first phase of the simplex method (artificial variables, Bland's rule, so it
+answers it by the first phase of the revised simplex method (artificial variables, Bland's rule, so it
 cannot cycle), over any exact backend: every comparison is a sign the backend decides. The
 coefficients it returns belong to a basis, so they are found again by one exact solve of
 independent columns (:func:`solve_columns`), which is how a parameter backend uses it: the
@@ -84,58 +84,94 @@ def solve_columns(K: Any, columns: Sequence[Sequence[Any]], y: Sequence[Any]) ->
 
 def feasible(K: Any, y: Sequence[Any], gens: Sequence[Sequence[Any]]) -> dict[int, Any] | None:
     """Non-negative coefficients ``{k: d_k}`` (the non-zero ones) with ``y = sum d_k gens[k]``, or None
-    when there are none (decided exactly: phase one of the simplex method)."""
+    when there are none (decided exactly: phase one of the simplex method).
+
+    The simplex is the revised one: it keeps the inverse of the basis (rows x rows) and the right-hand
+    side, and computes a column only when it needs it, from the generators as given. Its reduced costs,
+    ratios and so its pivots (Bland's rule) are those of the full tableau; only the numbers it does not
+    need are not computed, and the ones it does keep do not grow with every pivot.
+
+    >>> from fractions import Fraction
+    >>> from verify.core.backends.rational import RationalBackend
+    >>> K = RationalBackend("python")
+    >>> g = [[K.one, K.zero], [K.convert(Fraction(-1)), K.one]]
+    >>> sorted((k, str(d)) for k, d in feasible(K, [K.zero, K.convert(Fraction(2))], g).items())
+    [(0, '2'), (1, '2')]
+    """
     n, m = len(y), len(gens)
-    # the tableau: rows i = 0..n-1 of [g_0[i] .. g_{m-1}[i] | a_0 .. a_{n-1} | y_i], each with y_i >= 0
-    rows = []
-    for i in range(n):
-        flip = K.sign(y[i]) < 0
-        row = [(K.zero - g[i]) if flip else g[i] for g in gens]
-        row += [K.one if j == i else K.zero for j in range(n)]
-        row.append((K.zero - y[i]) if flip else y[i])
-        rows.append(row)
+    zero, one = K.zero, K.one
+    # each row i is multiplied by -1 where y_i < 0, so that the right-hand side starts >= 0
+    flip = [K.sign(x) < 0 for x in y]
+    cols = [[(zero - g[i]) if flip[i] else g[i] for i in range(n)] for g in gens]
+    rhs = [(zero - x) if f else x for x, f in zip(y, flip)]
+    inverse = [[one if k == i else zero for k in range(n)] for i in range(n)]
     basis = [m + i for i in range(n)]  # the artificial variables start in the basis
-    width = m + n
     while True:
-        # reduced costs of minimising sum a: -(sum of the rows) on the non-artificial columns
-        entering = None
-        for col in range(width):
-            if col in basis:
-                continue
-            cost = K.zero
-            for i in range(n):
-                if basis[i] >= m:
-                    cost = cost - rows[i][col]
-            if col >= m:
-                cost = cost + K.one
-            if K.sign(cost) < 0:
-                entering = col  # Bland: the first improving column
-                break
+        entering = _entering(K, cols, inverse, basis)
         if entering is None:
             break
+        if entering < m:
+            a = [sum((row[k] * cols[entering][k] for k in range(n)), zero) for row in inverse]
+        else:
+            a = [row[entering - m] for row in inverse]
         leave, best = None, None
         for i in range(n):
-            a = rows[i][entering]
-            if K.sign(a) > 0:
-                ratio = rows[i][-1] / a
+            if K.sign(a[i]) > 0:
+                ratio = rhs[i] / a[i]
                 if leave is None or K.sign(ratio - best) < 0 or (ratio == best and basis[i] < basis[leave]):
                     leave, best = i, ratio
         if leave is None:  # unbounded: cannot happen in phase one (the objective is bounded below)
             return None
-        _pivot(K, rows, leave, entering)
+        _spend()
+        piv = a[leave]
+        inverse[leave] = [v / piv for v in inverse[leave]]
+        rhs[leave] = rhs[leave] / piv
+        for i in range(n):
+            if i != leave and a[i] != zero:
+                inverse[i] = [u - a[i] * w for u, w in zip(inverse[i], inverse[leave])]
+                rhs[i] = rhs[i] - a[i] * rhs[leave]
         basis[leave] = entering
-    if any(basis[i] >= m and rows[i][-1] != K.zero for i in range(n)):
+    if any(basis[i] >= m and rhs[i] != zero for i in range(n)):
         return None  # an artificial variable stays positive: no combination
-    return {basis[i]: rows[i][-1] for i in range(n) if basis[i] < m and rows[i][-1] != K.zero}
+    return {basis[i]: rhs[i] for i in range(n) if basis[i] < m and rhs[i] != zero}
 
 
-def _pivot(K: Any, rows: list[list[Any]], r: int, c: int) -> None:
-    """Scale row r so that its entry in column c is 1, and clear column c from every other row."""
+def _entering(K: Any, cols: list[list[Any]], inverse: list[list[Any]], basis: list[int]) -> int | None:
+    """The first column whose reduced cost for minimising the sum of the artificial variables is negative
+    (Bland's rule), or None: the cost of column j is ``-pi . a_j``, plus 1 for an artificial one, where
+    pi sums the rows of the inverse whose basic variable is artificial."""
+    n, m = len(inverse), len(cols)
+    pi = [K.zero] * n
+    for i in range(n):
+        if basis[i] >= m:
+            pi = [p + r for p, r in zip(pi, inverse[i])]
+    basic = set(basis)
+    for j in range(m + n):
+        if j in basic:
+            continue
+        if j < m:
+            cost = K.zero
+            for p, x in zip(pi, cols[j]):
+                cost = cost - p * x
+        else:
+            cost = K.one - pi[j - m]
+        if K.sign(cost) < 0:
+            return j
+    return None
+
+
+def _spend() -> None:
+    """Count one pivot against the budget of :func:`pivot_budget` (if any); raise when it is spent."""
     left = _LEFT.get()
     if left is not None:
         left[0] -= 1
         if left[0] < 0:
             raise SearchTooLong(f"the search spent its {left[1]} pivots")
+
+
+def _pivot(K: Any, rows: list[list[Any]], r: int, c: int) -> None:
+    """Scale row r so that its entry in column c is 1, and clear column c from every other row."""
+    _spend()
     piv = rows[r][c]
     rows[r] = [v / piv for v in rows[r]]
     for i in range(len(rows)):
