@@ -25,6 +25,7 @@ from contextlib import contextmanager
 from contextvars import ContextVar
 from typing import Any
 
+from verify.core.linalg import dot, matvec
 from verify.errors import Undecided
 
 #: [pivots left, pivots allowed] to the search under way (:func:`pivot_budget`), or None: no bound
@@ -110,10 +111,7 @@ def feasible(K: Any, y: Sequence[Any], gens: Sequence[Sequence[Any]]) -> dict[in
         entering = _entering(K, cols, inverse, basis)
         if entering is None:
             break
-        if entering < m:
-            a = [sum((row[k] * cols[entering][k] for k in range(n)), zero) for row in inverse]
-        else:
-            a = [row[entering - m] for row in inverse]
+        a = matvec(K, inverse, cols[entering]) if entering < m else [row[entering - m] for row in inverse]
         leave, best = None, None
         for i in range(n):
             if K.sign(a[i]) > 0:
@@ -149,12 +147,7 @@ def _entering(K: Any, cols: list[list[Any]], inverse: list[list[Any]], basis: li
     for j in range(m + n):
         if j in basic:
             continue
-        if j < m:
-            cost = K.zero
-            for p, x in zip(pi, cols[j]):
-                cost = cost - p * x
-        else:
-            cost = K.one - pi[j - m]
+        cost = (K.zero - dot(K, pi, cols[j])) if j < m else (K.one - pi[j - m])
         if K.sign(cost) < 0:
             return j
     return None
