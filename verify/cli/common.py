@@ -493,6 +493,8 @@ def cluster_executor(args: argparse.Namespace) -> Iterator[Any]:
     except ImportError:
         raise UsageError(f"{option} needs dask: {CLUSTER_EXTRA}") from None
     with contextlib.ExitStack() as stack:
+        if getattr(args, "quiet", False):  # only the result and errors: Dask's warnings too, until the client is closed
+            stack.enter_context(quiet_loggers("distributed"))
         if args.scheduler is not None:
             try:
                 client = stack.enter_context(Client(args.scheduler, timeout="10s"))
@@ -511,6 +513,35 @@ def cluster_executor(args: argparse.Namespace) -> Iterator[Any]:
                 )
             client = stack.enter_context(Client(cluster))
         yield client.get_executor()
+
+
+@contextlib.contextmanager
+def quiet_loggers(name: str, level: int = 40) -> Iterator[None]:
+    """The logger ``name`` and those below it that set their own level show only records of ``level`` and
+    above (40: errors) for the duration; their levels are restored after. Dask's ``distributed`` sets
+    levels on ``distributed`` and below it (``distributed.client``: warning), hence every one of them.
+
+    >>> import logging
+    >>> log = logging.getLogger("example.client")
+    >>> log.setLevel(logging.WARNING)
+    >>> with quiet_loggers("example"):
+    ...     log.isEnabledFor(logging.WARNING), log.isEnabledFor(logging.ERROR)
+    (False, True)
+    >>> log.isEnabledFor(logging.WARNING), log.level == logging.WARNING
+    (True, True)
+    """
+    import logging
+
+    names = [name, *(n for n in logging.root.manager.loggerDict if n.startswith(name + "."))]
+    loggers = [logging.getLogger(n) for n in names]
+    saved = [(log, log.level) for log in loggers if log.name == name or log.level != logging.NOTSET]
+    for log, was in saved:
+        log.setLevel(max(was, level))
+    try:
+        yield
+    finally:
+        for log, was in saved:
+            log.setLevel(was)
 
 
 @contextlib.contextmanager
