@@ -17,6 +17,8 @@ from verify.checks.paper.cradle_map import cradle_map, map_json
 from verify.cli import main
 from verify.core.parse import parse_number, to_number
 from verify.core.rule import solve
+from verify.core.system import System
+from verify.errors import InvalidInput
 from verify.models.cradle import cradle_system
 from verify.records.results import case_from_record
 
@@ -112,7 +114,7 @@ def test_a_point_off_the_grid_is_refused_and_a_point_on_it_is_exact() -> None:
         (["--parameter", "eps1=1,0"], "the interval is reversed"),
         (["--parameter", "eps1=0,2"], "restitution[0] = eps1 is outside [0, 1]"),
         (["--parameter", "eps1"], "--parameter takes NAME=LO,HI"),
-        (["--parameter", "eps1=0,pi/4"], "rational values"),
+        (["--parameter", "eps1=0,pi/4"], "eps1 = pi/4 is not rational: the ends of a parameter's interval must be"),
         (["--case", "nope"], "no case 'nope'"),
     ],
 )
@@ -149,3 +151,41 @@ def test_the_map_figure_is_drawn_for_one_and_two_parameters(tmp_path, cors) -> N
     m = eps_map(cradle_system("1", 3), ["1", "0", "0"], cors, lines=2, max_impulses=6)
     path = eps_map_figure(m, tmp_path / "map.png")
     assert path.read_bytes()[:8] == b"\x89PNG\r\n\x1a\n" and path.stat().st_size > 5000
+
+
+def test_a_parts_exit_velocity_is_written_in_the_parameters_own_name() -> None:
+    """Item 18 of issue 34: the library's ``Part.exit_velocity`` was written in ``eps`` whatever the parameter."""
+    m = eps_map(System([[1, 0], [0, 1]], [[-1, 1]], [1]), ["1", "0"], ["e_out"])
+    (part,) = m.lines[0].parts
+    assert part.parameter == "e_out"
+    assert {s.name for x in part.exit_velocity for s in sp.sympify(x).free_symbols} == {"e_out"}
+    half = sp.Rational(1, 2)
+    assert [sp.sympify(x).subs(sp.Symbol("e_out"), half) for x in part.exit_velocity] == [half / 2, 3 * half / 2]
+    assert eps_map_json(m)["lines"][0]["pieces"][0]["exit_velocity"] == ["-(e_out - 1)/2", "(e_out + 1)/2"]
+
+
+def test_the_text_says_where_the_exact_endpoints_are_for_its_caller(capsys) -> None:
+    """Item 18: from the library, the text pointed at ``--json``, an option the library has not."""
+    from verify.views.text import eps_map_text
+
+    m = eps_map(System([[1, 0], [0, 1]], [[-1, 1]], [1]), ["1", "0"], ["e"])
+    text = eps_map_text(m)
+    assert "--json" not in text and "exact endpoints (in eps_map_json(m))" in text
+    code, out, _ = run_cli(capsys, ["map", str(CORNER), "--lines", "2"])
+    assert code == 0 and "exact endpoints (in --json)" in out
+
+
+def test_an_irrational_velocity_is_named_as_the_velocity_not_as_a_parameter(tmp_path, capsys) -> None:
+    """Item 18: ``velocity[0] = sqrt(2)`` was refused as if the parameters were irrational."""
+    system = System([[1, 0], [0, 1]], [[-1, 1]], [1])
+    with pytest.raises(InvalidInput) as info:
+        eps_map(system, ["sqrt(2)", "0"], ["e"])
+    message = str(info.value)
+    assert message.startswith("velocity[0] = sqrt(2) is not rational: the velocity") and "parameters" not in message
+    case = json.loads(CORNER.read_text())
+    case["cases"][0]["velocity"][1] = "-sqrt(2)/10"
+    path = tmp_path / "c.json"
+    path.write_text(json.dumps(case))
+    code, out, err = run_cli(capsys, ["map", str(path)])
+    assert code == 2 and out == "" and err.count("\n") == 1, err
+    assert "cases[0]: velocity[1] = -sqrt(2)/10 is not rational: the velocity (and every number of the system)" in err

@@ -196,7 +196,7 @@ def cmd_map(args: argparse.Namespace) -> int:
     from verify.views.text import eps_map_text
 
     m = case_map(args.case, args.case_id, _parameters(args), lines=args.lines, max_impulses=args.max_impulses)
-    sys.stdout.write(dumps(eps_map_json(m)) if args.json else eps_map_text(m))
+    sys.stdout.write(dumps(eps_map_json(m)) if args.json else eps_map_text(m, exact_in="--json"))
     return 0
 
 

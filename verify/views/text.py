@@ -772,6 +772,8 @@ def oracle_text(comparison: Any) -> str:
     for cid, reason in comparison.skipped.items():
         lines.append(f"SKIPPED {cid}: {reason}")
     lines += graded_lines(comparison)
+    if comparison.tolerance:
+        lines += [f"tolerance: {comparison.tolerance}", ""]
     agree = "every case agrees" if not comparison.skipped else "every case that the implementation ran agrees"
     lines.append(f"OK: {agree}" if comparison.ok else f"{len(comparison.mismatches)} mismatches")
     return "\n".join(lines) + "\n"
@@ -810,8 +812,20 @@ def all_summary(
     return "\n".join(lines) + "\n", failed
 
 
-def eps_map_text(m: Any) -> str:
-    """A map of :func:`verify.checks.maps.general.eps_map` in words and tables, one table per line."""
+def eps_map_text(m: Any, *, exact_in: str = "eps_map_json(m)") -> str:
+    """A map of :func:`verify.checks.maps.general.eps_map` in words and tables, one table per line;
+    ``exact_in`` says where the exact endpoints are (the command line passes ``"--json"``).
+
+    >>> from verify.checks.maps.general import eps_map
+    >>> from verify.core.system import System
+    >>> m = eps_map(System([[1, 0], [0, 1]], [[-1, 1]], [1], names=["spring"]), ["1", "0"], ["e"])
+    >>> print(eps_map_text(m))
+    A system of 2 coordinates and 1 contacts (spring), velocity (1, 0); CORs spring = e
+    e in [0, 1]; explored up to 40 impulses; exact endpoints (in eps_map_json(m)), decimals rounded to 12 digits
+    <BLANKLINE>
+    e in [0, 1]:
+    ...
+    """
     from verify.checks.maps.line import undecided_length
 
     cors = ", ".join(f"{name} = {cor}" for name, cor in zip(m.system.names, m.restitution))
@@ -819,7 +833,7 @@ def eps_map_text(m: Any) -> str:
     lines = [
         f"A system of {m.system.n} coordinates and {m.system.r} contacts ({', '.join(m.system.names)}), velocity "
         f"({', '.join(format_exact(v) for v in m.velocity)}); CORs {cors}",
-        f"{ranges}; explored up to {m.max_impulses} impulses; exact endpoints (in --json), decimals rounded to "
+        f"{ranges}; explored up to {m.max_impulses} impulses; exact endpoints (in {exact_in}), decimals rounded to "
         "12 digits",
     ]
     if m.layout != "interval":

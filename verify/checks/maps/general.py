@@ -67,8 +67,9 @@ class Line:
         raise InvalidInput(f"{self.free} = {format_exact(value)} is outside {self.domain}")
 
     def exit_velocity(self, part: Part) -> list[Any]:
-        """A part's exit (or last) velocity as SymPy expressions in the free parameter's own name."""
-        return [sp.sympify(x).subs(EPS, sp.Symbol(self.free)) for x in part.exit_velocity]
+        """A part's exit (or last) velocity as SymPy expressions in the free parameter's own name (as
+        ``part.exit_velocity`` holds it)."""
+        return [sp.sympify(x).subs(sp.Symbol(part.parameter), sp.Symbol(self.free)) for x in part.exit_velocity]
 
 
 @dataclass
@@ -90,25 +91,32 @@ class EpsMap:
     def at(self, point: Mapping[str, Any]) -> tuple[Part, list[Fraction] | None]:
         """The part holding ``point`` (a value per parameter, on a line of the map) and, when that part
         exits, the exact exit velocity there."""
-        values = {name: _rational(point.get(name), name) for name in self.parameters}
+        values = {name: _rational(point.get(name), name, "a point of the map") for name in self.parameters}
         for line in self.lines:
             if all(values[n] == v for n, v in line.fixed.items()):
                 part = line.locate(values[line.free])
                 if part.stop != "exit":
                     return part, None
                 x = sp.Rational(values[line.free].numerator, values[line.free].denominator)
-                return part, [_rational(sp.sympify(v).subs(EPS, x), "exit velocity") for v in part.exit_velocity]
+                at = [sp.sympify(v).subs(sp.Symbol(part.parameter), x) for v in part.exit_velocity]
+                return part, [_rational(v, f"exit velocity[{i}]", "the exit velocity") for i, v in enumerate(at)]
         shown = ", ".join(f"{n} = {format_exact(v)}" for n, v in values.items())
         raise InvalidInput(f"({shown}) is on no line of the map: take one coordinate from the grid {self.grid}")
 
 
-def _rational(value: Any, where: str) -> Fraction:
+def _rational(value: Any, where: str, what: str) -> Fraction:
+    """``value`` as a Fraction; refused, naming the field ``where`` and saying what must be rational
+    (``what``), when it is not a rational number."""
     if value is None:
         raise InvalidInput(f"{where}: no value given")
     x = to_number(value, where=where)
     if not isinstance(x, Fraction):
-        raise InvalidInput(f"{where} = {value}: the map's parameters take rational values")
+        raise InvalidInput(f"{where} = {value} is not rational: {what} must be rational for a map{_WHY_RATIONAL}")
     return x
+
+
+#: why a map takes rational numbers only
+_WHY_RATIONAL = " (the symbolic backend works over the rational functions of one parameter)"
 
 
 def parameter_names(restitution: Sequence[Any]) -> list[str]:
@@ -154,7 +162,7 @@ def _intervals(names: Sequence[str], given: Mapping[str, Sequence[Any]] | None) 
         ends = given.get(name, ("0", "1"))
         if isinstance(ends, str) or len(ends) != 2:
             raise InvalidInput(f"{name}: expected two ends LO,HI, got {ends!r}")
-        lo, hi = (_rational(x, name) for x in ends)
+        lo, hi = (_rational(x, name, "the ends of a parameter's interval") for x in ends)
         if lo > hi:
             raise InvalidInput(f"{name}: the interval is reversed: {format_exact(lo)} > {format_exact(hi)}")
         out[name] = (lo, hi)
@@ -202,7 +210,8 @@ def eps_map(
     intervals = _intervals(names, parameters)
     if isinstance(velocity, str) or len(velocity) != system.n:
         raise InvalidInput(f"velocity: expected {system.n} numbers")
-    v = [_rational(x, f"velocity[{i}]") for i, x in enumerate(velocity)]
+    what = "the velocity (and every number of the system)"
+    v = [_rational(x, f"velocity[{i}]", what) for i, x in enumerate(velocity)]
     for where, x in _source_numbers(system):
         if not isinstance(x, Fraction):
             raise InvalidSystem(
@@ -256,7 +265,7 @@ def _line(m: EpsMap, free: str, fixed: dict[str, Fraction], cache: RootCache) ->
     domain = Piece.closed(lo, hi)
     shown = ", ".join(f"{n} = {format_exact(v)}" for n, v in fixed.items())
     _check_cors(m, cors, domain, f"{free} in {domain}" + (f", {shown}" if shown else ""), cache)
-    parts = line_parts(build, m.velocity, domain, m.max_impulses, cache)
+    parts = line_parts(build, m.velocity, domain, m.max_impulses, cache, parameter=free)
     for part in parts:
         if part.stop == "max_iterations":
             part.reason = f"still impacting after {part.iterations} impulses; not proved never to exit"

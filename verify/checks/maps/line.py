@@ -46,10 +46,11 @@ class Part:
     stop: str  # "exit", "non_terminating" or "max_iterations"
     iterations: int
     impact_sets: list[tuple[int, ...]]
-    exit_velocity: list[Any]  # SymPy expressions in eps: the exit velocity, or the last one when not "exit"
+    exit_velocity: list[Any]  # SymPy expressions in `parameter`: the exit velocity, or the last one when not "exit"
     certificate: dict[str, Any] | None = None
     reason: str = ""
     exits_beyond_bound: bool = False  # unexplored, but every value of it is proved to exit
+    parameter: str = "eps"  # the name of the parameter that `exit_velocity` is written in
 
     def same_behaviour(self, other: Part) -> bool:
         return (
@@ -71,11 +72,21 @@ def line_parts(
     domain: Piece,
     max_impulses: int,
     cache: RootCache | None = None,
+    *,
+    parameter: str = "eps",
 ) -> list[Part]:
     """The parts of ``domain``, in order: ``build(K)`` is the system on the symbolic backend ``K`` (its
     parameter, :data:`~verify.core.backends.symbolic.EPS`, ranging over one piece), ``velocity`` the
-    exact entrance velocity. See the module's example."""
+    exact entrance velocity. Each part's exit velocity is written in the parameter's own name,
+    ``parameter`` (see the module's example).
+
+    >>> from verify.core.system import System
+    >>> one = lambda K: System([[1, 0], [0, 1]], [[-1, 1]], [EPS], backend=K)
+    >>> [str(x) for x in line_parts(one, ["1", "0"], Piece.closed(0, 1), 5, parameter="e_out")[0].exit_velocity]
+    ['1/2 - e_out/2', 'e_out/2 + 1/2']
+    """
     cache = cache or RootCache()
+    symbol = sp.Symbol(parameter)
     work: list[Piece] = [domain]
     done: list[Part] = []
     while work:
@@ -90,8 +101,10 @@ def line_parts(
                 raise RuntimeError(f"cutting {piece} made no progress ({split})") from None
             work.extend(cuts)
             continue
-        velocity_out = [K.to_number(x) for x in r.exit_velocity]
-        done.append(Part(piece, r.stop, r.iterations, list(r.impact_sets), velocity_out, r.certificate))
+        velocity_out = [sp.sympify(K.to_number(x)).subs(EPS, symbol) for x in r.exit_velocity]
+        done.append(
+            Part(piece, r.stop, r.iterations, list(r.impact_sets), velocity_out, r.certificate, parameter=parameter)
+        )
     return merge(sorted(done, key=lambda p: (p.piece.lower, not p.piece.is_point)))
 
 
@@ -142,18 +155,17 @@ def piece_json(piece: Piece) -> dict[str, Any]:
     }
 
 
-def parts_json(parts: Sequence[Part], *, name: str = "eps") -> dict[str, Any]:
+def parts_json(parts: Sequence[Part], *, name: str | None = None) -> dict[str, Any]:
     """The parts in the JSON shape of the maps: exits, non-terminating parts, unexplored parts and the
-    measure of the undecided values (exit velocities as SymPy prints them, factored, in the parameter
-    called ``name``)."""
-    symbol = sp.Symbol(name)
+    measure of the undecided values (exit velocities as SymPy prints them, factored, in each part's own
+    parameter, or renamed to ``name`` when given)."""
     return {
         "pieces": [
             {
                 **piece_json(p.piece),
                 "iterations": p.iterations,
                 "impact_sets": [list(J) for J in p.impact_sets],
-                "exit_velocity": [str(sp.factor(sp.sympify(x).subs(EPS, symbol))) for x in p.exit_velocity],
+                "exit_velocity": [str(sp.factor(_renamed(x, p.parameter, name))) for x in p.exit_velocity],
             }
             for p in parts
             if p.stop == "exit"
@@ -166,3 +178,9 @@ def parts_json(parts: Sequence[Part], *, name: str = "eps") -> dict[str, Any]:
         "unexplored": [{**piece_json(p.piece), "reason": p.reason} for p in parts if p.stop == "max_iterations"],
         "undecided_measure": [str(x) for x in undecided_length(parts)],
     }
+
+
+def _renamed(x: Any, parameter: str, name: str | None) -> Any:
+    """``x``, an expression in ``parameter``, written in ``name`` instead (when given)."""
+    x = sp.sympify(x)
+    return x if name is None or name == parameter else x.subs(sp.Symbol(parameter), sp.Symbol(name))
