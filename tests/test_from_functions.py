@@ -3,6 +3,9 @@
 
 from __future__ import annotations
 
+import re
+from fractions import Fraction
+
 import pytest
 import sympy as sp
 
@@ -81,3 +84,44 @@ def test_library_errors_name_the_parameter_not_a_command_line_flag(call):
 def test_a_non_algebraic_entry_is_named_by_its_field():
     with pytest.raises(BadNumber, match=r"mass_matrix\[0\]\[0\] = tan\(1\) is not an algebraic number"):
         System.from_functions([x2 - x1], [x1, x2], {x1: 1, x2: 1}, [[sp.tan(x1), 0], [0, 1]], [1])
+
+
+# -- binary floats (issue 34, item 15) ---------------------------------------------------------
+
+
+@pytest.mark.parametrize(
+    ("system", "field", "typed", "exact"),
+    [
+        (([x2 - 0.3 * x1], {x1: 0, x2: 0}, UNIT, [1]), r"functions\[0\] = .* holds the binary float", "0.3", "3/10"),
+        (([x2 - x1], {x1: 0.1, x2: 0.1}, UNIT, [1]), r"configuration\[x1\] = 0\.1 is a binary float", "0.1", "1/10"),
+        (([x2 - x1], {x1: 0, x2: 0}, [[1 + 0.1 * x1**2, 0], [0, 1]], [1]), r"mass_matrix\[0\]\[0\] = ", "0.1", "1/10"),
+        (
+            ([x2 - x1], {x1: 0, x2: 0}, UNIT, [sp.Float(0.7)]),
+            r"restitution\[0\] = 0\.7 is a binary float",
+            "0.7",
+            "7/10",
+        ),
+    ],
+)
+def test_a_binary_float_is_named_as_one_with_its_exact_spelling(system, field, typed, exact):
+    functions, configuration, mass, cors = system
+    with pytest.raises(BadNumber) as info:
+        System.from_functions(functions, [x1, x2], configuration, mass, cors)
+    message = str(info.value)
+    assert re.match(field, message), message
+    assert f"which is not {exact}" in message and f'sympy.Rational("{typed}")' in message, message
+    assert "algebraic" not in message and "backend" not in message, message
+
+
+def test_the_exact_spelling_the_message_gives_is_accepted():
+    with pytest.raises(BadNumber, match=r'configuration\[x1\] = 0\.1 .*sympy\.Rational\("0\.1"\)'):
+        System.from_functions([x2 - 0.3 * x1], [x1, x2], {x1: 0.1, x2: sp.Rational(3, 100)}, UNIT, [1])  # the issue's
+    s = System.from_functions(
+        [x2 - sp.Rational("0.3") * x1], [x1, x2], {x1: Fraction(1, 10), x2: Fraction(3, 100)}, UNIT, [1]
+    )
+    assert s.source == System(UNIT, [["-3/10", "1"]], [1]).source
+
+
+def test_a_binary_float_equal_to_its_decimal_is_refused_too():
+    with pytest.raises(BadNumber, match=r"holds the binary float 0\.5 \(binary floats are refused"):
+        System.from_functions([x2 - 0.5 * x1], [x1, x2], {x1: 0, x2: 0}, UNIT, [1])

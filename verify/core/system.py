@@ -123,6 +123,50 @@ def _at_configuration(matrix: Any, subs: dict[Any, Any]) -> Any:
     ]
 
 
+def _refuse_binary_float(where: str, value: Any) -> None:
+    """Refuse a binary float (a Python float, or a SymPy ``Float`` inside an expression): ``0.3``
+    is not 3/10, and the message says how to write the number exactly.
+
+    >>> import sympy as sp
+    >>> x, y = sp.symbols("x y")
+    >>> _refuse_binary_float("functions[0]", y - 0.3 * x)
+    Traceback (most recent call last):
+    ...
+    verify.errors.BadNumber: functions[0] = -0.3*x + y holds the binary float 0.3, which is not 3/10:
+    write it exactly, as sympy.Rational("0.3") or Fraction(3, 10)
+    >>> _refuse_binary_float("functions[0]", y - sp.Rational("0.3") * x)  # exact: accepted
+    """
+    import sympy as sp
+
+    if isinstance(value, float):
+        floats = [sp.Float(value)]
+    elif isinstance(value, sp.Basic):
+        floats = sorted(value.atoms(sp.Float), key=abs)
+    else:
+        return
+    if not floats:
+        return
+    binary = abs(floats[0])
+    mantissa, _, exponent = str(binary).partition("e")  # SymPy prints 15 digits: strip what typing did not add
+    text = (mantissa.rstrip("0").rstrip(".") if "." in mantissa else mantissa) + (f"e{exponent}" if exponent else "")
+    if isinstance(value, float):
+        text = repr(abs(value))  # Python's shortest repr: what was typed
+    try:
+        exact = Fraction(text)  # the decimal read exactly from its text, never through the float
+    except ValueError:  # nan, inf
+        raise BadNumber(f"{where} = {value} is not a finite number") from None
+    alternative = f"Fraction({exact.numerator}, {exact.denominator})" if exact.denominator != 1 else f"the int {exact}"
+    if sp.Rational(binary) != exact:  # the float's own value, exactly
+        why = f", which is not {exact}"
+    else:
+        why = " (binary floats are refused: most decimals, such as 0.1, are not one)"
+    if isinstance(value, float) or value == floats[0]:
+        said = f"{where} = {text} is a binary float"
+    else:
+        said = f"{where} = {value} holds the binary float {text}"
+    raise BadNumber(f'{said}{why}: write it exactly, as sympy.Rational("{text}") or {alternative}')
+
+
 def _check_functions(
     functions: Sequence[Any], coords: list[Any], subs: dict[Any, Any], time: Any, mass_matrix: Any
 ) -> None:
@@ -556,6 +600,10 @@ class System:
         coordinates, and the time): it is evaluated exactly there, like the gradients; an
         entry that still has free symbols is an error naming it.
 
+        Binary floats are refused (``0.3`` is not 3/10), whether a Python float in the
+        configuration or a SymPy ``Float`` in a function, the mass matrix or a COR: the error
+        names the input and how to write the number exactly (``sympy.Rational("0.3")``).
+
         >>> import sympy as sp
         >>> x1, x2 = sp.symbols("x1 x2")
         >>> s = System.from_functions([(x2 - x1)**2 - 4, x2 - 10], [x1, x2], {x1: 0, x2: 2},
@@ -574,6 +622,10 @@ class System:
             raise InvalidSystem("from_functions: names and restitution need one entry per function")
         subs = dict(configuration)
         _check_functions(functions, coords, subs, time, mass_matrix)
+        inputs = [(f"configuration[{q}]", v) for q, v in subs.items()]
+        inputs += [(f"functions[{i}]", F) for i, F in enumerate(functions)] + _sympy_entries(mass_matrix)
+        for where, value in inputs + [(f"restitution[{i}]", e) for i, e in enumerate(restitution)]:
+            _refuse_binary_float(where, value)
         g = _at_configuration(mass_matrix, subs)
         kept, normals, time_terms, cors = _contacts(
             functions, coords, subs, time=time, names=names, restitution=restitution
