@@ -8,6 +8,7 @@ from __future__ import annotations
 
 import copy
 import json
+import math
 import subprocess
 import sys
 import xml.etree.ElementTree as ET
@@ -187,6 +188,45 @@ def test_one_bad_number_is_a_mismatch_of_that_case_only(tmp_path: Path, text: st
     out = json.loads(done.stdout)
     assert done.returncode == 1 and out["classes"]["bad_number"] == 1
     assert out["classes"]["exact"] + out["classes"].get("within_tolerance", 0) == out["checked"] - 1
+
+
+@pytest.mark.parametrize("way", ["file", "impl"])
+@pytest.mark.parametrize("bad", [float("nan"), float("inf")])
+def test_a_bare_json_nan_is_graded_like_the_string_nan(tmp_path: Path, way: str, bad: float) -> None:
+    """Python's json.dump writes a bare NaN (or Infinity): that case is bad_number, the others are checked,
+    both for a result file and for the output of --impl (issue 34, item 9)."""
+    results = json.loads((ROOT / "golden" / "results.json").read_text(encoding="utf-8"))
+    results["results"][1]["exit_velocity"][0] = bad
+    results["results"][19]["betas"][1] = bad  # cradle-5-balls-masses-12321: beta 25/17 at impulse 2
+    path = tmp_path / "r.json"
+    path.write_text(json.dumps(results), encoding="utf-8")  # allow_nan: a bare NaN / Infinity
+    assert ("NaN" if math.isnan(bad) else "Infinity") in path.read_text(encoding="utf-8")
+    if way == "file":
+        done = run_check("golden/cases.json", str(path), "--json")
+    else:
+        impl = tmp_path / "impl.py"
+        impl.write_text(f"import sys\nsys.stdin.read()\nsys.stdout.write(open({str(path)!r}).read())\n")
+        done = run_check("golden/cases.json", "--impl", f"{sys.executable} {impl}", "--json")
+    assert done.returncode == 1, done.stderr
+    out = json.loads(done.stdout)
+    bad_ids = [m["id"] for m in out["mismatches"] if m["field"] == "bad_number"]
+    assert bad_ids == [results["results"][1]["id"], results["results"][19]["id"]]
+    assert all("results[" in m["detail"] for m in out["mismatches"] if m["field"] == "bad_number")
+    assert out["classes"]["bad_number"] == 2
+    assert out["classes"]["exact"] + out["classes"].get("within_tolerance", 0) == out["checked"] - 2
+
+
+def test_a_bare_json_nan_where_no_number_belongs_names_the_file_and_field(tmp_path: Path) -> None:
+    results = json.loads((ROOT / "golden" / "results.json").read_text(encoding="utf-8"))
+    results["results"][1]["iterations"] = float("nan")
+    path = tmp_path / "r.json"
+    path.write_text(json.dumps(results), encoding="utf-8")
+    done = run_check("golden/cases.json", str(path))
+    assert done.returncode == 2 and done.stdout == ""
+    assert done.stderr.strip().splitlines() == [
+        f"verify: error: {path}: results[1].iterations: expected an integer, got the bare JSON constant NaN "
+        "(not a number; numbers are strings)"
+    ]
 
 
 # -- tolerance budgets, hard cases through the command line, error tables --------------------------------

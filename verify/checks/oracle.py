@@ -516,16 +516,52 @@ def load_results(text: str, source: str) -> list[dict]:
     return load_result_file(text, source)[0]
 
 
+#: the fields of a result that hold one number, and those that hold a list of numbers
+RESULT_NUMBERS = ("kinetic_energy_in", "kinetic_energy_out")
+RESULT_NUMBER_LISTS = ("exit_velocity", "exit_velocity_decimal", "betas", "impulses")
+
+
+def _constants_as_text(data: Any) -> None:
+    """A bare ``NaN`` or ``Infinity`` where a result holds a number becomes its text (``"NaN"``),
+    which is graded as that string is: ``bad_number`` for that case only. Anywhere else the schema
+    names its field."""
+    from verify.records.files import BareJSONConstant
+
+    def text(x: Any) -> Any:
+        return x.json_constant_text if isinstance(x, BareJSONConstant) else x
+
+    results = data.get("results") if isinstance(data, dict) else None
+    for r in results if isinstance(results, list) else ():
+        if not isinstance(r, dict):
+            continue
+        for name in RESULT_NUMBERS:
+            if name in r:
+                r[name] = text(r[name])
+        for name in RESULT_NUMBER_LISTS:
+            if isinstance(r.get(name), list):
+                r[name] = [text(x) for x in r[name]]
+
+
 def load_result_file(text: str, source: str) -> tuple[list[dict], dict[str, str]]:
-    """A result file's results, and the cases it lists as skipped (id -> reason).
+    """A result file's results, and the cases it lists as skipped (id -> reason). A bare ``NaN``
+    (what Python's ``json.dump`` writes) or ``Infinity`` in a number's place is kept as its text,
+    to be graded ``bad_number`` as the string ``"nan"`` is; anywhere else it is refused, naming
+    the file and the field.
 
     >>> load_result_file('{"results": [], "skipped": [{"id": "a", "reason": "no corner"}]}', "x")
     ([], {'a': 'no corner'})
+    >>> load_result_file('{"results": [{"id": "a", "exit_velocity": [NaN, "1"]}]}', "x")[0]
+    [{'id': 'a', 'exit_velocity': ['NaN', '1']}]
+    >>> load_result_file('{"results": [{"id": "a", "exit_velocity": ["1"], "iterations": NaN}]}', "x")
+    Traceback (most recent call last):
+    ...
+    verify.errors.InvalidInput: x: results[0].iterations: expected an integer, got the bare JSON constant NaN ...
     """
     from verify.records.files import load_json
     from verify.records.schema import validate
 
-    data = load_json(source, text=text)
+    data = load_json(source, text=text, constants=True)
+    _constants_as_text(data)
     validate(data, "result", source)
     return data["results"], {s["id"]: s["reason"] for s in data.get("skipped", [])}
 

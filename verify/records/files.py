@@ -79,29 +79,55 @@ class BareJSONNumber:
         self.json_number_text = text
 
 
-def _reject_constant(text: str) -> Any:
-    raise InvalidInput(f"{text} is not a number")
+class BareJSONConstant:
+    """``NaN``, ``Infinity`` or ``-Infinity`` written bare in a JSON file (Python's ``json.dump``
+    writes them): kept as text, like :class:`BareJSONNumber`, so that the field that holds it can
+    be named (:func:`load_json` with ``constants=True``)."""
+
+    __slots__ = ("json_constant_text",)
+
+    def __init__(self, text: str):
+        self.json_constant_text = text
 
 
-def load_json(what: str, *, path: FilePath | None = None, text: str | None = None, max_bytes: int | None = None) -> Any:
+def _constant_refuser(what: str) -> Any:
+    def refuse(text: str) -> Any:
+        raise InvalidInput(f"{what}: {text} is not a number (a bare JSON {text}; numbers are strings)")
+
+    return refuse
+
+
+def load_json(
+    what: str,
+    *,
+    path: FilePath | None = None,
+    text: str | None = None,
+    max_bytes: int | None = None,
+    constants: bool = False,
+) -> Any:
     """The JSON value of the file ``path``, or of ``text`` (give one), read with the size limit
     ``max_bytes`` (default :data:`MAX_FILE_BYTES`); numbers with a fraction or an exponent
-    come back as :class:`BareJSONNumber`, ``NaN`` and ``Infinity`` are refused. Every error is an
-    :class:`~verify.errors.InvalidInput`; those about the file as a whole (unreadable, too large,
-    not JSON, nested too deeply) start with ``what``, the file's name.
+    come back as :class:`BareJSONNumber`. A bare ``NaN``, ``Infinity`` or ``-Infinity`` comes
+    back as :class:`BareJSONConstant` with ``constants=True`` (the caller names its field), and
+    is refused otherwise. Every error is an :class:`~verify.errors.InvalidInput`; those about the
+    file as a whole (unreadable, too large, not JSON, nested too deeply, a refused ``NaN``) start
+    with ``what``, the file's name.
 
     >>> load_json("a.json", text='{"cases": [1, "1/2"]}')
     {'cases': [1, '1/2']}
     >>> load_json("a.json", text="[NaN]")
     Traceback (most recent call last):
     ...
-    verify.errors.InvalidInput: NaN is not a number
+    verify.errors.InvalidInput: a.json: NaN is not a number (a bare JSON NaN; numbers are strings)
+    >>> load_json("a.json", text="[NaN]", constants=True)[0].json_constant_text
+    'NaN'
     """
     import json
 
     if (path is None) == (text is None):
         raise ValueError("load_json: give exactly one of path and text")
     limit = MAX_FILE_BYTES if max_bytes is None else max_bytes
+    on_constant = BareJSONConstant if constants else _constant_refuser(what)
     try:
         if path is not None:
             try:
@@ -111,11 +137,11 @@ def load_json(what: str, *, path: FilePath | None = None, text: str | None = Non
             if size > limit:
                 raise InvalidInput(f"{what}: larger than {limit} bytes")
             with open(path, encoding="utf-8") as fh:
-                return json.load(fh, parse_float=BareJSONNumber, parse_constant=_reject_constant)
+                return json.load(fh, parse_float=BareJSONNumber, parse_constant=on_constant)
         assert text is not None
         if len(text) > limit:
             raise InvalidInput(f"{what}: larger than {limit} bytes")
-        return json.loads(text, parse_float=BareJSONNumber, parse_constant=_reject_constant)
+        return json.loads(text, parse_float=BareJSONNumber, parse_constant=on_constant)
     except (UnicodeDecodeError, json.JSONDecodeError) as exc:
         raise InvalidInput(f"{what}: not valid JSON ({exc})") from None
     except RecursionError:

@@ -202,8 +202,7 @@ def load_cases(path: str, *, backend: Any = "exact", dps: int | None = None) -> 
     from verify.records.files import load_json
     from verify.records.schema import validate
 
-    data = load_json(path, path=path)
-
+    data = load_json(path, path=path, constants=True)  # a bare NaN: the schema names its field
     if not isinstance(data, dict) or not isinstance(data.get("cases"), list):
         raise InvalidInput(f'{path}: expected an object {{"cases": [...]}}')
     validate(data, "case")

@@ -54,6 +54,9 @@ def _describe(value: Any) -> str:
     text = getattr(value, "json_number_text", None)  # a bare JSON number kept as text by the loader
     if text is not None:
         return f'the bare number {text} (numbers are strings: write "{text}")'
+    constant = getattr(value, "json_constant_text", None)  # a bare NaN or Infinity kept by the loader
+    if constant is not None:
+        return f"the bare JSON constant {constant} (not a number; numbers are strings)"
     shown = json.dumps(value) if isinstance(value, (str, int, bool, type(None))) else type(value).__name__
     return shown if len(shown) <= 60 else shown[:57] + "..."
 
