@@ -85,6 +85,22 @@ def test_a_case_file_is_a_family_too(tmp_path) -> None:
     assert (v.family, v.verdict) == ("block", "holds")
 
 
+@pytest.mark.parametrize("part", ["termination", "TERMINATION", "exits (term"])
+def test_a_property_is_chosen_by_a_part_of_its_name_as_the_docstring_says(part) -> None:
+    """Item 14 of issue 34: "termination" is part of one name only, not its start."""
+    wall = st.just((System([[1]], [[1]], ["1/2"]), ["-1"]))
+    (v,) = family_verdicts(wall, "block", properties=[part], examples=2)
+    assert v.property == "the rule exits (termination)" and v.family == "block"
+
+
+def test_a_part_of_several_names_is_refused_as_ambiguous() -> None:
+    wall = st.just((System([[1]], [[1]], ["1/2"]), ["-1"]))
+    with pytest.raises(InvalidInput, match=r"property 'rule' is ambiguous: it is part of \d+ names"):
+        family_verdicts(wall, "block", properties=["rule"], examples=2)
+    with pytest.raises(InvalidInput, match=r"unknown property 'no such'"):
+        family_verdicts(wall, "block", properties=["no such"], examples=2)
+
+
 def test_a_system_that_is_not_rational_is_refused() -> None:
     def tilted(_: object) -> tuple[System, list[str]]:
         return System([[1, 0], [0, 1]], [["1", "sqrt(2)"]], ["1/2"]), ["-1", "0"]

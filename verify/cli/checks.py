@@ -41,7 +41,11 @@ def properties_options(p: argparse.ArgumentParser) -> None:
         choices=tuple(PROFILES),
         help="cases per row: dev 25, ci 100 (default), thorough 100000 per property",
     )
-    p.add_argument("--property", action="append", help="only this property (name or prefix; repeatable)")
+    p.add_argument(
+        "--property",
+        action="append",
+        help="only this property (its name, its start, or a part of one name only; repeatable)",
+    )
     p.add_argument("--rule", action="append", choices=RULES,
                    help="only this rule, or for the simultaneous law these CORs (repeatable)")  # fmt: skip
     p.add_argument("--law", action="append", choices=LAWS,

@@ -642,10 +642,28 @@ PROPERTIES: tuple[Property, ...] = (
 
 
 def property_named(name: str) -> Property:
-    """The property with this name (or a unique prefix of it)."""
-    hits = [p for p in PROPERTIES if p.name == name] or [p for p in PROPERTIES if p.name.startswith(name)]
+    """The property with this name, or whose name has ``name`` as its only prefix, or else as a
+    part found in one name only (letter case ignored for prefixes and parts).
+
+    >>> property_named("kinetic").name, property_named("termination").name
+    ('kinetic energy does not increase', 'the rule exits (termination)')
+    >>> property_named("rule")
+    Traceback (most recent call last):
+    ...
+    verify.errors.InvalidInput: property 'rule' is ambiguous: it is part of ... names (see verify properties --list)
+    """
+    folded = name.casefold()
+    hits = (
+        [p for p in PROPERTIES if p.name == name]
+        or [p for p in PROPERTIES if p.name.casefold().startswith(folded)]
+        or [p for p in PROPERTIES if folded in p.name.casefold()]
+    )
     if len(hits) != 1:
         from verify.errors import InvalidInput
 
+        if hits:
+            raise InvalidInput(
+                f"property {name!r} is ambiguous: it is part of {len(hits)} names (see verify properties --list)"
+            )
         raise InvalidInput(f"unknown property {name!r} (see verify properties --list)")
     return hits[0]

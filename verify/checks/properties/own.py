@@ -89,10 +89,17 @@ def family_verdicts(
 ) -> list[Verdict]:
     """The property suite's verdicts on your family: ``cases`` is a Hypothesis strategy of
     ``(system, velocity)`` pairs, or the path of a case file; ``name`` names the family in the verdicts
-    and in the counterexamples' ids. ``properties`` (names or unique parts of names) default to every
-    property stated for general systems; ``examples`` is the number of cases a row searches (the search
-    is derandomised: the same cases, verdicts and counterexamples on every run). See the module's
-    example."""
+    and in the counterexamples' ids. ``properties`` default to every property stated for general
+    systems; each is a property's name, the start of one name, or a part found in one name only
+    (:func:`~verify.checks.properties.catalogue.property_named`: ``"termination"`` is the rule's
+    termination); ``examples`` is the number of cases a row searches (the search is derandomised: the
+    same cases, verdicts and counterexamples on every run). See the module's example.
+
+    >>> from hypothesis import strategies as st
+    >>> wall = st.just((System([[1]], [[1]], ["1/2"]), ["-1"]))  # a block hitting a wall
+    >>> [v.property for v in family_verdicts(wall, "block", properties=["outgoing"], examples=2)]
+    ['the exit velocity is outgoing']
+    """
     chosen = [property_named(p) for p in properties] if properties else list(PROPERTIES)
     out = []
     for prop in chosen:
