@@ -31,6 +31,26 @@ from verify.cli.common import (
 )
 
 
+class JunitAs:
+    """``--junit-as CLASS=KIND,...``: how each class is reported in the JUnit XML
+    (:func:`verify.views.junit.parse_report_as`), checked when parsed.
+
+    >>> JunitAs()("gave_up=skipped")["gave_up"]
+    'skipped'
+    """
+
+    def __call__(self, text: str) -> dict[str, str]:
+        from verify.views.junit import parse_report_as
+
+        try:
+            return parse_report_as(text)
+        except ValueError as exc:
+            raise argparse.ArgumentTypeError(str(exc)) from None
+
+    def __repr__(self) -> str:
+        return "CLASS=KIND list"
+
+
 def properties_options(p: argparse.ArgumentParser) -> None:
     """The options of ``verify properties``."""
     from verify.core.rule import LAWS, RULES
@@ -81,6 +101,10 @@ def oracle_options(p: argparse.ArgumentParser) -> None:
                    help="the law of the exact results: the paper's rule (default) or the simultaneous law")  # fmt: skip
     q.add_argument("--junit", metavar="FILE", type=OutputFile(), default=None,
                    help="also write the graded verdicts as JUnit XML, one test case per case")  # fmt: skip
+    q.add_argument("--junit-as", metavar="CLASS=KIND,...", type=JunitAs(), default=None,
+                   help="how --junit reports a class: failure, skipped or passed (default: exact and "
+                        "within_tolerance pass, skipped is skipped, every other class is a failure), "
+                        "e.g. gave_up=skipped,limited=passed")  # fmt: skip
     q.add_argument("--tolerances", metavar="FILE", default=None,
                    help="tolerance budgets per case (in exit speeds or binary64 ulps): docs/oracle.md")  # fmt: skip
     budget_options(q, "per case, for the exact results")
@@ -213,6 +237,8 @@ def oracle_check(args: argparse.Namespace) -> int:
     if args.max_iterations is not None:  # the cases as if each had this cap: for the exact runs and --impl
         records = [dict(r, max_iterations=args.max_iterations) for r in records]
         case_text = dumps({"cases": records})
+    if args.junit_as is not None and not args.junit:
+        raise UsageError(f"{PROG} oracle check: --junit-as needs --junit FILE")
     status = StatusLine.for_args(args)
     got, skipped = oracle.load_result_file(*other_results(args, case_text, status))
 
@@ -235,7 +261,8 @@ def oracle_check(args: argparse.Namespace) -> int:
     if args.junit:
         from verify.views.junit import junit_xml
 
-        write_output(args.junit, junit_xml(comparison.grades, f"verify oracle check {args.cases}"), "--junit")
+        write_output(args.junit, junit_xml(comparison.grades, f"verify oracle check {args.cases}", args.junit_as),
+                     "--junit")  # fmt: skip
     if args.json:
         sys.stdout.write(dumps(oracle.comparison_json(comparison)))
     else:

@@ -1,45 +1,105 @@
 """The oracle's graded verdicts as JUnit XML, so that another project's CI shows each case as a test.
 
 One ``<testcase>`` per case of the case file (``classname`` is the grade's class, ``name`` the
-case id); a case whose class does not pass has a ``<failure>`` with the class and what shows it,
-a skipped case a ``<skipped>``. Written with :mod:`xml.etree.ElementTree`, so every text is
-escaped.
+case id). How each class is reported is the user's choice (:func:`parse_report_as`, ``verify
+oracle check --junit-as``): as a ``<failure>`` with the class and what shows it, as
+``<skipped>``, or as passed (no child). By default (:data:`DEFAULT_REPORT`) the passing classes
+pass, ``skipped`` is skipped and every other class fails. Written with
+:mod:`xml.etree.ElementTree`, so every text is escaped.
 
 >>> from verify.checks.grading import Grade
->>> xml = junit_xml([Grade("a", "exact"), Grade("b", "wrong_stop", "expected exit")], "oracle")
+>>> grades = [Grade("a", "exact"), Grade("b", "wrong_stop", "expected exit"), Grade("c", "gave_up", "cap")]
 >>> import xml.etree.ElementTree as ET
->>> suite = ET.fromstring(xml)
->>> suite.get("tests"), suite.get("failures"), [c.get("name") for c in suite]
-('2', '1', ['a', 'b'])
+>>> suite = ET.fromstring(junit_xml(grades, "oracle"))
+>>> suite.get("tests"), suite.get("failures"), suite.get("skipped"), [c.get("name") for c in suite]
+('3', '2', '0', ['a', 'b', 'c'])
+>>> suite = ET.fromstring(junit_xml(grades, "oracle", parse_report_as("gave_up=skipped")))
+>>> suite.get("failures"), suite.get("skipped"), [child.tag for child in suite[2]]
+('1', '1', ['skipped'])
 """
 
 from __future__ import annotations
 
 import xml.etree.ElementTree as ET
-from collections.abc import Sequence
+from collections.abc import Mapping, Sequence
 from typing import Any
 
+#: how a class can be reported
+KINDS = ("failure", "skipped", "passed")
 
-def junit_xml(grades: Sequence[Any], suite: str) -> str:
-    """The JUnit XML text of the grades (one test suite named ``suite``)."""
-    from verify.checks.grading import PASSING
 
-    failing = [g for g in grades if g.cls not in PASSING and g.cls != "skipped"]
+def default_report() -> dict[str, str]:
+    """How each class is reported unless the user says otherwise: the passing classes
+    (:data:`verify.checks.grading.PASSING`) pass, ``skipped`` is skipped, every other class fails.
+
+    >>> r = default_report()
+    >>> r["exact"], r["within_tolerance"], r["skipped"], r["gave_up"], r["limited"]
+    ('passed', 'passed', 'skipped', 'failure', 'failure')
+    """
+    from verify.checks.grading import CLASSES, PASSING
+
+    return {c: "passed" if c in PASSING else "skipped" if c == "skipped" else "failure" for c in CLASSES}
+
+
+def parse_report_as(text: str) -> dict[str, str]:
+    """The report of every class, from the default with the changes ``CLASS=KIND,CLASS=KIND``
+    (``--junit-as``); KIND is ``failure``, ``skipped`` or ``passed``. A bad entry raises
+    ``ValueError`` with one line that names it.
+
+    >>> r = parse_report_as("gave_up=skipped, within_tolerance=failure")
+    >>> r["gave_up"], r["within_tolerance"], r["exact"]
+    ('skipped', 'failure', 'passed')
+    >>> parse_report_as("gave_up=ignored")
+    Traceback (most recent call last):
+    ...
+    ValueError: gave_up=ignored: 'ignored' is not one of failure, skipped, passed
+    >>> parse_report_as("gaveup=skipped")
+    Traceback (most recent call last):
+    ...
+    ValueError: gaveup=skipped: 'gaveup' is not a class (exact, within_tolerance, gave_up, ...)
+    """
+    from verify.checks.grading import CLASSES
+
+    out = default_report()
+    seen: set[str] = set()
+    for entry in (e.strip() for e in text.split(",")):
+        cls, sep, kind = (part.strip() for part in entry.partition("="))
+        if not sep or not cls or not kind:
+            raise ValueError(f"{entry!r}: expected CLASS=KIND, e.g. gave_up=skipped")
+        if cls not in CLASSES:
+            raise ValueError(f"{entry}: {cls!r} is not a class ({', '.join(CLASSES)})")
+        if kind not in KINDS:
+            raise ValueError(f"{entry}: {kind!r} is not one of {', '.join(KINDS)}")
+        if cls in seen:
+            raise ValueError(f"{entry}: {cls} is given twice")
+        seen.add(cls)
+        out[cls] = kind
+    return out
+
+
+def junit_xml(grades: Sequence[Any], suite: str, report: Mapping[str, str] | None = None) -> str:
+    """The JUnit XML text of the grades (one test suite named ``suite``), each class reported as
+    ``report`` says (class -> ``failure``, ``skipped`` or ``passed``; default :func:`default_report`)."""
+    kinds = {**default_report(), **(report or {})}
     root = ET.Element(
         "testsuite",
         {
             "name": suite,
             "tests": str(len(grades)),
-            "failures": str(len(failing)),
+            "failures": str(sum(kinds[g.cls] == "failure" for g in grades)),
             "errors": "0",
-            "skipped": str(sum(g.cls == "skipped" for g in grades)),
+            "skipped": str(sum(kinds[g.cls] == "skipped" for g in grades)),
         },
     )
     for g in grades:
         case = ET.SubElement(root, "testcase", {"classname": f"oracle.{g.cls}", "name": g.case_id})
-        if g.cls == "skipped":
-            ET.SubElement(case, "skipped", {"message": g.detail or "skipped by the implementation"})
-        elif g.cls not in PASSING:
+        if kinds[g.cls] == "skipped":
+            if g.cls == "skipped":
+                message = g.detail or "skipped by the implementation"
+            else:  # another class reported as skipped (--junit-as): the class says why
+                message = f"{g.cls}: {g.detail}" if g.detail else g.cls
+            ET.SubElement(case, "skipped", {"message": message})
+        elif kinds[g.cls] == "failure":
             failure = ET.SubElement(case, "failure", {"message": g.cls, "type": g.cls})
             failure.text = g.detail or g.cls
     ET.indent(root)
