@@ -454,3 +454,38 @@ def test_help_of_every_command_works_and_names_the_docs(capsys):
     assert "Formats and commands: docs/ in the source repository (docs/README.md)." in top
     solve_help = " ".join(dict(commands(build_parser()))[("solve",)].format_help().split())
     assert "docs/records.md in the source repository" in solve_help and "--case-timeout" in solve_help
+
+
+# -- the number of balls (issue 34, item 17) ------------------------------------------------------
+
+
+def _help_of(parser: argparse.ArgumentParser, option: str) -> str:
+    (action,) = [a for a in parser._actions if option in a.option_strings]
+    return " ".join((action.help or "").split())
+
+
+@pytest.mark.parametrize("command", ["cradle", "cradle-map"])
+def test_the_help_of_balls_says_that_the_lists_set_the_number_of_balls(command):
+    parser = dict(commands(build_parser()))[(command,)]
+    balls = _help_of(parser, "--balls")
+    assert "(default 3)" not in balls and "--masses or --velocity" in balls and "else 3" in balls, balls
+
+
+@pytest.mark.parametrize(
+    ("argv", "balls"),
+    [
+        ([], 3),
+        (["--velocity", "1,0"], 2),  # the issue's run: two balls, as the help now says
+        (["--masses", "1,2,1,2"], 4),
+        (["--balls", "2", "--velocity", "1,0"], 2),
+    ],
+)
+def test_the_cradle_runs_the_number_of_balls_the_help_says(argv, balls, capsys):
+    assert main(["cradle", "--eps", "0.5", *argv]) == 0
+    assert capsys.readouterr().out.startswith(f"Newton's cradle: {balls} balls (")
+
+
+def test_a_list_of_another_length_than_balls_is_refused_in_one_line(capsys):
+    assert main(["cradle", "--eps", "0.5", "--balls", "3", "--velocity", "1,0"]) == 2
+    err = capsys.readouterr().err
+    assert err == "verify: error: verify cradle: --velocity has 2 entries but there are 3 balls\n", err

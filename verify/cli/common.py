@@ -66,6 +66,8 @@ MIN_DPS, MAX_DPS = 5, 100_000
 MAX_COUNT = 10**9  # caps on impulses, bits
 MAX_SECONDS = 10**7  # about 16 weeks
 MAX_BALLS = 1000
+#: what ``--balls`` defaults to (:func:`verify.models.cradle.cradle_balls`)
+BALLS_DEFAULT = "default: the number of --masses or --velocity when given, else 3"
 MAX_CASES = 10**7
 MAX_SEED = 2**63 - 1
 MAX_WORKERS = 1024

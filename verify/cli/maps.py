@@ -8,6 +8,7 @@ from typing import Any
 
 from verify.cli.common import (
     BALLS,
+    BALLS_DEFAULT,
     CASES,
     COUNT,
     MAX_APPROACH,
@@ -58,7 +59,7 @@ def sweep_options(p: argparse.ArgumentParser) -> None:
 
 def cradle_map_options(p: argparse.ArgumentParser) -> None:
     """The options of ``verify cradle-map``."""
-    p.add_argument("--balls", type=BALLS, default=None, help=f"number of balls N, 2 to {MAX_BALLS} (default 3)")
+    p.add_argument("--balls", type=BALLS, default=None, help=f"number of balls N, 2 to {MAX_BALLS} ({BALLS_DEFAULT})")
     p.add_argument("--masses", help="masses m1,...,mN (default all 1)")
     p.add_argument("--velocity", help="the left velocity v1,...,vN (default v0 on ball 1)")
     p.add_argument("--v0", default="1", type=NUMBER, help="velocity of ball 1 (default 1)")
@@ -173,6 +174,7 @@ def map_options(p: argparse.ArgumentParser) -> None:
                    help=f"with two or more parameters: values per parameter (default {DEFAULT_LINES})")  # fmt: skip
     p.add_argument("--max-impulses", type=BoundedInt(0, MAX_IMPULSES_MAP), default=40,
                    help="bound on the exploration (default 40)")  # fmt: skip
+    p.add_argument("--figure", type=OutputFile((".png",)), help="also draw the map (PNG) to this path")
     p.add_argument("--json", action="store_true", help="print the map as JSON")
 
 
@@ -197,6 +199,12 @@ def cmd_map(args: argparse.Namespace) -> int:
 
     m = case_map(args.case, args.case_id, _parameters(args), lines=args.lines, max_impulses=args.max_impulses)
     sys.stdout.write(dumps(eps_map_json(m)) if args.json else eps_map_text(m, exact_in="--json"))
+    if args.figure:
+        from verify.views.figures import eps_map_figure
+
+        with writing(args.figure, "--figure"):
+            eps_map_figure(m, args.figure)
+        print(f"figure written to {args.figure}", file=sys.stderr)
     return 0
 
 

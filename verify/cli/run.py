@@ -8,6 +8,7 @@ from typing import Any
 
 from verify.cli.common import (
     BALLS,
+    BALLS_DEFAULT,
     COUNT,
     MAX_BALLS,
     NUMBER,
@@ -29,9 +30,9 @@ def cradle_options(p: argparse.ArgumentParser) -> None:
     """The options of ``verify cradle``."""
     p.add_argument("--eps", required=True, help="COR for all contacts, or one per contact: 0.5 or 0.5,0.9")
     p.add_argument("--v0", default="100", type=NUMBER, help="velocity of ball 1, the others at rest (default 100)")
-    p.add_argument("--balls", type=BALLS, default=None, help=f"number of balls N, 2 to {MAX_BALLS} (default 3)")
-    p.add_argument("--masses", help="masses m1,m2,...,mN (default all 1)")
-    p.add_argument("--velocity", help="the whole left velocity v1,...,vN (instead of --v0)")
+    p.add_argument("--balls", type=BALLS, default=None, help=f"number of balls N, 2 to {MAX_BALLS} ({BALLS_DEFAULT})")
+    p.add_argument("--masses", help="masses m1,m2,...,mN (default all 1; their number sets N)")
+    p.add_argument("--velocity", help="the whole left velocity v1,...,vN (instead of --v0; its length sets N)")
     p.add_argument(
         "--mode",
         default="exact",
