@@ -113,7 +113,11 @@ def dumps(obj: Any) -> str:
 
 # -- case records (input) ---------------------------------------------------------------------
 
-CASE_FIELDS = {"id", "mass_matrix", "normals", "time_terms", "restitution", "velocity", "max_iterations", "why"}
+#: the annotation fields a case record may carry: each a string for people to read, which the rule
+#: does not read (``why`` says why a generated case is hard); any other unknown field is refused
+ANNOTATION_FIELDS = ("why", "comment", "note", "source")
+CASE_FIELDS = {"id", "mass_matrix", "normals", "time_terms", "restitution", "velocity", "max_iterations",
+               *ANNOTATION_FIELDS}  # fmt: skip
 REQUIRED_FIELDS = ("id", "mass_matrix", "normals", "restitution", "velocity")
 
 
@@ -171,6 +175,9 @@ def case_from_record(record: Any, where: str = "case", *, backend: Any = "exact"
     missing = [f for f in REQUIRED_FIELDS if f not in record]
     if missing:
         raise InvalidInput(f"{where}: missing field {missing[0]!r}")
+    for name in ANNOTATION_FIELDS:
+        if name in record and not isinstance(record[name], str):
+            raise InvalidInput(f"{where}.{name}: an annotation is a string, got {type(record[name]).__name__}")
     case_id = record["id"]
     if not isinstance(case_id, str) or not case_id:
         raise InvalidInput(f"{where}.id: expected a non-empty string")
