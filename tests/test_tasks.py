@@ -361,3 +361,45 @@ def test_a_sweep_chunk_that_fails_twice_is_one_line_naming_its_cases(
     assert code == 2 and out == ""
     assert err == "verify: error: the cases corner-5-100 to corner-5-199 failed twice: ZeroDivisionError: boom\n"
     assert len(Path(cp).read_text().splitlines()) == 1 + 2  # the other two chunks are kept
+
+
+# -- verify all's progress lines (issue 34, item 13) ----------------------------------------------
+
+
+def test_verify_all_gives_each_step_its_own_time(
+    tmp_path: Path, capsys: pytest.CaptureFixture[str], monkeypatch: pytest.MonkeyPatch
+) -> None:
+    """The steps of ``verify all`` take 10 s, then 300 s, then 5 s (a clock that the steps move):
+    each step's line says when it started, and a line gives each step's own time."""
+    import types
+
+    from verify.cli import reports
+    from verify.views import pages, text
+
+    now = [1000.0]
+    monkeypatch.setattr(reports, "_clock", lambda: now[0])
+    monkeypatch.setattr(reports, "refresh_engines", lambda out, progress: None)
+
+    def steps(out: str, *, progress, **_: object) -> object:
+        for i, seconds in enumerate((10, 300, 5), 1):
+            progress(f"[report {i}/3] step {i} ...")
+            now[0] += seconds
+        return types.SimpleNamespace(
+            table1=None, cradle_map=types.SimpleNamespace(cmap=None), corner_example=None, corner=[None],
+            profile="ci", verdicts=[], oracle=types.SimpleNamespace(self_check=types.SimpleNamespace(ok=True)),
+        )  # fmt: skip
+
+    monkeypatch.setattr(pages, "write_reports", steps)
+    monkeypatch.setattr(text, "all_summary", lambda *a, **k: ("summary\n", False))
+    code, out, err = run_cli(capsys, ["all", "--out", str(tmp_path / "reports"), "--workers", "1"])
+    assert code == 0, err
+    assert out.splitlines()[1:] == [
+        "[report 1/3] step 1 ... (at 0 s)",
+        "[report 1/3] done in 10 s",
+        "[report 2/3] step 2 ... (at 10 s)",
+        "[report 2/3] done in 300 s",
+        "[report 3/3] step 3 ... (at 310 s)",
+        "[report 3/3] done in 5 s",
+        "summary",
+        f"reports written to {tmp_path / 'reports'}/ in 315 s",
+    ]

@@ -5,6 +5,8 @@ from __future__ import annotations
 import argparse
 import os
 import sys
+import time
+from collections.abc import Callable
 from typing import Any
 
 from verify.checks.properties.profiles import PROFILES
@@ -43,27 +45,66 @@ def cmd_report(args: argparse.Namespace) -> int:
     return 0
 
 
+#: the clock of :class:`StepClock` (seconds; a test replaces it)
+_clock = time.monotonic
+
+
+class StepClock:
+    """The progress lines of ``verify all``: a step's line (one ending in ``...``) says when it
+    started, counted from the start of the run, and when the step ends (the next line comes, or
+    :meth:`finish`) a line gives the step's own time.
+
+    >>> ticks = iter([0, 5, 65, 70])
+    >>> clock = StepClock(print, clock=lambda: next(ticks))
+    >>> clock("[report 1/2] Table 1 ...")
+    [report 1/2] Table 1 ... (at 5 s)
+    >>> clock("[report 2/2] Performance ...")
+    [report 1/2] done in 60 s
+    [report 2/2] Performance ... (at 65 s)
+    >>> clock.finish()
+    [report 2/2] done in 5 s
+    """
+
+    def __init__(self, write: Callable[[str], Any], *, clock: Callable[[], float] | None = None) -> None:
+        self.write, self.clock = write, clock or _clock
+        self.start = self.clock()
+        self.step: tuple[str, float] | None = None  # the running step's label and start
+
+    def elapsed(self) -> float:
+        """Seconds since the start of the run."""
+        return self.clock() - self.start
+
+    def __call__(self, line: str) -> None:
+        now = self.clock()
+        self.finish(now)
+        self.write(f"{line} (at {now - self.start:.0f} s)")
+        if line.endswith("..."):
+            self.step = (line.split("]", 1)[0] + "]" if line.startswith("[") else line, now)
+
+    def finish(self, now: float | None = None) -> None:
+        """End the running step, if any: print its own time."""
+        if self.step is not None:
+            label, began = self.step
+            self.write(f"{label} done in {(self.clock() if now is None else now) - began:.0f} s")
+            self.step = None
+
+
 def cmd_all(args: argparse.Namespace) -> int:
     """``verify all``: write the reports (ci profile), then summarise; exit code 1 if the program contradicts itself."""
-    import time
-
     from verify.views.pages import write_reports
     from verify.views.text import all_summary
 
-    start = time.monotonic()
+    progress = StepClock(lambda line: print(line, flush=True))
     print("verify all: reproducing Pasquero (2021), then writing the reports", flush=True)
-
-    def progress(line: str) -> None:
-        print(f"{line} ({time.monotonic() - start:.0f} s)", flush=True)
-
     refresh_engines(args.out, progress)
     with task_runner(args, {"command": "all", "profile": "ci"}) as runner, writing(args.out, "--out"):
         found = write_reports(args.out, profile="ci", runner=runner, progress=progress)
+    progress.finish()
     summary, failed = all_summary(found.table1, found.cradle_map.cmap, found.corner_example, found.corner[0],
                                   profile=found.profile, found=found.verdicts,
                                   oracle_ok=found.oracle.self_check.ok)  # fmt: skip
     sys.stdout.write(summary)
-    print(f"reports written to {args.out}/ in {time.monotonic() - start:.0f} s")
+    print(f"reports written to {args.out}/ in {progress.elapsed():.0f} s")
     return 1 if failed else 0
 
 
