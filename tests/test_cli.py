@@ -173,3 +173,34 @@ def test_the_command_line_names_its_flag_where_the_library_names_its_parameter(c
     assert main(["cradle", "--eps", "1/2", "--masses", "1,tan(1),1"]) == 2
     err = capsys.readouterr().err
     assert "--backend interval" in err and 'backend="' not in err
+
+
+# -- one name for the velocity where a run stops (issue 34, item 16) ------------------------------
+
+
+def test_a_run_that_does_not_exit_prints_the_velocity_at_the_stop_everywhere(tmp_path, capsys):
+    """``verify solve`` (proved never to exit, and at a cap), ``verify cradle`` and ``Result.summary``
+    give the velocity where a run stopped one name, "exit velocity" only for an exit."""
+    from verify.core.rule import solve
+    from verify.core.system import System
+
+    never = cradle_case("never", ["1", "1", "1"], ["1/100", "1/100"], ["1", "0", "0"])
+    capped = {**cradle_case("capped", ["1", "1", "1"], ["1/2", "1/2"], ["1", "0", "0"]), "max_iterations": 1}
+    exits = cradle_case("exits", ["1", "1", "1"], ["1/2", "1/2"], ["1", "0", "0"])
+    path = tmp_path / "cases.json"
+    path.write_text(json.dumps({"cases": [never, capped, exits]}))
+    code, out, err = run(["solve", str(path)], capsys)
+    assert code == 0, err
+    blocks = out.split("\n  kinetic energy")
+    assert blocks[0].startswith("never: non_terminating") and "\n  velocity at the stop: 1, 0, 0\n" in blocks[0]
+    assert "capped: max_iterations" in blocks[1] and "\n  velocity at the stop: " in blocks[1]
+    assert "exits: exit" in blocks[2] and "\n  exit velocity: " in blocks[2]
+    assert "exit velocity" not in blocks[0] + blocks[1]
+    code, out, _ = run(["cradle", "--eps", "0.01"], capsys)
+    assert "velocity at the stop (exact): 100, 0, 0" in out and "exit velocity" not in out
+    s = System([[1, 0, 0], [0, 1, 0], [0, 0, 1]], [[-1, 1, 0], [0, -1, 1]], ["1/100", "1/100"])
+    summary = solve(s, ["1", "0", "0"]).summary()
+    assert "\n  velocity at the stop: x1 = 1, x2 = 0, x3 = 0" in summary, summary
+    assert "last velocity" not in summary and "exit velocity" not in summary
+    capped_summary = solve(s, ["1", "0", "0"], max_iterations=0).summary()
+    assert "velocity at the stop" in capped_summary

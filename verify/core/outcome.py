@@ -40,6 +40,17 @@ class Step:
         return self.system.kinetic_energy(self.velocity)
 
 
+def velocity_name(stop: str) -> str:
+    """The one name that the text outputs give the velocity where a run stopped: ``exit velocity``
+    when it exits, else ``velocity at the stop`` (a run proved never to exit, or stopped by its cap,
+    its budget or the paper's AEEV stop, has not exited). The JSON field is ``exit_velocity`` either way.
+
+    >>> velocity_name("exit"), velocity_name("non_terminating"), velocity_name("max_iterations")
+    ('exit velocity', 'velocity at the stop', 'velocity at the stop')
+    """
+    return "exit velocity" if stop == "exit" else "velocity at the stop"
+
+
 @dataclass(frozen=True)
 class Result:
     """The outcome of :func:`solve`: exit velocity, stop reason and the full trace."""
@@ -75,6 +86,17 @@ class Result:
         return self.system.kinetic_energy(self.exit_velocity)
 
     @property
+    def velocity_name(self) -> str:
+        """What the text outputs call :attr:`exit_velocity` (:func:`velocity_name` of the stop).
+
+        >>> from verify.core.rule import solve
+        >>> from verify.core.system import System
+        >>> solve(System([[1]], [[1]], [1]), ["-1"]).velocity_name
+        'exit velocity'
+        """
+        return velocity_name(self.stop)
+
+    @property
     def last_velocity(self) -> tuple:
         """The velocity after the last impulse: the exit velocity when ``stop == "exit"``, else where the run
         stopped (``exit_velocity`` holds it too, under the name of the common case)."""
@@ -97,7 +119,7 @@ class Result:
 
     def summary(self, digits: int = 12) -> str:
         """The run in a few lines: how it stopped, the impact sets by contact name, the kinetic energies and
-        the exit velocity (or, for a run that does not exit, the last one) in decimals, ``digits`` at most:
+        the exit velocity (for a run that does not exit, the velocity at the stop) in decimals, ``digits`` at most:
         all of them correct on exact backends, only the certified ones on intervals, and marked as not
         certified on mp and float.
 
@@ -127,6 +149,6 @@ class Result:
             f"{head} ({law}, {K.describe()})",
             f"  impact sets: {''.join(words) or 'none'}",
             f"  kinetic energy: {energy}",
-            f"  {'exit' if self.stop == 'exit' else 'last'} velocity: {shown}{caveat}",
+            f"  {self.velocity_name}: {shown}{caveat}",
         ]
         return "\n".join(lines + [f"  note: {n}" for n in self.notes])

@@ -68,7 +68,7 @@ def cradle_text(result: Result, *, eps: list[str], mode: str, full_trace: bool =
             vel = _join([K.to_decimal(x, 12) for x in st.velocity])
             lines.append(f"{w:>7}  {names:<16} {beta:<14} {vel:<48} {K.to_decimal(st.kinetic_energy, 12)}")
         lines.append("")
-    label = "exit velocity" if result.stop == "exit" else "velocity at the stop"
+    label = result.velocity_name
     if K.is_exact:
         lines.append(f"{label} (exact): {_join([_short_exact(K, x) for x in result.exit_velocity])}")
     lines.append(f"{label} ({_decimal_label(K)}): {_join([K.to_decimal(x, 30) for x in result.exit_velocity])}")
@@ -111,7 +111,7 @@ def solve_text(case_id: str, result: Result) -> str:
         *law_lines(result, "  "),
     ]
     if K.is_exact:
-        lines.append(f"  exit velocity: {_join([_short_exact(K, x) for x in result.exit_velocity])}")
+        lines.append(f"  {result.velocity_name}: {_join([_short_exact(K, x) for x in result.exit_velocity])}")
     lines.append(f"  {_decimal_label(K)}: {_join([K.to_decimal(x, 20) for x in result.exit_velocity])}")
     lines.append(
         f"  kinetic energy: {K.to_decimal(result.kinetic_energy_in, 12)} -> "
@@ -561,7 +561,7 @@ def corner_text(run: Any, *, alpha: str | None, slope: str | None, phi: str, v0:
         beta = "" if st.beta is None else f", beta = {K.to_decimal(st.beta, 12)}"
         wall = "+".join(r.system.names[j] for j in st.impact_set)
         lines.append(f"  impulse {w}: {wall}{beta}; velocity {', '.join(K.to_decimal(x, 12) for x in st.velocity[:2])}")
-    label = "exit velocity" if r.stop == "exit" else "velocity at the stop"
+    label = r.velocity_name
     if K.is_exact:
         lines.append(f"{label} (exact): {', '.join(_short_exact(K, x, 120) for x in r.exit_velocity[:2])}")
     lines.append(f"{label} ({_decimal_label(K)}): {', '.join(K.to_decimal(x, 30) for x in r.exit_velocity[:2])}")
@@ -637,7 +637,7 @@ def corner_summary(example: Any, claims: Any) -> str:
     K = r.backend
     lines = [
         f"  the paper's example (alpha = pi/6, phi = pi/12, eps = 0.999, 0.001): zones {' -> '.join(example.zones)}, "
-        f"exit velocity {', '.join(K.to_decimal(x, 12) for x in r.exit_velocity[:2])} (computed exactly)",
+        f"{r.velocity_name} {', '.join(K.to_decimal(x, 12) for x in r.exit_velocity[:2])} (computed exactly)",
     ]
     for c in claims:
         lines.append(f"    [{c.verdict}] {c.name} ({c.cases} cases)")
