@@ -15,6 +15,7 @@ from verify.checks.maps.general import eps_map, eps_map_json
 from verify.checks.maps.line import parts_json
 from verify.checks.paper.cradle_map import cradle_map, map_json
 from verify.cli import main
+from verify.core.format import format_decimal
 from verify.core.parse import parse_number, to_number
 from verify.core.rule import solve
 from verify.core.system import System
@@ -189,3 +190,181 @@ def test_an_irrational_velocity_is_named_as_the_velocity_not_as_a_parameter(tmp_
     code, out, err = run_cli(capsys, ["map", str(path)])
     assert code == 2 and out == "" and err.count("\n") == 1, err
     assert "cases[0]: velocity[1] = -sqrt(2)/10 is not rational: the velocity (and every number of the system)" in err
+
+
+# -- item 20 of issue 34: the figure's legend, `verify map --figure`, contacts named by the case -----------------
+
+
+def _named_cradle(tmp_path: Path, names: list | None, cors: tuple[str, str] = ("e", "e")) -> Path:
+    """A three-ball cradle case file whose CORs name ``e``, its contacts named by ``names`` (when given)."""
+    unit = [["1", "0", "0"], ["0", "1", "0"], ["0", "0", "1"]]
+    case = {"id": "cradle", "mass_matrix": unit, "normals": [["-1", "1", "0"], ["0", "-1", "1"]],
+            "restitution": list(cors), "velocity": ["1", "0", "0"]}  # fmt: skip
+    if names is not None:
+        case["names"] = names
+    path = tmp_path / "cradle.json"
+    path.write_text(json.dumps({"cases": [case]}))
+    return path
+
+
+def test_the_one_parameter_figure_has_a_legend_entry_for_never_exits_and_unexplored() -> None:
+    """The figure drew "never exits" and "unexplored" as lines at impulses = 0, with no legend entry: now
+    they are shaded bands over their intervals, each named in the legend."""
+    pytest.importorskip("matplotlib")
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+    from matplotlib.collections import LineCollection
+    from matplotlib.patches import Patch
+
+    from verify.views.figures import eps_map_plot
+
+    m = eps_map(cradle_system("1", 3), ["1", "0", "0"], max_impulses=8)
+    stops = {p.stop for p in m.lines[0].parts}
+    assert {"non_terminating", "max_iterations", "exit"} <= stops  # the three kinds are there to be drawn
+    fig = eps_map_plot(m)
+    try:
+        ax = fig.axes[0]
+        legend = ax.get_legend()
+        assert legend is not None
+        entries = dict(zip([t.get_text() for t in legend.get_texts()], legend.legend_handles, strict=True))
+        never, unexplored = entries["never exits (proved)"], entries["unexplored: still impacting after 8 impulses"]
+        assert isinstance(never, Patch) and isinstance(unexplored, Patch) and "exit after k impulses" in entries
+        assert never.get_facecolor() != unexplored.get_facecolor()
+        bands = {(round(b.get_x(), 12), round(b.get_x() + b.get_width(), 12)): b.get_facecolor() for b in ax.patches}
+        for part in m.lines[0].parts:  # each part that does not exit is a band over its interval, as in the legend
+            if part.stop != "exit":
+                ends = tuple(round(float(format_decimal(x, 17)), 12) for x in (part.piece.lower, part.piece.upper))
+                assert bands[ends] == (never if part.stop == "non_terminating" else unexplored).get_facecolor()
+        heights = {
+            y for c in ax.collections if isinstance(c, LineCollection) for s in c.get_segments() for y in s[:, 1]
+        }
+        assert heights and 0 not in heights  # nothing is drawn at impulses = 0
+    finally:
+        plt.close(fig)
+
+
+def test_the_grid_figure_names_never_exits_and_unexplored_in_its_legend() -> None:
+    pytest.importorskip("matplotlib")
+    import matplotlib.pyplot as plt
+
+    from verify.views.figures import eps_map_plot
+
+    m = eps_map(cradle_system("1", 3), ["1", "0", "0"], ["e1", "e2"], lines=2, max_impulses=6)
+    fig = eps_map_plot(m)
+    try:
+        labels = [t.get_text() for t in fig.axes[0].get_legend().get_texts()]
+        assert labels == ["never exits (proved)", "unexplored: still impacting after 6 impulses"]
+    finally:
+        plt.close(fig)
+
+
+def test_verify_map_draws_its_figure_with_the_contacts_names(tmp_path, capsys) -> None:
+    pytest.importorskip("matplotlib")
+    path = _named_cradle(tmp_path, ["ball 1-2", "ball 2-3"])
+    figure = tmp_path / "out" / "map.png"
+    code, out, err = run_cli(capsys, ["map", str(path), "--max-impulses", "6", "--figure", str(figure)])
+    assert code == 0 and err == f"figure written to {figure}\n", err
+    assert figure.read_bytes()[:8] == b"\x89PNG\r\n\x1a\n" and sorted(p.name for p in figure.parent.iterdir()) == [
+        "map.png"
+    ]
+    assert "CORs ball 1-2 = e, ball 2-3 = e" in out and "exit: (ball 1-2)(ball 2-3)(ball 1-2)" in out
+
+
+def test_verify_map_figure_refuses_a_bad_path_in_one_line(tmp_path, capsys) -> None:
+    path = _named_cradle(tmp_path, None)
+    blocker = tmp_path / "a-file"
+    blocker.write_text("")
+    for bad, message in ((str(blocker / "map.png"), "is a file"), (str(tmp_path / "map.svg"), "ending in .png")):
+        code, out, err = run_cli(capsys, ["map", str(path), "--figure", bad])
+        assert code == 2 and out == "" and err.count("\n") == 1, err
+        assert "--figure" in err and message in err, err
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["a-file", "cradle.json"]
+
+
+def test_verify_map_figure_is_written_whole_or_not_at_all(tmp_path, capsys, monkeypatch) -> None:
+    """A write that fails half-way (a full disk) leaves neither a half figure nor a temporary file."""
+    pytest.importorskip("matplotlib")
+    import builtins
+    import errno
+
+    from verify.records import files
+
+    class FullDisk:
+        """A file that takes the first 100 bytes, then finds the disk full."""
+
+        def __init__(self, name, mode) -> None:
+            self.name, self.fh = name, builtins.open(name, mode)  # noqa: SIM115 (closed by __exit__)
+
+        def __enter__(self):
+            return self
+
+        def __exit__(self, *exc) -> None:
+            self.fh.close()
+
+        def write(self, data) -> None:
+            self.fh.write(data[:100])
+            raise OSError(errno.ENOSPC, "No space left on device", str(self.name))
+
+    def full_disk(name, mode="r", *args, **kwargs):
+        if "w" in mode and str(name).endswith(".png" + files.TMP_SUFFIX):
+            return FullDisk(name, mode)
+        return builtins.open(name, mode, *args, **kwargs)
+
+    monkeypatch.setattr(files, "open", full_disk, raising=False)
+    path = _named_cradle(tmp_path, None)
+    figure = tmp_path / "map.png"
+    code, _, err = run_cli(capsys, ["map", str(path), "--max-impulses", "4", "--figure", str(figure)])
+    assert code == 2 and err.count("\n") == 1 and "--figure" in err and "No space left on device" in err, err
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["cradle.json"]
+
+
+def test_a_case_names_its_contacts_and_the_results_maps_and_figures_use_the_names(tmp_path, capsys) -> None:
+    pytest.importorskip("matplotlib")
+    import matplotlib.pyplot as plt
+
+    from verify.checks.maps.general import case_map
+    from verify.records.results import load_cases
+    from verify.views.figures import eps_map_plot
+
+    named = _named_cradle(tmp_path, ["ball 1-2", "ball 2-3"], cors=("1/2", "1/2"))
+    (case,) = load_cases(str(named))
+    assert case.system.names == ("ball 1-2", "ball 2-3")
+    code, out, _ = run_cli(capsys, ["solve", str(named)])
+    assert code == 0 and "impact sets: {ball 1-2} {ball 2-3} {ball 1-2}" in out, out
+    unnamed = _named_cradle(tmp_path, None, cors=("1/2", "1/2"))
+    code, out, _ = run_cli(capsys, ["solve", str(unnamed)])
+    assert code == 0 and "impact sets: {0} {1} {0}" in out, out  # unnamed: the 0-based indices, as before
+    m = case_map(str(_named_cradle(tmp_path, ["left pair", "right pair"], cors=("e", "1/2"))), max_impulses=6)
+    assert eps_map_json(m)["contacts"] == ["left pair", "right pair"]
+    fig = eps_map_plot(m)
+    try:
+        assert "left pair = e, right pair = 1/2" in fig.axes[0].get_title()
+    finally:
+        plt.close(fig)
+
+
+@pytest.mark.parametrize(
+    ("names", "message"),
+    [
+        (["a", "a"], 'cases[0].names: "a" appears twice'),
+        (["a"], "cases[0].names: expected 2 names (one per row of normals), got 1"),
+        (["a", ""], "cases[0].names[1]: empty"),
+        (["a", " "], "cases[0].names[1]: expected a non-empty string, got ' '"),
+        (["a", 3], "cases[0].names[1]: expected a string, got 3"),
+        ("a,b", 'cases[0].names: expected a list, got "a,b"'),
+    ],
+)
+@pytest.mark.parametrize("command", ["solve", "map"])
+def test_bad_contact_names_are_refused_in_one_line(tmp_path, capsys, names, message, command) -> None:
+    path = _named_cradle(tmp_path, names, cors=("e", "e") if command == "map" else ("1/2", "1/2"))
+    code, out, err = run_cli(capsys, [command, str(path)])
+    assert code == 2 and out == "" and err.count("\n") == 1 and message in err, err
+
+
+def test_system_checks_the_names_it_is_given() -> None:
+    with pytest.raises(InvalidInput, match=r"names\[1\] = 'x' repeats names\[0\]"):
+        System([[1, 0], [0, 1]], [[-1, 1], [0, 1]], [1, 1], names=["x", "x"])
+    with pytest.raises(InvalidInput, match=r"names\[0\]: expected a non-empty string, got 7"):
+        System([[1, 0], [0, 1]], [[-1, 1]], [1], names=[7])

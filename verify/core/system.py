@@ -255,14 +255,39 @@ def _check_cors(e: list[Number]) -> None:
         raise InvalidSystem(f"restitution[{i}] = {format_exact(ei)} is outside [0, 1]")
 
 
+def default_names(r: int) -> tuple[str, ...]:
+    """The contacts' names when none are given: ``S1, S2, ...``.
+
+    >>> default_names(3)
+    ('S1', 'S2', 'S3')
+    """
+    return tuple(f"S{i + 1}" for i in range(r))
+
+
+def _check_names(names: Any, r: int) -> tuple[str, ...]:
+    """The contacts' names: one non-empty string per constraint, no two alike."""
+    if isinstance(names, (str, bytes)) or not isinstance(names, Sequence):
+        raise InvalidSystem(f"names: expected a list of {r} strings, got {type(names).__name__}")
+    if len(names) != r:
+        raise InvalidSystem(f"names: expected {r} names (one per row of normals), got {len(names)}")
+    for i, name in enumerate(names):
+        if not isinstance(name, str) or not name.strip():
+            raise InvalidSystem(f"names[{i}]: expected a non-empty string, got {name!r}")
+        if name in names[:i]:
+            first = list(names).index(name)
+            raise InvalidSystem(f"names[{i}] = {name!r} repeats names[{first}] (each contact's name must be unique)")
+    return tuple(names)
+
+
 class System:
     """A system in multiple contact with r frictionless codimension-1 constraints.
 
     ``mass_matrix`` is n x n, symmetric positive definite; ``normals`` is r x n (row i is
     ``dF_i``); ``restitution`` has r CORs in [0, 1]; ``time_terms`` has r entries
     (default 0). Numbers may be strings (``"0.1"`` is read as 1/10), ints, Fractions or
-    SymPy numbers; floats are refused. Raises :class:`~verify.errors.InvalidSystem` with
-    the offending field and value.
+    SymPy numbers; floats are refused. ``names`` labels the contacts in every output (one
+    non-empty string per row of ``normals``, no two alike; default ``S1, S2, ...``).
+    Raises :class:`~verify.errors.InvalidSystem` with the offending field and value.
 
     >>> s = System([["2", "0"], ["0", "1"]], [["-1", "1"]], ["0.5"])
     >>> s.n, s.r, s.backend.name, [str(u) for u in s.U[0]]
@@ -327,9 +352,7 @@ class System:
                         f"but [{j}][{i}] = {format_exact(g[j][i])}"
                     )
         _check_cors(e)
-        self.names = tuple(names) if names is not None else tuple(f"S{i + 1}" for i in range(r))
-        if len(self.names) != r:
-            raise InvalidSystem(f"names: expected {r} names, got {len(self.names)}")
+        self.names = _check_names(names, r) if names is not None else default_names(r)
         self.coordinates = tuple(coordinates) if coordinates is not None else tuple(f"x{i + 1}" for i in range(n))
         if len(self.coordinates) != n:
             raise InvalidSystem(f"coordinates: expected {n} names, got {len(self.coordinates)}")

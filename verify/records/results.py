@@ -117,7 +117,7 @@ def dumps(obj: Any) -> str:
 #: does not read (``why`` says why a generated case is hard); any other unknown field is refused
 ANNOTATION_FIELDS = ("why", "comment", "note", "source")
 CASE_FIELDS = {"id", "mass_matrix", "normals", "time_terms", "restitution", "velocity", "max_iterations",
-               *ANNOTATION_FIELDS}  # fmt: skip
+               "names", *ANNOTATION_FIELDS}  # fmt: skip
 REQUIRED_FIELDS = ("id", "mass_matrix", "normals", "restitution", "velocity")
 
 
@@ -192,6 +192,7 @@ def case_from_record(record: Any, where: str = "case", *, backend: Any = "exact"
             record.get("time_terms"),
             backend=backend,
             dps=dps,
+            names=record.get("names"),
         )
         if system.backend.widens_to_inputs:  # a velocity outside the field of the system widens it
             from verify.core.system import exact_backend_for_velocity

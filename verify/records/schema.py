@@ -79,6 +79,9 @@ def _message(error: Any) -> str:
         return f"{where}: too long (at most {error.validator_value})"
     if error.validator in ("minItems", "minLength"):
         return f"{where}: empty"
+    if error.validator == "uniqueItems":
+        seen = [x for i, x in enumerate(error.instance) if x in error.instance[:i]]
+        return f"{where}: {_describe(seen[0])} appears twice (the entries must be unique)"
     if error.validator == "enum":
         return f"{where}: {_describe(error.instance)} is not one of {', '.join(map(str, error.validator_value))}"
     return f"{where}: {error.message}"

@@ -88,13 +88,7 @@ def cradle_staircase(cmap: Any, path: str | Path) -> Path:
     boundary): the same steps against the distance to the boundary, on a log scale.
     The legend (:func:`staircase_legend`) names only what is drawn; unexplored parts are
     marked as proved to exit later or as undecided, with the map's reason."""
-    plt = _pyplot()
-    fig = staircase_figure(cmap)
-    path = Path(path)
-    path.parent.mkdir(parents=True, exist_ok=True)
-    fig.savefig(path, dpi=120, metadata=METADATA)
-    plt.close(fig)
-    return path
+    return _save(staircase_figure(cmap), path)
 
 
 def staircase_figure(cmap: Any) -> Any:
@@ -238,11 +232,20 @@ def corner_exit_vs_entrance(
 
 
 def _save(fig: Any, path: str | Path) -> Path:
+    """Write ``fig`` as PNG to ``path`` whole or not at all (drawn in memory, then written as
+    :func:`verify.records.files.write_atomic` does), and close it."""
+    import io
+
+    from verify.records.files import write_atomic
+
     plt = _pyplot()
     path = Path(path)
-    path.parent.mkdir(parents=True, exist_ok=True)
-    fig.savefig(path, dpi=120, metadata=METADATA)
-    plt.close(fig)
+    buffer = io.BytesIO()
+    try:
+        fig.savefig(buffer, format="png", dpi=120, metadata=METADATA)
+    finally:
+        plt.close(fig)
+    write_atomic(path, buffer.getvalue())
     return path
 
 
@@ -490,41 +493,113 @@ def engines_cradle(record: dict[str, Any], path: str | Path) -> Path:
 
 
 def eps_map_figure(m: Any, path: str | Path) -> Path:
-    """A map of :func:`verify.checks.maps.general.eps_map` drawn: for one parameter, the impulses against it
-    (as the cradle's staircase); for two, each line of the grid in the plane of the first two parameters,
+    """A map of :func:`verify.checks.maps.general.eps_map` drawn (:func:`eps_map_plot`) and written to
+    ``path`` (PNG) whole or not at all."""
+    return _save(eps_map_plot(m), path)
+
+
+def eps_map_legend(m: Any) -> list[tuple[str, str]]:
+    """The legend of :func:`eps_map_plot`: ``(kind, label)`` for each kind of part drawn, and only those.
+
+    Kinds: ``exit`` (one parameter: the impulses to exit; two or more: the colour bar says them),
+    ``non_terminating`` (proved never to exit) and ``unexplored`` (still impacting at the bound).
+
+    >>> from verify.checks.maps.general import eps_map
+    >>> from verify.models.cradle import cradle_system
+    >>> eps_map_legend(eps_map(cradle_system("1", 3), ["1", "0", "0"], max_impulses=4))
+    [('non_terminating', 'never exits (proved)'),
+     ('unexplored', 'unexplored: still impacting after 4 impulses'),
+     ('exit', 'exit after k impulses')]
+    """
+    drawn = {p.stop for line in _drawn_lines(m) for p in line.parts}
+    labels = {
+        "non_terminating": "never exits (proved)",
+        "max_iterations": f"unexplored: still impacting after {m.max_impulses} impulses",
+        "exit": "exit after k impulses",
+    }
+    kinds = {"non_terminating": "non_terminating", "max_iterations": "unexplored", "exit": "exit"}
+    return [
+        (kinds[stop], label)
+        for stop, label in labels.items()
+        if stop in drawn and (stop != "exit" or len(m.parameters) == 1)
+    ]
+
+
+def _drawn_lines(m: Any) -> list[Any]:
+    """The lines a map's figure draws: all of them, but with three parameters or more only those where
+    the third and later take their lowest value."""
+    names = list(m.parameters)
+    lowest = {n: lo for n, (lo, _) in m.parameters.items() if n not in names[:2]}
+    return [line for line in m.lines if all(v == lowest[n] for n, v in line.fixed.items() if n in lowest)]
+
+
+#: how :func:`eps_map_plot` draws the parts that do not exit: bands for one parameter, coloured lines for two
+_MAP_STYLE: dict[str, dict[str, Any]] = {
+    "non_terminating": {"color": "C3", "alpha": 0.25},
+    "unexplored": {"facecolor": "0.7", "alpha": 0.5, "hatch": "xx"},
+}
+_GRID_COLOUR = {"non_terminating": "C3", "max_iterations": "0.6", "unexplored": "0.6"}
+
+
+def eps_map_plot(m: Any) -> Any:
+    """The matplotlib figure of a map, not saved (close it with ``plt.close``). One parameter: the
+    impulses to exit against it, as the cradle's staircase, with the parts that never exit and the
+    unexplored ones as shaded bands; two: each line of the grid in the plane of the first two parameters,
     coloured by its impulses, red where the rule never exits, grey where unexplored (a third parameter and
-    more: the lines where they take their lowest value)."""
+    more: the lines where they take their lowest value). The legend (:func:`eps_map_legend`) names what is
+    drawn; the title gives each contact's COR by the contact's name."""
     plt = _pyplot()
+    from matplotlib.lines import Line2D
+    from matplotlib.patches import Patch
+
     names = list(m.parameters)
     fig, ax = plt.subplots(figsize=(5.5, 4.5), constrained_layout=True)
     top = max([p.iterations for line in m.lines for p in line.parts if p.stop == "exit"], default=1)
     cmap = plt.get_cmap("viridis")
-    for line in m.lines:
-        if any(v != m.parameters[n][0] for n, v in line.fixed.items() if n not in names[:2]):
-            continue
+    one = len(names) == 1
+    for line in _drawn_lines(m):
         for part in line.parts:
             a, b = _x(part.piece.lower), _x(part.piece.upper)
-            color = (
-                cmap(part.iterations / top)
-                if part.stop == "exit"
-                else "C3"
-                if part.stop == "non_terminating"
-                else "0.6"
-            )
-            if len(names) == 1:
-                ax.hlines(part.iterations if part.stop == "exit" else 0, a, b, color=color, lw=2)
-            elif line.free == names[0]:
-                ax.hlines(float(line.fixed[names[1]]), a, b, color=color, lw=3)
+            if one:
+                _one_parameter_part(ax, part, a, b)
+                continue
+            color = cmap(part.iterations / top) if part.stop == "exit" else _GRID_COLOUR[part.stop]
+            if line.free == names[0]:
+                ax.hlines(_x(line.fixed[names[1]]), a, b, color=color, lw=3)
             elif line.free == names[1]:
-                ax.vlines(float(line.fixed[names[0]]), a, b, color=color, lw=3)
+                ax.vlines(_x(line.fixed[names[0]]), a, b, color=color, lw=3)
     ax.set_xlabel(names[0])
-    ax.set_ylabel("impulses" if len(names) == 1 else names[1])
-    if len(names) > 1:
+    ax.set_ylabel("impulses until exit" if one else names[1])
+    if one:
+        ax.set_xlim(_x(m.lines[0].domain.lower), _x(m.lines[0].domain.upper))
+        ax.set_ylim(0, top + 1)
+    else:
         sm = plt.cm.ScalarMappable(cmap=cmap, norm=plt.Normalize(0, top))
-        fig.colorbar(sm, ax=ax, label="impulses to exit (red: never exits; grey: unexplored)")
-    ax.set_title(f"the exact map on {len(m.lines)} lines" if len(names) > 1 else "the exact map")
-    path = Path(path)
-    path.parent.mkdir(parents=True, exist_ok=True)
-    fig.savefig(path, dpi=120, metadata=METADATA)
-    plt.close(fig)
-    return path
+        fig.colorbar(sm, ax=ax, label="impulses to exit")
+    handles = [
+        Line2D([], [], color="C0", lw=2, label=label)
+        if kind == "exit"
+        else Patch(**_MAP_STYLE[kind], label=label)
+        if one
+        else Line2D([], [], color=_GRID_COLOUR[kind], lw=3, label=label)
+        for kind, label in eps_map_legend(m)
+    ]
+    if handles:
+        ax.legend(handles=handles, loc="upper right", fontsize=8)
+    cors = ", ".join(f"{name} = {cor}" for name, cor in zip(m.system.names, m.restitution))
+    where = f"the exact map on {len(m.lines)} lines" if not one else "the exact map"
+    ax.set_title(f"{where}\nCORs: {cors}", fontsize=9)
+    return fig
+
+
+def _one_parameter_part(ax: Any, part: Any, a: float, b: float) -> None:
+    """One part of a one-parameter map: a step at its impulses when it exits, a band otherwise."""
+    if part.stop == "exit":
+        if part.piece.is_point:
+            ax.plot([a], [part.iterations], "o", color="C0", ms=3)
+        else:
+            ax.hlines(part.iterations, a, b, color="C0", lw=2)
+    elif part.stop == "non_terminating":
+        ax.axvspan(a, b, lw=0, **_MAP_STYLE["non_terminating"])
+    else:
+        ax.axvspan(a, b, lw=0, **_MAP_STYLE["unexplored"])

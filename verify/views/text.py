@@ -23,6 +23,7 @@ from verify.checks.paper.table1 import (
 )
 from verify.core.format import format_decimal, format_exact
 from verify.core.rule import Result
+from verify.core.system import default_names
 from verify.models.paper import MEASURES, NORMS, PAPER_READING, PAPER_SIGMA_RELATIVE, PAPER_SIGMA_STATED, WHENS
 from verify.records.results import result_record, value_string
 
@@ -99,10 +100,20 @@ def law_lines(result: Result, indent: str = "") -> list[str]:
 
 
 def solve_text(case_id: str, result: Result) -> str:
-    """A few lines per solved case."""
+    """A few lines per solved case; the impact sets by the contacts' names when the case names them
+    (``names``), else by their 0-based indices.
+
+    >>> from verify.core.rule import solve
+    >>> from verify.core.system import System
+    >>> print(solve_text("a", solve(System([[1, 0], [0, 1]], [[-1, 1]], [1], names=["spring"]), [1, 0])))
+    a: exit after 1 impulses (...)
+      impact sets: {spring}
+    ...
+    """
     K = result.backend
     s = result.system
-    sets = " ".join("{" + ",".join(str(j) for j in J) + "}" for J in result.impact_sets[:20])
+    shown = [str(j) for j in range(s.r)] if s.names == default_names(s.r) else s.names
+    sets = " ".join("{" + ",".join(shown[j] for j in J) + "}" for J in result.impact_sets[:20])
     if result.iterations > 20:
         sets += f" ... ({result.iterations - 20} more)"
     lines = [
