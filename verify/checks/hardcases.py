@@ -56,7 +56,7 @@ from verify.core.system import System
 from verify.models.corner import corner_geometry, slope_of, velocity_of
 from verify.models.cradle import cradle_geometry
 from verify.models.wedge import below_boundary
-from verify.records.results import case_record, dumps
+from verify.records.results import case_record, dumps, with_decimals
 
 #: the iteration cap written into every case
 MAX_ITERATIONS = 10_000
@@ -515,10 +515,11 @@ def generate(level: int, seed: int) -> list[dict]:
 
 
 def generate_file_text(level: int, seed: int) -> str:
-    """The case file of :func:`generate` as text (sorted keys, two-space indentation): the same bytes
-    for the same ``(level, seed)``.
+    """The case file of :func:`generate` as text (sorted keys, two-space indentation), each case with its
+    ``decimal`` object (:func:`verify.records.results.with_decimals`): the same bytes for the same
+    ``(level, seed)``.
 
     >>> generate_file_text(1, 0).splitlines()[:3]
     ['{', '  "cases": [', '    {']
     """
-    return dumps({"cases": generate(level, seed)})
+    return dumps({"cases": [with_decimals(c) for c in generate(level, seed)]})

@@ -30,7 +30,7 @@ from verify.checks.properties.strategies import velocity_with_rates
 from verify.errors import InvalidInput
 from verify.models.corner import corner_geometry
 from verify.models.cradle import cradle_geometry
-from verify.records.results import case_from_record, case_record, dumps, read_number, result_record
+from verify.records.results import case_from_record, case_record, dumps, read_number, result_record, with_decimals
 
 GOLDEN_VERSION = "1"
 DEFAULT_RTOL = Fraction(1, 10**9)
@@ -220,7 +220,12 @@ def golden_results(
 
 
 def _summary(cases: list[dict], results: list[dict], skipped: int) -> str:
-    return f"# The golden dataset, version {GOLDEN_VERSION}\n\n" + dataset_description(cases, results, skipped)
+    decimals = (
+        "\nEach case of `cases.json` also carries `decimal`: its numbers correctly rounded to 40 significant\n"
+        "digits, for a program that reads numbers with `strtod` (`docs/oracle.md`).\n"
+    )
+    head = f"# The golden dataset, version {GOLDEN_VERSION}\n\n"
+    return head + dataset_description(cases, results, skipped) + decimals
 
 
 def dataset_description(cases: list[dict], results: list[dict], skipped: int) -> str:
@@ -255,7 +260,9 @@ def dataset_description(cases: list[dict], results: list[dict], skipped: int) ->
 
 def export(folder: str) -> list[str]:
     """Write ``cases.json``, ``results.json`` (the rule), ``results-simultaneous.json`` (the
-    simultaneous law) and ``README.md`` into ``folder``.
+    simultaneous law) and ``README.md`` into ``folder``. Each case of ``cases.json`` carries its
+    ``decimal`` object (:func:`verify.records.results.with_decimals`): its numbers correctly
+    rounded to 40 significant digits, beside the exact strings.
 
     Each file is written whole to a temporary name, then renamed: an interrupted export
     leaves no partial file behind. Returns the paths written.
@@ -263,7 +270,7 @@ def export(folder: str) -> list[str]:
     cases, skipped = golden_dataset()
     results = golden_results(cases)
     texts = {
-        "cases.json": dumps({"cases": cases}),
+        "cases.json": dumps({"cases": [with_decimals(c) for c in cases]}),
         "results.json": dumps({"results": results}),
         "results-simultaneous.json": dumps({"results": golden_results(cases, law="simultaneous")}),
         "README.md": _summary(cases, results, skipped),

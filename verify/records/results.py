@@ -117,7 +117,7 @@ def dumps(obj: Any) -> str:
 #: does not read (``why`` says why a generated case is hard); any other unknown field is refused
 ANNOTATION_FIELDS = ("why", "comment", "note", "source")
 CASE_FIELDS = {"id", "mass_matrix", "normals", "time_terms", "restitution", "velocity", "max_iterations",
-               "names", *ANNOTATION_FIELDS}  # fmt: skip
+               "names", "decimal", *ANNOTATION_FIELDS}  # fmt: skip
 REQUIRED_FIELDS = ("id", "mass_matrix", "normals", "restitution", "velocity")
 
 
@@ -150,6 +150,110 @@ def case_record(
         "velocity": [format_exact(x) for x in velocity],
         "max_iterations": max_iterations,
     }
+
+
+# -- decimals beside the exact strings of a case (verify oracle export, verify oracle generate) -----
+
+#: significant digits of the decimals of a case's ``decimal`` object: binary64 needs 17 to be
+#: read back to the nearest double, IEEE binary128 36
+CASE_DECIMAL_DIGITS = 40
+#: the fields of a case record that hold numbers (rows of exact strings)
+CASE_NUMBER_FIELDS = ("mass_matrix", "normals", "time_terms", "restitution", "velocity")
+_PLAIN_DECIMAL = re.compile(r"-?(?:\d+(?:\.\d*)?|\.\d+)(?:[eE][-+]?\d+)?")
+
+
+def exact_decimal(text: str, digits: int = CASE_DECIMAL_DIGITS, where: str | None = None) -> str:
+    """The value of the exact number string ``text``, correctly rounded (half to even) to ``digits``
+    significant digits, from the exact value (rationals in integer arithmetic, closed forms from
+    certified enclosures: :func:`verify.core.format.format_decimal`); trailing zeros dropped, an
+    exponent outside [1e-7, 1e30). ``strtod`` reads it.
+
+    >>> exact_decimal("1/3"), exact_decimal("-25*sqrt(2) + 25*sqrt(6)", 20), exact_decimal("1/2")
+    ('0.3333333333333333333333333333333333333333', '25.881904510252076235', '0.5')
+    """
+    from verify.core.format import format_decimal
+    from verify.core.parse import parse_number
+
+    return format_decimal(parse_number(text, where=where), digits)
+
+
+def _decimals_of(value: Any, digits: int, where: str) -> Any:
+    if isinstance(value, list):
+        return [_decimals_of(x, digits, f"{where}[{i}]") for i, x in enumerate(value)]
+    return exact_decimal(value, digits, where)
+
+
+def case_decimals(record: dict[str, Any], digits: int = CASE_DECIMAL_DIGITS) -> dict[str, Any]:
+    """The ``decimal`` object of a case record: ``digits``, and for each number field of the record
+    (:data:`CASE_NUMBER_FIELDS`) the same rows with each exact string correctly rounded to ``digits``
+    significant digits (:func:`exact_decimal`), for readers without an expression parser.
+
+    >>> case_decimals({"id": "a", "mass_matrix": [["1"]], "normals": [["sqrt(2)"]], "restitution": ["1/3"],
+    ...                "velocity": ["-2"]}, 10)
+    {'digits': 10, 'mass_matrix': [['1']], 'normals': [['1.414213562']], 'restitution': ['0.3333333333'],
+     'velocity': ['-2']}
+    """
+    out: dict[str, Any] = {"digits": digits}
+    for name in CASE_NUMBER_FIELDS:
+        if name in record:
+            out[name] = _decimals_of(record[name], digits, name)
+    return out
+
+
+def with_decimals(record: dict[str, Any], digits: int = CASE_DECIMAL_DIGITS) -> dict[str, Any]:
+    """The case record with its ``decimal`` object (:func:`case_decimals`): what ``verify oracle
+    export`` and ``verify oracle generate`` write."""
+    return {**record, "decimal": case_decimals(record, digits)}
+
+
+def _check_decimal_rows(given: Any, exact: Any, digits: int, where: str, field: str) -> None:
+    if isinstance(exact, list):
+        if not isinstance(given, list) or len(given) != len(exact):
+            shown = f"{len(given)} entries" if isinstance(given, list) else type(given).__name__
+            raise InvalidInput(f"{where}: expected {len(exact)} entries, as {field} has, got {shown}")
+        for i, (g, e) in enumerate(zip(given, exact)):
+            _check_decimal_rows(g, e, digits, f"{where}[{i}]", f"{field}[{i}]")
+        return
+    if not isinstance(given, str) or not _PLAIN_DECIMAL.fullmatch(given):
+        raise InvalidInput(f'{where}: expected a decimal such as "0.25" or "1.5e-9", got {given!r}')
+    expected = exact_decimal(exact, digits, field)
+    if Fraction(given) != Fraction(expected):
+        raise InvalidInput(
+            f"{where}: {given!r} is not {field} = {exact!r} correctly rounded to {digits} significant digits "
+            f"({expected!r})"
+        )
+
+
+def check_decimals(record: dict[str, Any], where: str = "case") -> None:
+    """Refuse a ``decimal`` object that does not hold exactly the case's numbers: the same number
+    fields, the same shapes, each decimal the exact string's value correctly rounded to
+    ``digits`` significant digits (the same value as :func:`exact_decimal`'s, trailing zeros free).
+
+    >>> r = with_decimals({"id": "a", "mass_matrix": [["1"]], "normals": [["1"]], "restitution": ["1/3"],
+    ...                    "velocity": ["-2"]}, 5)
+    >>> check_decimals(r)
+    >>> check_decimals(dict(r, decimal=dict(r["decimal"], restitution=["0.3333"])))
+    Traceback (most recent call last):
+    ...
+    verify.errors.InvalidInput: case.decimal.restitution[0]: '0.3333' is not restitution[0] = '1/3' correctly
+    rounded to 5 significant digits ('0.33333')
+    """
+    given = record["decimal"]
+    here = f"{where}.decimal"
+    if not isinstance(given, dict):
+        raise InvalidInput(f"{here}: expected an object, got {type(given).__name__}")
+    digits = given.get("digits")
+    if isinstance(digits, bool) or not isinstance(digits, int) or not 1 <= digits <= 1000:
+        raise InvalidInput(f"{here}.digits: expected an integer from 1 to 1000, got {digits!r}")
+    unknown = sorted(set(given) - {"digits", *CASE_NUMBER_FIELDS})
+    if unknown:
+        raise InvalidInput(f"{here}: unknown field {unknown[0]!r}")
+    for name in CASE_NUMBER_FIELDS:
+        if (name in record) != (name in given):
+            what = "missing field" if name in record else "a field the case does not have:"
+            raise InvalidInput(f"{here}: {what} {name!r}")
+        if name in record:
+            _check_decimal_rows(given[name], record[name], digits, f"{here}.{name}", name)
 
 
 def _prefixed(where: str, exc: InvalidInput) -> InvalidInput:
@@ -202,6 +306,8 @@ def case_from_record(record: Any, where: str = "case", *, backend: Any = "exact"
             velocity = system.velocity(record["velocity"])
     except InvalidInput as exc:
         raise _prefixed(where, exc) from None
+    if "decimal" in record:  # every number read: the decimals beside them must be theirs
+        check_decimals(record, where)
     return Case(case_id, system, record["velocity"], velocity, cap)
 
 
