@@ -45,8 +45,9 @@ sys.exit(code)
 SWEEP = ["sweep", "--cases", "3"]
 
 
-def run(argv: list[str]) -> subprocess.CompletedProcess[str]:
-    env = dict(os.environ, PYTHONPATH=str(ROOT), TERM="dumb")
+def run(argv: list[str], scratch: Path) -> subprocess.CompletedProcess[str]:
+    """The script with ``argv``; Dask's scratch space (its worker's folder) under ``scratch``."""
+    env = dict(os.environ, PYTHONPATH=str(ROOT), TERM="dumb", TMPDIR=str(scratch))
     return subprocess.run(
         [sys.executable, "-c", SCRIPT, *argv],
         check=False,
@@ -63,8 +64,8 @@ def levels_after(stderr: str) -> str:
 
 
 @pytest.fixture(scope="module")
-def loud() -> subprocess.CompletedProcess[str]:
-    return run(SWEEP)
+def loud(tmp_path_factory: pytest.TempPathFactory) -> subprocess.CompletedProcess[str]:
+    return run(SWEEP, tmp_path_factory.mktemp("loud"))
 
 
 def test_without_quiet_dask_warnings_reach_stderr(loud: subprocess.CompletedProcess[str]) -> None:
@@ -73,8 +74,8 @@ def test_without_quiet_dask_warnings_reach_stderr(loud: subprocess.CompletedProc
     assert ERROR in loud.stderr
 
 
-def test_quiet_silences_dask_warnings_but_not_errors(loud: subprocess.CompletedProcess[str]) -> None:
-    quiet = run([*SWEEP, "--quiet"])
+def test_quiet_silences_dask_warnings_but_not_errors(loud: subprocess.CompletedProcess[str], tmp_path: Path) -> None:
+    quiet = run([*SWEEP, "--quiet"], tmp_path)
     assert quiet.returncode == 0, quiet.stderr
     assert WARNING not in quiet.stderr
     assert ERROR in quiet.stderr  # --quiet: the result and errors
