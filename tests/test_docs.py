@@ -62,6 +62,54 @@ def test_no_file_points_outside_the_repository():
     assert not found, "these lines point at a folder that users do not have:\n" + "\n".join(found)
 
 
+# -- no path of the machine the files were made on ------------------------------------------------
+
+#: the folders of users and checkouts on the machines this project is made on, built from pieces so that
+#: this file does not contain them: no file of the project may hold such a path (a program's output
+#: copied into a page brings them in, as python3's "can't open file" message did)
+MACHINE_DIRS = ("work", "root", "home", "Users")
+_MACHINE_PATH = re.compile(r"(?<![\w.~-])/(?:" + "|".join(MACHINE_DIRS) + r")/[\w.-]")
+_TMP_PATH = re.compile(r"(?<![\w.~-])/" + "tmp" + r"/[\w.-]+")
+#: where a path of /tmp is a path of the machine: the pages and data a user reads (tests and code use
+#: temporary folders legitimately)
+USER_FACING = ("README.md", "docs", "golden", "examples")
+
+
+def machine_paths(text: str, rel: str) -> list[str]:
+    """The lines of a file (``rel``, relative to the root) that hold an absolute path of a machine: a
+    user's or checkout's folder, or, in the pages and data a user reads, a temporary folder that no
+    command shown in the file was given (a transcript may show a folder its own command names:
+    ``$ verify report --out /tmp/x``)."""
+    given = {
+        m.group(0) for line in text.splitlines() if line.lstrip().startswith("$ ") for m in _TMP_PATH.finditer(line)
+    }
+    user_facing = any(rel == d or rel.startswith(d + "/") for d in USER_FACING)
+    found = []
+    for i, line in enumerate(text.splitlines(), 1):
+        tmp = [m.group(0) for m in _TMP_PATH.finditer(line)] if user_facing else []
+        if _MACHINE_PATH.search(line) or any(t not in given for t in tmp):
+            found.append(f"{rel}:{i}: {line.strip()}")
+    return found
+
+
+def test_the_path_finder_finds_what_it_looks_for() -> None:
+    """A guard for the next test, on lines like the one that slipped in before (issue 34, item 8)."""
+    bad = "verify: error: python3: can't open file '/" + "work/main/no_such_solver.py'"
+    assert machine_paths(bad, "docs/x.md") == [f"docs/x.md:1: {bad}"]
+    assert machine_paths("at /" + "home/ann/verify/x.py", "verify/x.py") != []
+    assert machine_paths("see docs/work/x and ./root/y and https://example.org/home/", "docs/x.md") == []
+    transcript = "\n".join(["$ verify report --out /" + "tmp/run/reports", "reports written to /" + "tmp/run/reports/",
+                            "wrote /" + "tmp/elsewhere/x.json"])  # fmt: skip
+    assert machine_paths(transcript, "docs/x.md") == ["docs/x.md:3: wrote /" + "tmp/elsewhere/x.json"]
+    assert machine_paths(transcript, "tests/x.py") == []  # tests use temporary folders
+
+
+def test_no_file_holds_a_path_of_the_machine_it_was_made_on() -> None:
+    found = [line for p in project_text_files()
+             for line in machine_paths(p.read_text(encoding="utf-8"), p.relative_to(ROOT).as_posix())]  # fmt: skip
+    assert not found, "these lines hold an absolute path of a machine (use a relative path):\n" + "\n".join(found)
+
+
 # -- links -------------------------------------------------------------------------------------
 
 _FENCE = re.compile(r"^```.*?^```", re.S | re.M)

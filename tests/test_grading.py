@@ -305,3 +305,118 @@ def test_the_error_table_has_one_row_per_file(tmp_path: Path) -> None:
     assert [r["name"] for r in rows] == ["exact", "results-simultaneous.json"]
     assert rows[0]["classes"] == {"exact": 49} and rows[0]["worst_relative_error"]["value"] == "0"
     assert rows[1]["classes"].get("exact", 0) < 49  # the other law's results are graded against the rule
+
+
+# -- issue 34: the tolerance's basis (item 3), beta's own tolerance (item 2), the lines that show a class -----
+
+
+def heavy_case() -> dict[str, Any]:
+    """A light ball stuck to a heavy one (COR 0): the exit speed is a millionth of the entrance speed."""
+    return cradle_case("heavy", ["1", "1000000"], ["0"], ["1000", "0"])
+
+
+def test_the_default_tolerance_is_relative_to_the_exit_speed(tmp_path: Path) -> None:
+    """An exit velocity off by 9e-5 of itself (its fifth significant digit) fails by default, although that
+    error is far below 1e-9 of the entrance speed; --rtol and --atol still widen the tolerance."""
+    cs = [heavy_case()]
+    (r,) = exact_results(cs)
+    v = velocity(r)
+    speed_in, speed_out = Fraction(1000), max(abs(x) for x in v)
+    assert speed_out * 10**5 < speed_in  # the exit speed is small
+    off = with_velocity(r, [x * (1 + Fraction(9, 10**5)) for x in v])
+    assert grade_of(cs, [off]) == {"heavy": "out_of_tolerance"}
+    (case_file := tmp_path / "cases.json").write_text(json.dumps({"cases": cs}), encoding="utf-8")
+    (result_file := tmp_path / "r.json").write_text(json.dumps({"results": [off]}), encoding="utf-8")
+    default = run_check(str(case_file), str(result_file), "--json")
+    assert default.returncode == 1 and json.loads(default.stdout)["classes"] == {"out_of_tolerance": 1}
+    for option in (["--rtol", "1e-4"], ["--atol", "1e-6"]):
+        wide = run_check(str(case_file), str(result_file), "--json", *option)
+        assert wide.returncode == 0 and json.loads(wide.stdout)["classes"] == {"within_tolerance": 1}, option
+
+
+def test_a_component_that_is_exactly_0_has_a_floor_scaled_by_the_entrance_speed() -> None:
+    cs = [cradle_case("stop", ["1", "1"], ["0"], ["1", "-1"])]  # both balls stop: the exit speed is 0
+    (r,) = exact_results(cs)
+    assert velocity(r) == [0, 0]
+    rounded = with_velocity(r, [Fraction(1, 10**17), Fraction(-1, 10**17)])
+    wrong = with_velocity(r, [Fraction(1, 10**6), Fraction(-1, 10**6)])
+    assert grade_of(cs, [rounded]) == {"stop": "within_tolerance"}
+    assert grade_of(cs, [wrong]) == {"stop": "out_of_tolerance"}
+    c = oracle.compare(cs, [r], [rounded], rtol=RTOL, atol=Fraction(0), floor=Fraction(0))
+    assert [g.cls for g in c.grades] == ["out_of_tolerance"]  # --floor 0: exactly 0 means 0
+
+
+def test_the_summary_prints_the_basis_of_the_tolerance() -> None:
+    from verify.checks.grading import Tolerance
+
+    done = run_check("golden/cases.json", "golden/results.json")
+    assert done.returncode == 0
+    assert f"tolerance: {Tolerance().describe()}\n" in done.stdout
+    assert "|v_exit| (the exact exit speed" in Tolerance().describe()
+    loose = run_check("golden/cases.json", "golden/results.json", "--rtol", "1e-3", "--atol", "1/2", "--floor", "0")
+    assert "tolerance: |got_i - exact_i| <= 0.5 + 0.001 |v_exit| (the exact exit speed" in loose.stdout
+    assert "where exact_i = 0" not in loose.stdout
+
+
+def test_beta_has_its_own_tolerance_not_the_velocity_s(tmp_path: Path) -> None:
+    """{"default": {"rtol": "0", "ulps": 4096}} leaves beta's tolerance at its own default: a beta rounded
+    as a float rounds it is not a wrong branch (and not exact); beta's own field still grades it."""
+    from verify.checks import grading
+
+    cs = [cradle_case("both", ["1", "2", "1"], ["1/2", "1"], ["1", "0", "-1"])]
+    (r,) = exact_results(cs)
+    rounded = copy.deepcopy(r)
+    rounded["betas"][0] = str(oracle.approx(r["betas"][0]) * (1 + Fraction(1, 10**15)))
+    budgets = grading.Budgets.parse({"default": {"rtol": "0", "ulps": 4096}})
+    c = oracle.compare(cs, [r], [rounded], rtol=Fraction(0), atol=Fraction(0), budgets=budgets)
+    assert [g.cls for g in c.grades] == ["within_tolerance"] and c.ok
+    assert budgets.default.beta == grading.DEFAULT_BETA == grading.Tolerance().beta
+    strict = grading.Budgets.parse({"default": {"rtol": "0", "ulps": 4096, "beta": "1e-16"}})
+    c = oracle.compare(cs, [r], [rounded], rtol=Fraction(0), atol=Fraction(0), budgets=strict)
+    assert [g.cls for g in c.grades] == ["wrong_branch"] and "expected beta" in c.grades[0].detail
+
+
+def test_every_wrong_branch_line_shows_the_exact_rates_where_the_runs_part() -> None:
+    """Also where the exact run ends and the other goes on: the rates of the exact exit velocity."""
+    from verify.core.format import format_exact
+
+    cs = cases()[:1]
+    (r,) = exact_results(cs)
+    longer = copy.deepcopy(r)
+    longer["impact_sets"].append([0])
+    longer["iterations"] += 1
+    (g,) = oracle.compare(cs, [r], [longer], rtol=RTOL, atol=Fraction(0)).grades
+    normals = [[oracle.approx(x) for x in row] for row in cs[0]["normals"]]
+    rates = [sum((a * x for a, x in zip(row, velocity(r))), Fraction(0)) for row in normals]
+    assert all(x >= 0 for x in rates)
+    assert g.cls == "wrong_branch" and g.detail.startswith("from impulse 4: expected none (the run ends), got [0]")
+    assert f"rates p(F) = ({', '.join(format_exact(x) for x in rates)})" in g.detail
+    shorter = copy.deepcopy(r)
+    shorter["impact_sets"].pop()
+    shorter["iterations"] -= 1
+    (g,) = oracle.compare(cs, [r], [shorter], rtol=RTOL, atol=Fraction(0)).grades
+    assert g.cls == "wrong_branch" and "from impulse 3: expected [0], got none" in g.detail
+    assert "rates p(F) = (" in g.detail
+
+
+def test_momentum_drift_and_energy_error_lines_give_the_drift_and_the_energy() -> None:
+    from verify.core.format import format_decimal
+
+    cs = cases()[:1]
+    (r,) = exact_results(cs)
+    v = velocity(r)
+    drift = with_velocity(r, [x + Fraction(1, 10**3) for x in v])  # unit masses: the momentum gains 3/1000
+    c = oracle.compare(cs, [r], [drift], rtol=RTOL, atol=Fraction(0))
+    (g,) = c.grades
+    assert g.cls == "momentum_drift" and "drift 0.003 > tolerance" in g.detail and "(1, 1, 1)" in g.detail
+    delta = [Fraction(1), Fraction(-2), Fraction(1)]
+    slope = sum(x * d for x, d in zip(v, delta))
+    up = Fraction(1, 10**3) * (1 if slope >= 0 else -1)
+    gain = with_velocity(r, [x + up * d for x, d in zip(v, delta)])
+    (g,) = oracle.compare(cs, [r], [gain], rtol=RTOL, atol=Fraction(0)).grades
+    excess = energy(cs[0], velocity(gain)) - energy(cs[0], v)
+    assert g.cls == "energy_error"
+    assert g.detail.startswith(
+        "the kinetic energy of the exit velocity is " + format_decimal(energy(cs[0], velocity(gain)), 12)
+    )
+    assert f": {format_decimal(excess, 3)} too much > tolerance" in g.detail

@@ -132,31 +132,57 @@ def free_directions(normals: list[list[Fraction]]) -> list[list[Fraction]]:
     return kernel(normals)
 
 
-def _conservation(case: dict[str, Any], exact: dict[str, Any], mine: dict[str, Any], tol: Fraction) -> str | None:
-    """``momentum_drift`` or ``energy_error`` when the exit velocity breaks what the law keeps."""
+def _conservation(
+    case: dict[str, Any], exact: dict[str, Any], mine: dict[str, Any], tol: Fraction
+) -> tuple[str, str] | None:
+    """``momentum_drift`` or ``energy_error`` when the exit velocity breaks what the law keeps, with the
+    line that shows it: the momentum's drift, or the energy's excess, and the tolerance.
+
+    >>> case = {"id": "c", "mass_matrix": [["1", "0", "0"], ["0", "1", "0"], ["0", "0", "1"]],
+    ...         "normals": [["-1", "1", "0"], ["0", "-1", "1"]], "velocity": ["1", "0", "0"]}
+    >>> exact = {"kinetic_energy_in": "1/2", "kinetic_energy_out": "1/2"}
+    >>> _conservation(case, exact, {"exit_velocity": ["0", "0", "1.5"]}, Fraction(1, 10**9))
+    ('momentum_drift', 'the momentum along the free direction (1, 1, 1) (u . g v) is 1.5
+    where the entrance has 1: drift 0.5 > tolerance 3e-9')
+    >>> _conservation(case, exact, {"exit_velocity": ["-0.1", "0.1", "1"]}, Fraction(1, 10**9))
+    ('energy_error', "the kinetic energy of the exit velocity is 0.51, the law's 0.5: 0.01 too much > tolerance 5e-10")
+    """
+    from verify.core.format import format_decimal
+
     cid = case["id"]
     g = [_numbers(row, f"{cid}.mass_matrix") for row in case["mass_matrix"]]
     normals = [_numbers(row, f"{cid}.normals") for row in case["normals"]]
     v_in = _numbers(case["velocity"], f"{cid}.velocity")
     got = _numbers(mine["exit_velocity"], f"results[{cid}].exit_velocity")
-    diff = [a - b for a, b in zip(got, v_in)]
     scale = max(abs(x) for x in v_in) or Fraction(1)
+
+    def momentum(u: list[Fraction], v: list[Fraction]) -> Fraction:
+        return sum((ui * sum((gij * x for gij, x in zip(row, v)), Fraction(0)) for ui, row in zip(u, g)), Fraction(0))
+
     for u in free_directions(normals):
-        drift = sum(
-            (ui * sum((gij * d for gij, d in zip(row, diff)), Fraction(0)) for ui, row in zip(u, g)), Fraction(0)
-        )
+        before, after = momentum(u, v_in), momentum(u, got)
         size = (
             sum((abs(ui) * sum((abs(gij) for gij in row), Fraction(0)) for ui, row in zip(u, g)), Fraction(0)) * scale
         )
-        if abs(drift) > tol * size:
-            return "momentum_drift"
+        if abs(after - before) > tol * size:
+            direction = ", ".join(str(x) for x in u)
+            return "momentum_drift", (
+                f"the momentum along the free direction ({direction}) (u . g v) is {format_decimal(after, 12)} "
+                f"where the entrance has {format_decimal(before, 12)}: drift {format_decimal(after - before, 3)} "
+                f"> tolerance {format_decimal(tol * size, 3)}"
+            )
     if any(_numbers(case.get("time_terms") or ["0"], f"{cid}.time_terms")):
         return None  # moving constraints: energies are measured in their rest frame, not checked here
     energy = sum(got[i] * g[i][j] * got[j] for i in range(len(got)) for j in range(len(got))) / 2
     allowed = _numbers([exact["kinetic_energy_out"]], f"{cid}.kinetic_energy_out")[0]
     e_in = _numbers([exact["kinetic_energy_in"]], f"{cid}.kinetic_energy_in")[0]
-    if energy - allowed > tol * max(e_in, Fraction(1, 10**30)):
-        return "energy_error"
+    bound = tol * max(e_in, Fraction(1, 10**30))
+    if energy - allowed > bound:
+        return "energy_error", (
+            f"the kinetic energy of the exit velocity is {format_decimal(energy, 12)}, the law's "
+            f"{format_decimal(allowed, 12)}: {format_decimal(energy - allowed, 3)} too much "
+            f"> tolerance {format_decimal(bound, 3)}"
+        )
     return None
 
 
@@ -198,14 +224,37 @@ def grade_case(
     both_exit = exact["stop"] == "exit" and mine.get("stop", "exit") == "exit"
     speed, ulp_count = needed(exact, mine, cid) if both_exit else (None, None)
     if "exit_velocity" in kinds:
-        cls = _conservation(case, exact, mine, tol) or "out_of_tolerance"
-        return Grade(cid, cls, first, needed_speed=speed, needed_ulps=ulp_count)
-    cls = "exact" if speed == 0 or (speed is None and not found) else "within_tolerance"
-    return Grade(cid, cls, needed_speed=speed, needed_ulps=ulp_count)
+        cls, detail = _conservation(case, exact, mine, tol) or ("out_of_tolerance", first)
+        return Grade(cid, cls, detail, needed_speed=speed, needed_ulps=ulp_count)
+    equal = (speed == 0 or (speed is None and not found)) and _betas_equal(exact, mine, cid)
+    return Grade(cid, "exact" if equal else "within_tolerance", needed_speed=speed, needed_ulps=ulp_count)
+
+
+def _betas_equal(exact: dict[str, Any], mine: dict[str, Any], cid: str) -> bool:
+    """Whether every beta given equals the exact one (a beta within its tolerance is not ``exact``)."""
+    from verify.records.results import read_number
+
+    return all(
+        (e is None) == (m is None)
+        and (e is None or read_number(e, f"{cid}.betas[{w}]") == read_number(m, f"results[{cid}].betas[{w}]"))
+        for w, (e, m) in enumerate(zip(exact["betas"], mine.get("betas") or []))
+    )
 
 
 def divergence(case: dict[str, Any], exact: dict[str, Any], found: list[Any]) -> str:
-    """Where the exact run stands at the first impulse the runs part: its rates and beta there."""
+    """Where the exact run stands at the first impulse the runs part: its rates p(F_i) there (those of
+    its exit velocity when it ends there), and its beta at that impulse (``-`` for a single impact or
+    none). Each is exact when short (at most 24 characters), else ``~`` and its decimal to 6
+    significant digits.
+
+    >>> case = {"id": "c", "mass_matrix": [["1", "0", "0"], ["0", "1", "0"], ["0", "0", "1"]],
+    ...         "normals": [["-1", "1", "0"], ["0", "-1", "1"]], "restitution": ["1", "1"], "velocity": ["1", "0", "0"]}
+    >>> exact = {"impact_sets": [[0], [1]]}
+    >>> class M:
+    ...     field, detail = "impact_sets", "from impulse 3: expected none (the run ends), got [0]"
+    >>> divergence(case, exact, [M()])
+    '; the exact run there: rates p(F) = (0, 1), beta = - (the run ends: no rate is negative)'
+    """
     import re
 
     from verify.core.rule import solve
@@ -216,15 +265,26 @@ def divergence(case: dict[str, Any], exact: dict[str, Any], found: list[Any]) ->
     if not match:
         return ""
     w = int(match.group(1))
-    if w > len(exact["impact_sets"]):
-        return ""
     c = case_from_record({k: v for k, v in case.items() if k in CASE_KEYS}, f"case {case['id']}")
-    run = solve(c.system, c.velocity_source, max_iterations=w, certify=False)
-    step = run.steps[w - 1]
+    run = solve(c.system, c.velocity_source, law=exact.get("law", "rule"), max_iterations=w, certify=False)
     K = run.backend
-    rates = ", ".join(K.to_decimal(x, 6) for x in step.rates)
-    beta = "-" if step.beta is None else K.to_decimal(step.beta, 12)
-    return f"; the exact run there: rates p(F) = ({rates}), beta = {beta}"
+    if len(run.steps) >= w:
+        step = run.steps[w - 1]
+        rates, beta, end = step.rates, step.beta, ""
+    else:  # the exact run ends before impulse w: the rates of its exit velocity, none of them negative
+        rates, beta, end = run.system.rates(run.exit_velocity), None, " (the run ends: no rate is negative)"
+    shown = ", ".join(_value_text(K, x) for x in rates)
+    beta_text = "-" if beta is None else _value_text(K, beta)
+    return f"; the exact run there: rates p(F) = ({shown}), beta = {beta_text}{end}"
+
+
+def _value_text(K: Any, x: Any) -> str:
+    """An exact value as its exact string when short, else ``~`` and 6 significant digits."""
+    if K.is_exact:
+        text = K.to_exact(x)
+        if len(text) <= 24:
+            return text
+    return "~" + K.to_decimal(x, 6)
 
 
 #: the fields of a case record that :func:`verify.records.results.case_from_record` reads
@@ -269,28 +329,47 @@ def hardest(grades: list[Grade], count: int = 5) -> list[Grade]:
     return sorted(measured, key=lambda g: (-(g.needed_speed or 0), g.case_id))[:count]
 
 
+#: the default tolerances of ``verify oracle check`` (docs/oracle.md, "The tolerance"): a component of the
+#: exit velocity within ``DEFAULT_RTOL`` of the exact exit speed, a component that is exactly 0 also within
+#: ``DEFAULT_FLOOR`` of the entrance speed, a beta within ``DEFAULT_BETA`` of its exact value (relative)
+DEFAULT_RTOL = Fraction(1, 10**8)
+DEFAULT_FLOOR = Fraction(1, 10**12)
+DEFAULT_BETA = Fraction(1, 10**9)
+
+
 @dataclass(frozen=True)
 class Tolerance:
-    """What the exit velocity and the betas of one case may be off by: a component passes within
-    ``atol + rtol * |v_in|`` (the entrance speed), or ``speed * |v_exit|`` (the exact exit speed),
-    or ``ulps`` binary64 ulps of the exact component, whichever is largest; a beta within ``beta``
-    times its exact value.
+    """What the exit velocity and the betas of one case may be off by. A component passes within the
+    largest of ``atol + rtol * |v_exit|`` (``|v_exit|`` the exact exit speed, ``max_i |exact_i|``),
+    ``speed * |v_exit|`` and ``ulps`` binary64 ulps of the exact component; a component that is exactly
+    0 also within ``atol + floor * |v_in|`` (``|v_in|`` the entrance speed, ``max_i |v_in_i|``: an exit
+    speed of 0 has no digits to be relative to). A beta passes within ``beta`` times its exact value,
+    whatever the velocity's tolerance.
 
     >>> t = Tolerance(rtol=Fraction(0), ulps=4)
     >>> t.allows(Fraction(1) + 4 * ulp(Fraction(1)), Fraction(1), Fraction(1), Fraction(1))
     True
+    >>> d = Tolerance()
+    >>> d.allows(Fraction(100) * (1 + Fraction(9, 10**5)), Fraction(100), Fraction(10**4), Fraction(100))
+    False
+    >>> d.allows(Fraction(1, 10**10), Fraction(0), Fraction(100), Fraction(0))
+    True
     """
 
-    rtol: Fraction = Fraction(1, 10**9)
+    rtol: Fraction = DEFAULT_RTOL
     atol: Fraction = Fraction(0)
     speed: Fraction = Fraction(0)
     ulps: int = 0
-    beta: Fraction | None = None  # default: rtol
+    beta: Fraction = DEFAULT_BETA
+    floor: Fraction = DEFAULT_FLOOR
 
     def bound(self, exact: Fraction, entrance: Fraction, exit_speed: Fraction) -> Fraction:
         """The largest error allowed on a component whose exact value is ``exact``."""
+        relative = self.rtol * exit_speed
+        if exact == 0:
+            relative = max(relative, self.floor * entrance)
         return max(
-            self.atol + self.rtol * entrance,
+            self.atol + relative,
             self.speed * exit_speed,
             self.ulps * ulp(max(abs(exact), exit_speed / 2**53)),
         )
@@ -300,23 +379,62 @@ class Tolerance:
 
     @property
     def beta_rtol(self) -> Fraction:
-        return self.rtol if self.beta is None else self.beta
+        """The tolerance of a beta, relative to its exact value (its own field, not ``rtol``)."""
+        return self.beta
+
+    def describe(self) -> str:
+        """The basis of the tolerance in one line (the summary of ``verify oracle check``).
+
+        >>> print(Tolerance().describe())
+        |got_i - exact_i| <= 1e-8 |v_exit| (the exact exit speed, max_i |exact_i|); where exact_i = 0,
+        also <= 1e-12 |v_in| (the entrance speed); beta within 1e-9 of the exact beta, relative
+        >>> print(Tolerance(rtol=Fraction(0), floor=Fraction(0)).describe())
+        |got_i - exact_i| <= 0; beta within 1e-9 of the exact beta, relative
+        """
+        plus = f"{_short(self.atol)} + " if self.atol else ""
+        if self.rtol:
+            out = f"|got_i - exact_i| <= {plus}{_short(self.rtol)} |v_exit| (the exact exit speed, max_i |exact_i|)"
+        else:
+            out = f"|got_i - exact_i| <= {_short(self.atol)}"
+        extra = [f"{_short(self.speed)} |v_exit|"] if self.speed else []
+        extra += [f"{self.ulps} binary64 ulps of exact_i"] if self.ulps else []
+        if extra:
+            out += ", or " + ", or ".join(extra)
+        if self.floor:
+            out += f"; where exact_i = 0, also <= {plus}{_short(self.floor)} |v_in| (the entrance speed)"
+        return out + f"; beta within {_short(self.beta)} of the exact beta, relative"
+
+
+def _short(x: Fraction) -> str:
+    """A tolerance in a few characters, computed exactly: decimals from 0.001 up, else ``M e-K``.
+
+    >>> _short(Fraction(1, 10**9)), _short(Fraction(0)), _short(Fraction(25, 10**5)), _short(Fraction(1, 3 * 10**7))
+    ('1e-9', '0', '0.00025', '3.33333e-8')
+    """
+    from verify.core.format import format_decimal
+
+    if x == 0 or x >= Fraction(1, 10**5):
+        return format_decimal(x, 6)
+    e = 0
+    while x * 10**e < 1:
+        e += 1
+    return f"{format_decimal(x * 10**e, 6)}e-{e}"
 
 
 def _tolerance(spec: Any, where: str, base: Tolerance) -> Tolerance:
-    """A tolerance from its JSON object (``rtol``, ``atol``, ``speed``: number strings; ``ulps``: an
-    integer; ``beta``: a number string), the fields not given taken from ``base``."""
+    """A tolerance from its JSON object (``rtol``, ``atol``, ``speed``, ``floor``, ``beta``: number strings;
+    ``ulps``: an integer), the fields not given taken from ``base``."""
     from verify.errors import InvalidInput
     from verify.records.results import read_number
 
     if not isinstance(spec, dict):
         raise InvalidInput(f"{where}: expected an object")
-    known = {"rtol", "atol", "speed", "ulps", "beta"}
+    known = {"rtol", "atol", "speed", "ulps", "beta", "floor"}
     unknown = sorted(set(spec) - known)
     if unknown:
         raise InvalidInput(f"{where}: unknown field {unknown[0]!r} (known: {', '.join(sorted(known))})")
     values: dict[str, Any] = {}
-    for key in ("rtol", "atol", "speed", "beta"):
+    for key in ("rtol", "atol", "speed", "beta", "floor"):
         if key in spec:
             if not isinstance(spec[key], str):
                 raise InvalidInput(f'{where}.{key}: expected a number string such as "1e-9"')

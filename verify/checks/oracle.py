@@ -8,8 +8,9 @@ and cases proved never to exit. :func:`export` writes it with its exact results
 (``verify oracle export DIR``); regenerating gives the same bytes.
 
 :func:`compare` checks another implementation's result file against the exact results:
-the stop reason, the iteration count, the impact sets, and the exit velocity within
-``atol + rtol * |v_in|`` (max norm of the entrance velocity); every mismatch is listed.
+the stop reason, the iteration count, the impact sets, the betas, and the exit velocity within
+``atol + rtol * |v_exit|`` (max norm of the exact exit velocity; a component that is exactly 0 also
+within ``atol + floor * |v_in|``); every mismatch is listed.
 
 >>> [c["id"] for c in golden_cases()][:2]
 ['paper-table1-eps-1', 'paper-table1-eps-0.99']
@@ -25,7 +26,7 @@ from dataclasses import dataclass, field
 from fractions import Fraction
 from typing import Any
 
-from verify.checks.grading import Tolerance
+from verify.checks.grading import DEFAULT_FLOOR, DEFAULT_RTOL, Tolerance
 from verify.checks.properties.strategies import velocity_with_rates
 from verify.errors import InvalidInput
 from verify.models.corner import corner_geometry
@@ -33,7 +34,6 @@ from verify.models.cradle import cradle_geometry
 from verify.records.results import case_from_record, case_record, dumps, read_number, result_record, with_decimals
 
 GOLDEN_VERSION = "1"
-DEFAULT_RTOL = Fraction(1, 10**9)
 SEED = 2021
 #: the iteration cap of every golden case
 GOLDEN_MAX_ITERATIONS = 10_000
@@ -311,6 +311,8 @@ class Comparison:
     unchecked: dict[str, int] = field(default_factory=dict)
     #: one graded verdict per case (:mod:`verify.checks.grading`)
     grades: list[Any] = field(default_factory=list)
+    #: the basis of the tolerance, in one line (:meth:`verify.checks.grading.Tolerance.describe`)
+    tolerance: str = ""
 
     def classes(self) -> dict[str, int]:
         """How many cases fell in each class, in the order of :data:`verify.checks.grading.CLASSES`."""
@@ -344,8 +346,9 @@ def compare(
     expected: list[dict],
     got: list[dict],
     *,
-    rtol: Fraction,
-    atol: Fraction,
+    rtol: Fraction = DEFAULT_RTOL,
+    atol: Fraction = Fraction(0),
+    floor: Fraction = DEFAULT_FLOOR,
     skipped: dict[str, str] | None = None,
     budgets: Any = None,
 ) -> Comparison:
@@ -354,10 +357,11 @@ def compare(
     A result may give only ``id`` and ``exit_velocity`` (a velocity-only implementation, such as
     a physics engine): the fields of :data:`OPTIONAL_CHECKED` that it leaves out are counted in
     ``unchecked``, and its velocity is taken as an exit. A case listed in ``skipped`` (id ->
-    reason) is not a mismatch: it is reported as skipped. ``budgets`` (a
-    :class:`verify.checks.grading.Budgets`) widens the tolerance per case: a component passes
-    within ``atol + rtol * |v_in|`` or within the case's budget, in units of the exit speed or in
-    binary64 ulps.
+    reason) is not a mismatch: it is reported as skipped. A component of the exit velocity passes
+    within ``atol + rtol * |v_exit|`` (the exact exit speed), and a component that is exactly 0 also
+    within ``atol + floor * |v_in|`` (the entrance speed); a beta within its own tolerance
+    (:data:`verify.checks.grading.DEFAULT_BETA`, relative). ``budgets`` (a
+    :class:`verify.checks.grading.Budgets`) gives the tolerance per case instead, in more units.
 
     >>> cases = golden_cases()[:1]
     >>> exact = golden_results(cases)
@@ -369,7 +373,12 @@ def compare(
     >>> c.ok, c.unchecked
     (True, {'stop': 1, 'iterations': 1, 'impact_sets': 1})
     """
-    out = Comparison(skipped=dict(skipped or {}))
+    default = Tolerance(rtol=rtol, atol=atol, floor=floor)
+    out = Comparison(skipped=dict(skipped or {}), tolerance=default.describe())
+    if budgets is not None:
+        out.tolerance = budgets.default.describe() + (
+            f"; {len(budgets.cases)} id patterns with their own (--tolerances)" if budgets.cases else ""
+        )
     by_id: dict[str, dict] = {}
     for i, r in enumerate(got):
         if r["id"] in by_id:
@@ -381,7 +390,7 @@ def compare(
             out.mismatches.append(Mismatch(r["id"], "id", "a result for a case that is not in the case file"))
     for case, exact in zip(cases, expected):
         out.checked += 1
-        tol = Tolerance(rtol=rtol, atol=atol) if budgets is None else budgets.for_case(case["id"])
+        tol = default if budgets is None else budgets.for_case(case["id"])
         _check_case(out, case, exact, by_id.get(case["id"]), tol)
     return out
 

@@ -93,10 +93,14 @@ def oracle_options(p: argparse.ArgumentParser) -> None:
                    help="run COMMAND: case file on stdin, result file on stdout; " + IMPL_NOTE)  # fmt: skip
     q.add_argument("--timeout", type=Seconds(), default=600.0, metavar="SECONDS",
                    help="seconds allowed to --impl (default 600)")  # fmt: skip
-    q.add_argument("--rtol", default="1e-9", type=NonNegativeRational(),
-                   help="relative tolerance on the exit velocity (default 1e-9)")  # fmt: skip
+    q.add_argument("--rtol", default="1e-8", type=NonNegativeRational(),
+                   help="tolerance on each exit-velocity component, relative to the exact exit speed "
+                        "max|v_exit| (default 1e-8)")  # fmt: skip
     q.add_argument("--atol", default="0", type=NonNegativeRational(),
-                   help="absolute tolerance on the exit velocity (default 0)")  # fmt: skip
+                   help="absolute tolerance added to it (default 0)")  # fmt: skip
+    q.add_argument("--floor", default="1e-12", type=NonNegativeRational(),
+                   help="a component whose exact value is 0 also passes within FLOOR times the entrance speed "
+                        "max|v_in| (default 1e-12)")  # fmt: skip
     q.add_argument("--law", default="rule", choices=("rule", "simultaneous"),
                    help="the law of the exact results: the paper's rule (default) or the simultaneous law")  # fmt: skip
     q.add_argument("--junit", metavar="FILE", type=OutputFile(), default=None,
@@ -120,7 +124,8 @@ def oracle_options(p: argparse.ArgumentParser) -> None:
     q.add_argument("results", metavar="RESULTS.json", nargs="+",
                    help="result files, each NAME=FILE or FILE (named by its file name)")  # fmt: skip
     q.add_argument("--law", default="rule", choices=("rule", "simultaneous"), help="the law of the exact results")
-    q.add_argument("--rtol", default="1e-9", type=NonNegativeRational(), help="relative tolerance (default 1e-9)")
+    q.add_argument("--rtol", default="1e-8", type=NonNegativeRational(),
+                   help="tolerance relative to the exact exit speed (default 1e-8)")  # fmt: skip
     q.add_argument("--json", action="store_true", help="print the table as JSON")
 
 
@@ -255,9 +260,9 @@ def oracle_check(args: argparse.Namespace) -> int:
     if args.tolerances:
         from verify.checks.grading import Budgets, Tolerance
 
-        budgets = Budgets.load(args.tolerances, Tolerance(rtol=args.rtol, atol=args.atol))
-    comparison = oracle.compare(records, expected, got, rtol=args.rtol, atol=args.atol, skipped=skipped,
-                                budgets=budgets)  # fmt: skip
+        budgets = Budgets.load(args.tolerances, Tolerance(rtol=args.rtol, atol=args.atol, floor=args.floor))
+    comparison = oracle.compare(records, expected, got, rtol=args.rtol, atol=args.atol, floor=args.floor,
+                                skipped=skipped, budgets=budgets)  # fmt: skip
     if args.junit:
         from verify.views.junit import junit_xml
 

@@ -60,7 +60,8 @@ def oracle_findings() -> OracleFindings:
 
     cases, skipped = oracle.golden_dataset()
     results = oracle.golden_results(cases)
-    self_check = oracle.compare(cases, results, json.loads(json.dumps(results)), rtol=Fraction(0), atol=Fraction(0))
+    self_check = oracle.compare(cases, results, json.loads(json.dumps(results)), rtol=Fraction(0), atol=Fraction(0),
+                                floor=Fraction(0))  # fmt: skip
     candidates = [
         Path.cwd() / "examples" / "float_impl.py",
         Path(__file__).resolve().parent.parent / "examples" / "float_impl.py",
@@ -205,7 +206,7 @@ def oracle_page(found: OracleFindings) -> str:
         "The golden dataset (`golden/`, written by `verify oracle export golden`): what it contains.\n",
         oracle.dataset_description(found.cases, found.results, found.skipped),
         "Self-check: the exact results compared with themselves at zero tolerance "
-        "(`verify oracle check golden/cases.json golden/results.json --rtol 0`):\n",
+        "(`verify oracle check golden/cases.json golden/results.json --rtol 0 --floor 0`):\n",
         _block(oracle_text(found.self_check)),
     ]
     if found.example is not None:
