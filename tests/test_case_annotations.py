@@ -55,6 +55,6 @@ def test_an_unknown_field_is_still_refused(tmp_path: Path, capsys: Any) -> None:
 def test_an_annotation_that_is_not_a_string_is_refused(tmp_path: Path, capsys: Any) -> None:
     path = write(tmp_path, case(comment=["two", "lines"]))
     assert main(["solve", str(path)]) == 2
-    assert capsys.readouterr().err == 'verify: error: cases[0].comment: expected a string, got list\n'
+    assert capsys.readouterr().err == "verify: error: cases[0].comment: expected a string, got list\n"
     with pytest.raises(InvalidInput, match=r"^case\.note: an annotation is a string, got int$"):
         case_from_record(case(note=7))

@@ -114,3 +114,12 @@ def test_the_cradle_system_is_the_cradle_geometry():
     assert s.source["mass_matrix"] == tuple(tuple(row) for row in g)
     assert s.source["normals"] == tuple(tuple(row) for row in normals)
     assert [[str(a) for a in row] for row in normals][2] == ["0", "0", "-1", "1"]
+
+
+def test_a_two_ball_cradle_asks_for_one_cor(capsys):
+    """One contact: the message asks for 1 COR, not for "1 or 1 CORs"."""
+    from verify.cli import main
+
+    assert main(["cradle", "--eps", "1/2,1/2", "--velocity", "1,0"]) == 2
+    err = capsys.readouterr().err
+    assert "expected 1 COR (one contact), got 2" in err and "1 or 1" not in err

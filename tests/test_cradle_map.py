@@ -260,3 +260,14 @@ def test_cli_text_and_figure(tmp_path, capsys):
     out = capsys.readouterr().out
     assert "3 - 2*sqrt(2)" in out and "7 - 4*sqrt(3)" in out
     assert fig.read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
+
+
+def test_the_text_says_where_the_exact_endpoints_are_for_its_caller(capsys):
+    """From the library the text names the function that holds them, from the command line --json."""
+    from verify.views.text import cradle_map_text
+
+    small = cradle_map(max_impulses=8)
+    text = cradle_map_text(small, aeev_rows=[], approach=[])
+    assert "in map_json(cmap)" in text and "--json" not in text
+    assert main(["cradle-map", "--max-impulses", "8", "--approach", "0"]) == 0
+    assert "as CRootOf, in --json" in capsys.readouterr().out

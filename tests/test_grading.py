@@ -356,6 +356,8 @@ def test_the_summary_prints_the_basis_of_the_tolerance() -> None:
     loose = run_check("golden/cases.json", "golden/results.json", "--rtol", "1e-3", "--atol", "1/2", "--floor", "0")
     assert "tolerance: |got_i - exact_i| <= 0.5 + 0.001 |v_exit| (the exact exit speed" in loose.stdout
     assert "where exact_i = 0" not in loose.stdout
+    as_json = run_check("golden/cases.json", "golden/results.json", "--json")
+    assert json.loads(as_json.stdout)["tolerance"] == Tolerance().describe()
 
 
 def test_beta_has_its_own_tolerance_not_the_velocity_s(tmp_path: Path) -> None:

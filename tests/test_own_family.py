@@ -116,3 +116,15 @@ def test_the_rod_example_maps_and_runs() -> None:
     part, velocity = m.at({"e_left": "1", "e_right": "1/3"})
     r = module.solve(module.rod(cors=("1", "1/3")), ["0", "-1", "1/4"])
     assert (part.stop, part.iterations, velocity) == (r.stop, r.iterations, list(r.exit_velocity))
+
+
+def test_a_drawn_case_keeps_the_contacts_names() -> None:
+    """A counterexample of a family whose system names its contacts carries the names (a case may name
+    them: docs/records.md); a system without names gives a record without the field, as before."""
+    from verify.checks.properties.own import drawn_case
+    from verify.core.system import System
+
+    named = System([[1, 0], [0, 1]], [[0, 1], [1, 0]], ["1/2", "1/2"], names=["floor", "wall"])
+    assert drawn_case("rod", "general", named, ["-1", "-1"]).record["names"] == ["floor", "wall"]
+    plain = System([[1, 0], [0, 1]], [[0, 1], [1, 0]], ["1/2", "1/2"])
+    assert "names" not in drawn_case("rod", "general", plain, ["-1", "-1"]).record

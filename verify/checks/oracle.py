@@ -598,6 +598,8 @@ def comparison_json(comparison: Comparison) -> dict[str, Any]:
         "agreeing": comparison.agreeing,
         "mismatches": [{"id": m.case_id, "field": m.field, "detail": m.detail} for m in comparison.mismatches],
     }
+    if comparison.tolerance:  # the basis of the tolerance, as the text summary prints it
+        out["tolerance"] = comparison.tolerance
     if comparison.limited:  # only when a budget was given (verify oracle check --max-bits, --case-timeout)
         out["limited_by_budget"] = comparison.limited
     if comparison.skipped:  # only when the implementation listed cases it could not run

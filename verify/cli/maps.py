@@ -147,7 +147,7 @@ def cmd_cradle_map(args: argparse.Namespace) -> int:
     else:  # the paper's AEEV rows beside the paper's own cradle
         paper = args.balls in (None, 3) and masses is None and velocity is None and interval == ["0", "1"]
         report = map_report(cmap, approach=args.approach, paper=paper)
-        sys.stdout.write(cradle_map_text(cmap, aeev_rows=report.aeev_rows, approach=report.approach))
+        sys.stdout.write(cradle_map_text(cmap, aeev_rows=report.aeev_rows, approach=report.approach, exact_in="--json"))
     if args.figure:
         from verify.views.figures import cradle_staircase
 

@@ -37,7 +37,8 @@ def _restitution(eps: Any, contacts: int) -> list:
     if len(values) == 1:
         values = values * contacts
     if len(values) != contacts:
-        raise InvalidSystem(f"eps: expected 1 or {contacts} CORs (one per contact), got {len(values)}")
+        wanted = "1 COR (one contact)" if contacts == 1 else f"1 or {contacts} CORs (one per contact)"
+        raise InvalidSystem(f"eps: expected {wanted}, got {len(values)}")
     return values
 
 

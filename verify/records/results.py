@@ -130,17 +130,22 @@ def case_record(
     *,
     time_terms: Sequence[Any] | None = None,
     max_iterations: int = DEFAULT_MAX_ITERATIONS,
+    names: Sequence[str] | None = None,
 ) -> dict[str, Any]:
     """The case record (contracts) of a system's exact inputs and a velocity: every number as
-    its exact string, the time terms 0 unless given. The one place that writes case records.
+    its exact string, the time terms 0 unless given, the contacts' ``names`` when given. The one
+    place that writes case records.
 
     >>> from fractions import Fraction
     >>> r = case_record("a", [[1]], [[1]], [Fraction(1, 2)], [-2], max_iterations=5)
-    >>> r["time_terms"], r["restitution"], r["velocity"], r["max_iterations"]
-    (['0'], ['1/2'], ['-2'], 5)
+    >>> r["time_terms"], r["restitution"], r["velocity"], r["max_iterations"], "names" in r
+    (['0'], ['1/2'], ['-2'], 5, False)
+    >>> case_record("b", [[1]], [[1]], [1], [-1], names=["floor"])["names"]
+    ['floor']
     """
     from verify.core.format import format_exact
 
+    named = {"names": list(names)} if names is not None else {}
     return {
         "id": case_id,
         "mass_matrix": [[format_exact(x) for x in row] for row in mass_matrix],
@@ -149,6 +154,7 @@ def case_record(
         "restitution": [format_exact(x) for x in restitution],
         "velocity": [format_exact(x) for x in velocity],
         "max_iterations": max_iterations,
+        **named,
     }
 
 

@@ -151,7 +151,7 @@ def cradle_map_page(out: Path, report: Any) -> str:
         "eps runs as a symbol; the interval is cut at the exact roots wherever a sign changes. Thresholds are\n"
         "exact algebraic numbers (with decimals); the termination boundary comes with its certificate\n"
         "(`verify cradle-map --json`); the AEEV rows of Table 1 are read off the map. Command: `verify cradle-map`.\n\n"
-        + _block(cradle_map_text(report.cmap, aeev_rows=report.aeev_rows, approach=report.approach))
+        + _block(cradle_map_text(report.cmap, aeev_rows=report.aeev_rows, approach=report.approach, exact_in="--json"))
         + "\n![Impulse count against eps: the staircase and the termination boundary](cradle-staircase.png)\n"
     )
 

@@ -446,9 +446,14 @@ def approach_table(rows: Sequence[tuple[Fraction, int | str]]) -> list[str]:
 
 
 def cradle_map_text(
-    cmap: Any, *, aeev_rows: list[dict[str, Any]], approach: Sequence[tuple[Fraction, int | str]]
+    cmap: Any,
+    *,
+    aeev_rows: list[dict[str, Any]],
+    approach: Sequence[tuple[Fraction, int | str]],
+    exact_in: str = "map_json(cmap)",
 ) -> str:
-    """The cradle map in words and tables."""
+    """The cradle map in words and tables. ``exact_in`` says where every exact endpoint and
+    certificate is (the command line passes ``"--json"``)."""
     from verify.checks.paper.cradle_map import termination_boundaries, threshold_between, undecided_measure
     from verify.models.cradle import cradle_system
 
@@ -462,7 +467,7 @@ def cradle_map_text(
         *parts_table(cmap.parts, contacts=cradle_system("1", cmap.balls).names),
     ]
     points = [cmap.parts[0].piece.lower] + [p.piece.upper for p in cmap.parts]
-    lines += ["", "Exact endpoints (polynomials of degree 4 or less; all of them, as CRootOf, in --json):"]
+    lines += ["", f"Exact endpoints (polynomials of degree 4 or less; all of them, as CRootOf, in {exact_in}):"]
     seen: list[Any] = []
     for x in points:
         if (x.is_rational or x.poly.degree() <= 4) and not any(x is y for y in seen):
@@ -482,7 +487,7 @@ def cradle_map_text(
         lines += [
             "",
             f"Never exits for eps in {part.piece}: proved by {how};",
-            "  the certificate is in --json; tests/test_cradle_map.py checks it without the code that found it.",
+            f"  the certificate is in {exact_in}; tests/test_cradle_map.py checks it without the code that found it.",
         ]
     for bound in bounds:
         lines.append(f"Termination boundary: eps = {bound} = {format_decimal(bound, 20)}")

@@ -12,7 +12,7 @@ The rule column: ``general`` runs your systems with their own CORs, ``ideal`` wi
 ``symmetric`` with every COR equal to the first contact's.
 
 >>> from hypothesis import strategies as st
->>> from verify.core.system import System, source_numbers
+>>> from verify.core.system import System, default_names, source_numbers
 >>> def slide(e):  # a block hitting a wall, COR e, from velocity -1
 ...     return System([[1]], [[1]], [e]), ["-1"]
 >>> found = family_verdicts(st.sampled_from(["0", "1/2", "1"]).map(slide), "block",
@@ -31,7 +31,7 @@ from verify.checks.properties.catalogue import PROPERTIES, property_named
 from verify.checks.properties.strategies import MAX_ITERATIONS, Drawn
 from verify.checks.properties.verdicts import LAW_RULES, Verdict, search
 from verify.core.parse import to_number
-from verify.core.system import System, source_numbers
+from verify.core.system import System, default_names, source_numbers
 from verify.errors import InvalidInput
 from verify.records.results import case_record
 
@@ -59,8 +59,9 @@ def drawn_case(name: str, rule: str, system: System, velocity: Sequence[Any]) ->
         cors = [Fraction(1)] * system.r
     elif rule == "symmetric":
         cors = [cors[0]] * system.r
+    named = None if system.names == default_names(system.r) else system.names
     record = case_record(f"{name}-{rule}", src["mass_matrix"], src["normals"], cors, v,
-                         time_terms=src["time_terms"], max_iterations=MAX_ITERATIONS)  # fmt: skip
+                         time_terms=src["time_terms"], max_iterations=MAX_ITERATIONS, names=named)  # fmt: skip
     return Drawn(name, rule, record)
 
 
