@@ -146,6 +146,22 @@ def wait_until(what: str, ready: Callable[[], bool], procs: Processes) -> None:
         time.sleep(0.02)
 
 
+def stepped(worker: subprocess.Popen[bytes], what: str, ready: Callable[[], bool], procs: Processes) -> None:
+    """Let ``worker``'s process group (a nanny and its worker) run in steps of 20 ms, stopped (SIGSTOP)
+    between them, until ``ready()``; it is left stopped. A step finishes a task or two at most, so a run
+    with tasks left still has some when this returns, whatever the machine's speed."""
+    deadline = time.monotonic() + WAIT
+    os.killpg(worker.pid, signal.SIGSTOP)
+    while not ready():
+        if time.monotonic() > deadline:
+            os.killpg(worker.pid, signal.SIGCONT)
+            raise AssertionError(f"no {what} after {WAIT:.0f} s")
+        os.killpg(worker.pid, signal.SIGCONT)
+        time.sleep(0.02)
+        os.killpg(worker.pid, signal.SIGSTOP)
+        time.sleep(0.02)  # the results of the step reach the checkpoint
+
+
 def start_cluster(procs: Processes, lines: list[str], cwd: Path) -> int:
     """Start the scheduler and workers of ``lines``; wait until every worker process has registered."""
     scheduler, *workers = lines
@@ -205,10 +221,14 @@ def test_on_one_machine_a_killed_worker_and_an_interrupted_run_lose_nothing(tmp_
         killed = procs.started[2]
         killed.wait(timeout=WAIT)
         assert killed.returncode == -signal.SIGKILL
+        # the run goes on, on w1; w1 is let run in short steps (its process group stopped between them), so
+        # that the interrupt lands midway however fast this machine finishes the remaining tasks
+        worker = procs.started[1]
         seen = finished_tasks(checkpoint)
-        wait_until("tasks finished after the kill", lambda: finished_tasks(checkpoint) >= seen + 5, procs)
-        running.send_signal(signal.SIGINT)  # Ctrl-C
+        stepped(worker, "tasks finished after the kill", lambda: finished_tasks(checkpoint) >= seen + 5, procs)
+        running.send_signal(signal.SIGINT)  # Ctrl-C, while w1 is stopped: tasks are left
         running.wait(timeout=WAIT)
+        os.killpg(worker.pid, signal.SIGCONT)
         assert running.returncode == 130, procs.err("run")
         assert procs.err("run").splitlines()[-1] == "verify: interrupted"
         assert procs.out("run") == ""
