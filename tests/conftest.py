@@ -45,6 +45,14 @@ def _reset_mpmath():
 PROPERTY_PROFILE = {"dev": "dev", "ci": "ci", "thorough": "ci"}.get(PROFILE, "ci")
 
 
+def pytest_collection_modifyitems(config, items):
+    """The tests that use :func:`property_verdicts` run in one test process (``--dist loadgroup``, set in
+    pyproject.toml): a session fixture is computed once per process, and the verdicts take minutes."""
+    for item in items:
+        if "property_verdicts" in getattr(item, "fixturenames", ()):
+            item.add_marker(pytest.mark.xdist_group("verdicts"))
+
+
 @pytest.fixture(scope="session")
 def property_verdicts():
     """The verdict table at the test profile, computed once (properties and reports share it)."""

@@ -187,7 +187,8 @@ def test_sweep_in_parallel_gives_the_serial_results():
 def test_sweep_on_a_local_dask_cluster():
     distributed = pytest.importorskip("dask.distributed")
     cases = random_corner_cases(100, seed=11)
-    cluster = distributed.LocalCluster(n_workers=2, threads_per_worker=1, processes=True, dashboard_address=None)
+    local = "127.0.0.1:0"  # Dask's HTTP server on a free port: other tests may run a cluster at the same time
+    cluster = distributed.LocalCluster(n_workers=2, threads_per_worker=1, processes=True, dashboard_address=local)
     with cluster, distributed.Client(cluster) as client:
         results = sweep(cases, executor=client.get_executor(), chunk=20, progress=False)
     assert results == sweep(cases, workers=1, progress=False)

@@ -35,7 +35,7 @@ def logging_sweep(*args, **kwargs):
 sweep.random_sweep = logging_sweep
 from distributed import LocalCluster
 from verify.cli import main
-with LocalCluster(n_workers=1, threads_per_worker=1, processes=False, dashboard_address=None,
+with LocalCluster(n_workers=1, threads_per_worker=1, processes=False, dashboard_address="127.0.0.1:0",
                   silence_logs=False) as cluster:
     code = main([*sys.argv[1:], "--scheduler", cluster.scheduler_address])
 levels = {{n: logging.getLogger(n).level for n in ("distributed", "distributed.client")}}

@@ -48,7 +48,8 @@ def test_ci_sets_no_environment_variable_of_ours():
 def test_an_empty_hypothesis_profile_means_the_default():
     """Some CI systems export empty variables: HYPOTHESIS_PROFILE="" must still start the suite."""
     env = {**os.environ, "HYPOTHESIS_PROFILE": ""}
-    cmd = [sys.executable, "-m", "pytest", "-q", "-p", "no:cacheprovider", "--collect-only", "tests/test_readme.py"]
+    collect = ["-q", "-p", "no:cacheprovider", "-n", "0", "--collect-only", "tests/test_readme.py"]
+    cmd = [sys.executable, "-m", "pytest", *collect]
     out = subprocess.run(cmd, cwd=ROOT, env=env, capture_output=True, text=True, check=False)
     assert out.returncode == 0, out.stdout + out.stderr
 

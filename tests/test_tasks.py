@@ -5,9 +5,11 @@ failures reported while the other tasks finish, and checkpoints that resume a st
 
 from __future__ import annotations
 
+import contextlib
 import json
 import os
 import signal
+import socket
 from fractions import Fraction
 from pathlib import Path
 
@@ -216,7 +218,11 @@ def test_a_killed_worker_loses_nothing(serial_kinetic: dict, capsys: pytest.Capt
     import logging
 
     cluster = distributed.LocalCluster(
-        n_workers=2, threads_per_worker=1, processes=True, dashboard_address=None, silence_logs=logging.CRITICAL
+        n_workers=2,
+        threads_per_worker=1,
+        processes=True,
+        dashboard_address="127.0.0.1:0",  # a free port: other tests may run a cluster at the same time
+        silence_logs=logging.CRITICAL,
     )
     killed: list[int] = []
     with cluster, distributed.Client(cluster) as client:
@@ -339,7 +345,11 @@ def test_corner_claims_resume_from_a_checkpoint(
 def test_a_sweep_on_a_local_cluster_equals_one_process(capsys: pytest.CaptureFixture[str]) -> None:
     pytest.importorskip("dask.distributed")
     serial = json.loads(run_cli(capsys, [*SWEEP, "--workers", "1"])[1])
-    code, out, _ = run_cli(capsys, [*SWEEP, "--local-cluster", "2"])
+    with socket.socket() as busy:  # Dask's default port taken, as by another cluster: no clash, no warning
+        with contextlib.suppress(OSError):  # (taken already, if this fails)
+            busy.bind(("127.0.0.1", 8787))
+            busy.listen()
+        code, out, _ = run_cli(capsys, [*SWEEP, "--local-cluster", "2"])
     assert code == 0 and json.loads(out)["results"] == serial["results"]
 
 

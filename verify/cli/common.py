@@ -509,7 +509,9 @@ def cluster_executor(args: argparse.Namespace) -> Iterator[Any]:
                         n_workers=args.local_cluster,
                         threads_per_worker=1,
                         processes=True,
-                        dashboard_address=None,
+                        # its HTTP server (Dask starts one even without a dashboard) on a free port of this
+                        # machine only: 8787, Dask's default, may be another cluster's
+                        dashboard_address="127.0.0.1:0",
                         silence_logs=logging.ERROR,
                     )
                 )
