@@ -9,6 +9,8 @@ left in ``.hypothesis/``. ``ci`` is also derandomised, so the suite passes or fa
 way on every run; the failures Hypothesis has found are kept as ``@example`` lines instead.
 """
 
+import fcntl
+import json
 import os
 
 import mpmath
@@ -45,17 +47,25 @@ def _reset_mpmath():
 PROPERTY_PROFILE = {"dev": "dev", "ci": "ci", "thorough": "ci"}.get(PROFILE, "ci")
 
 
-def pytest_collection_modifyitems(config, items):
-    """The tests that use :func:`property_verdicts` run in one test process (``--dist loadgroup``, set in
-    pyproject.toml): a session fixture is computed once per process, and the verdicts take minutes."""
-    for item in items:
-        if "property_verdicts" in getattr(item, "fixturenames", ()):
-            item.add_marker(pytest.mark.xdist_group("verdicts"))
-
-
 @pytest.fixture(scope="session")
-def property_verdicts():
-    """The verdict table at the test profile, computed once (properties and reports share it)."""
-    from verify.checks.properties.verdicts import verdicts
+def property_verdicts(tmp_path_factory):
+    """The verdict table at the test profile, computed once per command (properties and reports share it).
 
-    return verdicts(PROPERTY_PROFILE, workers=2)
+    The test processes of pytest-xdist (``-n``, pyproject.toml) share it too: the first to need it computes
+    it (on both cores) while holding a lock, and writes it, exactly (the checkpoints' encoding), into this
+    run's temporary folder; the others wait for the lock and read it. Nothing outlives the command."""
+    from verify.checks.properties.verdicts import verdicts
+    from verify.checks.tasks import decode, encode
+
+    if not os.environ.get("PYTEST_XDIST_WORKER"):
+        return verdicts(PROPERTY_PROFILE, workers=2)
+    shared = tmp_path_factory.getbasetemp().parent  # this run's folder, common to its test processes
+    path = shared / f"property-verdicts-{PROPERTY_PROFILE}.json"
+    with open(shared / "property-verdicts.lock", "w") as lock:
+        fcntl.flock(lock, fcntl.LOCK_EX)
+        if not path.exists():
+            found = verdicts(PROPERTY_PROFILE, workers=2)
+            path.with_suffix(".tmp").write_text(json.dumps(encode(found)), encoding="utf-8")
+            path.with_suffix(".tmp").replace(path)
+            return found
+    return decode(json.loads(path.read_text(encoding="utf-8")))
