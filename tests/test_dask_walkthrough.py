@@ -222,13 +222,14 @@ def test_on_one_machine_a_killed_worker_and_an_interrupted_run_lose_nothing(tmp_
         killed.wait(timeout=WAIT)
         assert killed.returncode == -signal.SIGKILL
         # the run goes on, on w1; w1 is let run in short steps (its process group stopped between them), so
-        # that the interrupt lands midway however fast this machine finishes the remaining tasks (w1 runs
-        # again when it lands: a stopped worker would hold the client's shutdown)
+        # that the interrupt lands midway however fast this machine finishes the remaining tasks
         worker = procs.started[1]
         seen = finished_tasks(checkpoint)
         stepped(worker, "tasks finished after the kill", lambda: finished_tasks(checkpoint) >= seen + 5, procs)
-        os.killpg(worker.pid, signal.SIGCONT)  # tasks are left: w1 cannot finish them in the next instant
-        running.send_signal(signal.SIGINT)  # Ctrl-C
+        running.send_signal(signal.SIGINT)  # Ctrl-C, while w1 is stopped: the run cannot end otherwise
+        with contextlib.suppress(subprocess.TimeoutExpired):
+            running.wait(timeout=1)
+        os.killpg(worker.pid, signal.SIGCONT)  # a stopped worker would hold the client's shutdown
         running.wait(timeout=WAIT)
         assert running.returncode == 130, procs.err("run")
         assert procs.err("run").splitlines()[-1] == "verify: interrupted"
