@@ -146,20 +146,37 @@ def wait_until(what: str, ready: Callable[[], bool], procs: Processes) -> None:
         time.sleep(0.02)
 
 
-def stepped(worker: subprocess.Popen[bytes], what: str, ready: Callable[[], bool], procs: Processes) -> None:
-    """Let ``worker``'s process group (a nanny and its worker) run in steps of 20 ms, stopped (SIGSTOP)
-    between them, until ``ready()``; it is left stopped. A step finishes a task or two at most, so a run
-    with tasks left still has some when this returns, whatever the machine's speed."""
+def stepped(workers: list[subprocess.Popen[bytes]], what: str, count: Callable[[], int], enough: int) -> None:
+    """Let the ``workers``' process groups (a nanny and its worker, or a worker) run in steps of 20 ms,
+    stopped (SIGSTOP) between them, until ``count()`` (the tasks in the checkpoint) reaches ``enough``; they
+    are left stopped. After each step the count is read once it has settled: the run writes the checkpoint
+    as results reach it, which may lag behind the workers on a busy machine, so the workers are never more
+    than a step ahead of what the test has seen, and a run with tasks left still has some when this
+    returns, whatever the machine's speed."""
     deadline = time.monotonic() + WAIT
-    os.killpg(worker.pid, signal.SIGSTOP)
-    while not ready():
-        if time.monotonic() > deadline:
-            os.killpg(worker.pid, signal.SIGCONT)
-            raise AssertionError(f"no {what} after {WAIT:.0f} s")
-        os.killpg(worker.pid, signal.SIGCONT)
-        time.sleep(0.02)
+    for worker in workers:
         os.killpg(worker.pid, signal.SIGSTOP)
-        time.sleep(0.02)  # the results of the step reach the checkpoint
+    while settled(count) < enough:
+        if time.monotonic() > deadline:
+            for worker in workers:
+                os.killpg(worker.pid, signal.SIGCONT)
+            raise AssertionError(f"no {what} after {WAIT:.0f} s")
+        for worker in workers:
+            os.killpg(worker.pid, signal.SIGCONT)
+        time.sleep(0.02)
+        for worker in workers:
+            os.killpg(worker.pid, signal.SIGSTOP)
+
+
+def settled(count: Callable[[], int]) -> int:
+    """``count()`` once it has not changed for 0.15 s (at most 10 s)."""
+    last, since, deadline = count(), time.monotonic(), time.monotonic() + 10
+    while time.monotonic() - since < 0.15 and time.monotonic() < deadline:
+        time.sleep(0.05)
+        now = count()
+        if now != last:
+            last, since = now, time.monotonic()
+    return last
 
 
 def start_cluster(procs: Processes, lines: list[str], cwd: Path) -> int:
@@ -216,7 +233,12 @@ def test_on_one_machine_a_killed_worker_and_an_interrupted_run_lose_nothing(tmp_
     with processes(tmp_path) as procs:
         start_cluster(procs, [scheduler, w1, w2], work)
         running = procs.start(command, "run", work)
-        wait_until("finished tasks before the kill", lambda: finished_tasks(checkpoint) >= 5, procs)
+
+        def done() -> int:
+            return finished_tasks(checkpoint)
+
+        # w1 and w2 run in steps from the start (left stopped): the run is never far ahead of what is seen
+        stepped(procs.started[1:3], "finished tasks before the kill", done, 5)
         subprocess.run(["sh", "-c", kill], cwd=work, check=True, timeout=WAIT)  # the page's kill
         killed = procs.started[2]
         killed.wait(timeout=WAIT)
@@ -224,8 +246,8 @@ def test_on_one_machine_a_killed_worker_and_an_interrupted_run_lose_nothing(tmp_
         # the run goes on, on w1; w1 is let run in short steps (its process group stopped between them), so
         # that the interrupt lands midway however fast this machine finishes the remaining tasks
         worker = procs.started[1]
-        seen = finished_tasks(checkpoint)
-        stepped(worker, "tasks finished after the kill", lambda: finished_tasks(checkpoint) >= seen + 5, procs)
+        seen = settled(done)
+        stepped([worker], "tasks finished after the kill", done, seen + 5)
         running.send_signal(signal.SIGINT)  # Ctrl-C, while w1 is stopped: the run cannot end otherwise
         with contextlib.suppress(subprocess.TimeoutExpired):
             running.wait(timeout=1)
