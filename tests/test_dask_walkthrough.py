@@ -127,10 +127,15 @@ class Processes:
 
 @contextlib.contextmanager
 def processes(folder: Path) -> Iterator[Processes]:
+    """Processes started as from a terminal: SIGINT handled here while they start (an ignored SIGINT, which
+    this test process may have inherited, is inherited by the processes it starts, and Python then never
+    raises KeyboardInterrupt on Ctrl-C); every group killed at the end."""
     ps = Processes(folder)
+    previous = signal.signal(signal.SIGINT, signal.default_int_handler)
     try:
         yield ps
     finally:
+        signal.signal(signal.SIGINT, previous)
         ps.stop_all()
 
 
@@ -253,7 +258,7 @@ def test_on_one_machine_a_killed_worker_and_an_interrupted_run_lose_nothing(tmp_
             running.wait(timeout=1)
         os.killpg(worker.pid, signal.SIGCONT)  # a stopped worker would hold the client's shutdown
         running.wait(timeout=WAIT)
-        assert running.returncode == 130, procs.err("run")
+        assert running.returncode == 130, f"SIGINT here: {signal.getsignal(signal.SIGINT)}\n" + procs.err("run")
         assert procs.err("run").splitlines()[-1] == "verify: interrupted"
         assert procs.out("run") == ""
         kept = finished_tasks(checkpoint)
