@@ -33,11 +33,10 @@ import dataclasses
 import hashlib
 import json
 import math
-import multiprocessing
 import random
 import sys
 import warnings
-from collections import Counter, OrderedDict
+from collections import Counter
 from concurrent.futures import Executor
 from dataclasses import dataclass, field
 from typing import Any
@@ -63,12 +62,10 @@ class Runner:
     compares several runs). A check may ask another law's run with ``law=``.
 
     ``cap``, when set, lowers the records' ``max_iterations`` to it (the search sets it while it shrinks a
-    failure); ``deepest`` is the most impulses of a run it returned since it was last set to 0. ``shared``
-    (:func:`shared_runs`) holds runs that other rows' runners made: a run found there is not made again."""
+    failure); ``deepest`` is the most impulses of a run it returned since it was last set to 0."""
 
-    def __init__(self, law: str = "rule", shared: OrderedDict[str, Any] | None = None) -> None:
+    def __init__(self, law: str = "rule") -> None:
         self.law = law
-        self.shared = shared
         self.memo: dict[str, Any] = {}
         self.counts: Counter[str] = Counter()
         self.cap: int | None = None
@@ -87,52 +84,10 @@ class Runner:
         if key not in self.memo:
             if len(self.memo) > 512:
                 self.memo.clear()
-            self.memo[key] = self._run(key, record, rule, backend, law=law, decide=decide)
+            self.memo[key] = run_record(record, rule, backend, law=law, decide=decide)
         result = self.memo[key]
         self.deepest = max(self.deepest, result.iterations)
         return result
-
-    def _run(self, key: str, record: dict[str, Any], rule: str, backend: str, *, law: str, decide: bool) -> Any:
-        """The run of ``key``: from the shared runs if another row made it, else made (and shared)."""
-        shared = self.shared
-        if shared is not None and key in shared:
-            shared.move_to_end(key)
-            return shared[key]
-        result = run_record(record, rule, backend, law=law, decide=decide)
-        if shared is not None:
-            shared[key] = result
-            if len(shared) > SHARED_RUNS:
-                shared.popitem(last=False)
-        return result
-
-
-#: the most runs :func:`shared_runs` keeps (the least recently used go first): a few rows' worth
-SHARED_RUNS = 4096
-#: the runs shared by the rows one process searches during a run of the verdicts (``runs``; None: none)
-_SHARING: dict[str, OrderedDict[str, Any] | None] = {"runs": None}
-
-
-def shared_runs() -> OrderedDict[str, Any] | None:
-    """The runs that the rows searched in this process share during a run of the verdicts: Hypothesis is
-    derandomised, so every row of one family and rule draws the same cases, and most properties make the
-    same exact run of each case first. A run is a pure function of its key (record, rule, backend, law), so
-    sharing changes no verdict, only the time. In this process (one worker) the run's own, set by
-    :func:`run_verdicts` for its duration; in a worker process (a local pool's, forked during that run, or a
-    Dask worker's) the process' own. None elsewhere: a row searched by a direct call of :func:`search`
-    shares nothing (a test that patches the rule then sees its patched runs)."""
-    if _SHARING["runs"] is None and (multiprocessing.parent_process() is not None or _in_dask_worker()):
-        _SHARING["runs"] = OrderedDict()
-    return _SHARING["runs"]
-
-
-@contextlib.contextmanager
-def _sharing() -> Any:
-    """Runs shared for the duration (the rows run here, and those of worker processes forked meanwhile)."""
-    saved, _SHARING["runs"] = _SHARING["runs"], OrderedDict()
-    try:
-        yield
-    finally:
-        _SHARING["runs"] = saved
 
 
 def run_record(
@@ -263,18 +218,16 @@ def search(
     law: str = "rule",
     seed: int | None = None,
     strategy: Any = None,
-    shared: OrderedDict[str, Any] | None = None,
 ) -> Verdict:
     """Search one row for a counterexample with ``examples`` cases (the law's runs). Hypothesis is
     derandomised (the same cases on every run), or seeded with ``seed`` (another chunk of a split row's
     cases, :func:`merge_chunks`). The cases are the family's, or those of ``strategy`` (of
-    :class:`~verify.checks.properties.strategies.Drawn` cases: :mod:`verify.checks.properties.own`).
-    ``shared``: runs shared with other rows (:func:`shared_runs`)."""
+    :class:`~verify.checks.properties.strategies.Drawn` cases: :mod:`verify.checks.properties.own`)."""
     from hypothesis import HealthCheck, Phase, find, settings
     from hypothesis import strategies as st
     from hypothesis.errors import NoSuchExample, Unsatisfiable
 
-    runner = Runner(law, shared)
+    runner = Runner(law)
     tally: Counter[str] = Counter()
     shrinking = False  # once a failure is found, Hypothesis shrinks it: those calls are not counted
 
@@ -313,7 +266,7 @@ def search(
     except (NoSuchExample, Unsatisfiable):
         return _holds(prop, (family, rule, law), dict(tally), dict(runner.counts), proof)
     d, extra = item if prop.extra is not None else (item, None)
-    why = _check(prop, Runner(law, shared), item) or ""
+    why = _check(prop, Runner(law), item) or ""
     note = why + (f" (with {_describe(extra)})" if extra is not None else "")
     explain = prop.statement(law)[1]
     if proof:
@@ -327,7 +280,7 @@ def search(
     found = Verdict(prop.name, rule, family, "refuted", tally["applied"], record, note, extra, law, dict(tally))
     found.detail = note
     if prop.census:
-        found.counts = dict(_census(prop, strategy, examples, law, seed, shared=shared))
+        found.counts = dict(_census(prop, strategy, examples, law, seed))
         found.cases, found.note = _census_note(found.detail, found.counts)
     return found
 
@@ -349,21 +302,13 @@ def _census_note(detail: str, counts: dict[str, int]) -> tuple[int, str]:
 CENSUS_CASES = "cases"
 
 
-def _census(
-    prop: Property,
-    strategy: Any,
-    examples: int,
-    law: str,
-    seed: int | None = None,
-    *,
-    shared: OrderedDict[str, Any] | None = None,
-) -> Counter[str]:
+def _census(prop: Property, strategy: Any, examples: int, law: str, seed: int | None = None) -> Counter[str]:
     """How the runs of a refuted row end, over all its cases (the search stops at the first failure),
     with the number of cases under :data:`CENSUS_CASES`."""
     from hypothesis import HealthCheck, Phase, given, settings
     from hypothesis import seed as seeded
 
-    runner = Runner(law, shared)
+    runner = Runner(law)
     seen = 0
 
     @settings(
@@ -471,9 +416,7 @@ def _run_row(args: tuple[str, str, str, int, str] | tuple[str, str, str, int, st
             # the worker's own threads use the random module meanwhile (our strategies do not: in one process
             # the warning is an error of the test suite). The cases come from Hypothesis' own generator.
             warnings.filterwarnings("ignore", message="Do not use the `random` module inside strategies")
-        return search(
-            property_named(name), family, rule, examples, law=law, seed=seed[0] if seed else None, shared=shared_runs()
-        )
+        return search(property_named(name), family, rule, examples, law=law, seed=seed[0] if seed else None)
 
 
 def _in_dask_worker() -> bool:
@@ -595,12 +538,7 @@ def run_verdicts(
                 TaskRunner(workers=workers, executor=executor, checkpoint=checkpoint, options=options)
             )
         shown = (lambda done, total, task, verdict: progress(done, total, verdict)) if progress else None
-        # the rows of one family, rule and law one after the other, so that the runs they share are at hand
-        grouped = sorted(tasks, key=lambda t: (t.payload[4], t.payload[1], t.payload[2]))  # law, family, rule
-        with _sharing():
-            run = runner.run(grouped, progress=shown)
-        found = {t.id: r for t, r in zip(grouped, run.results)}
-        return _rows_of(tasks, TaskRun([found[t.id] for t in tasks], run.failures))
+        return _rows_of(tasks, runner.run(tasks, progress=shown))
 
 
 def verdicts(
