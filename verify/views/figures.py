@@ -42,6 +42,13 @@ _UNEXPLORED_STYLE: dict[str, dict[str, Any]] = {
 }
 
 
+def _staircase_band(part: Any) -> dict[str, Any]:
+    """The band of a staircase part that does not exit: red where it never exits, grey where unexplored."""
+    if part.stop == "non_terminating":
+        return {"color": "C3", "alpha": 0.18}
+    return _UNEXPLORED_STYLE[_unexplored_kind(part)]
+
+
 def staircase_legend(cmap: Any) -> list[tuple[str, str]]:
     """The legend of :func:`cradle_staircase`: ``(kind, label)`` for each kind of thing drawn, and only those.
 
@@ -107,15 +114,7 @@ def staircase_figure(cmap: Any) -> Any:
     ax = axes[0][0]
     for part in cmap.parts:
         a, b = _x(part.piece.lower), _x(part.piece.upper)
-        if part.stop == "exit":
-            if part.piece.is_point:
-                ax.plot([a], [part.iterations], "o", color="C0", ms=3)
-            else:
-                ax.hlines(part.iterations, a, b, color="C0", lw=1.6)
-        elif part.stop == "non_terminating":
-            ax.axvspan(a, b, color="C3", alpha=0.18, lw=0)
-        else:
-            ax.axvspan(a, b, lw=0, **_UNEXPLORED_STYLE[_unexplored_kind(part)])
+        _part_on_axes(ax, part, a, b, lw=1.6, band=_staircase_band)
     for x in boundaries:
         ax.axvline(_x(x), color="C3", ls="--", lw=1)
     if t34 is not None:
@@ -561,7 +560,7 @@ def eps_map_plot(m: Any) -> Any:
         for part in line.parts:
             a, b = _x(part.piece.lower), _x(part.piece.upper)
             if one:
-                _one_parameter_part(ax, part, a, b)
+                _part_on_axes(ax, part, a, b, lw=2, band=_map_band)
                 continue
             color = cmap(part.iterations / top) if part.stop == "exit" else _GRID_COLOUR[part.stop]
             if line.free == names[0]:
@@ -592,14 +591,18 @@ def eps_map_plot(m: Any) -> Any:
     return fig
 
 
-def _one_parameter_part(ax: Any, part: Any, a: float, b: float) -> None:
-    """One part of a one-parameter map: a step at its impulses when it exits, a band otherwise."""
+def _map_band(part: Any) -> dict[str, Any]:
+    """The band of a one-parameter map's part that does not exit: never exits, or unexplored."""
+    return _MAP_STYLE["non_terminating" if part.stop == "non_terminating" else "unexplored"]
+
+
+def _part_on_axes(ax: Any, part: Any, a: float, b: float, *, lw: float, band: Any) -> None:
+    """One part of a map against its parameter (the cradle's staircase, a one-parameter map): a step at
+    its impulses when it exits (a dot for a point), else a band over [a, b] in the style ``band(part)``."""
     if part.stop == "exit":
         if part.piece.is_point:
             ax.plot([a], [part.iterations], "o", color="C0", ms=3)
         else:
-            ax.hlines(part.iterations, a, b, color="C0", lw=2)
-    elif part.stop == "non_terminating":
-        ax.axvspan(a, b, lw=0, **_MAP_STYLE["non_terminating"])
+            ax.hlines(part.iterations, a, b, color="C0", lw=lw)
     else:
-        ax.axvspan(a, b, lw=0, **_MAP_STYLE["unexplored"])
+        ax.axvspan(a, b, lw=0, **band(part))
