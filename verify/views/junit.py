@@ -3,7 +3,7 @@
 One ``<testcase>`` per case of the case file (``classname`` is the grade's class, ``name`` the
 case id). How each class is reported is the user's choice (:func:`parse_report_as`, ``verify
 oracle check --junit-as``): as a ``<failure>`` with the class and what shows it, as
-``<skipped>``, or as passed (no child). By default (:data:`DEFAULT_REPORT`) the passing classes
+``<skipped>``, or as passed (no child). By default (:func:`default_report`) the passing classes
 pass, ``skipped`` is skipped and every other class fails. Written with
 :mod:`xml.etree.ElementTree`, so every text is escaped.
 
