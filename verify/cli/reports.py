@@ -1,4 +1,5 @@
-"""``verify report``, ``verify all``, ``verify bench``: the reports, the main job, the throughput figures."""
+"""``verify report``, ``verify all``, ``verify bench``, ``verify bounds``: the reports, the main job, the
+throughput figures, the bounds of the algorithms."""
 
 from __future__ import annotations
 
@@ -26,6 +27,11 @@ def bench_options(p: argparse.ArgumentParser) -> None:
     p.add_argument("--quick", action="store_true", help="a smoke run: small batches, one round, no Table 1 or GP")
     p.add_argument("--size", type=CASES, default=None, help="cases in the corner batch (default 10000)")
     p.add_argument("--save", default=None, metavar="FILE", type=OutputFile(), help="also write the JSON record to FILE")
+
+
+def bounds_options(p: argparse.ArgumentParser) -> None:
+    """The options of ``verify bounds``."""
+    p.add_argument("logs", nargs="*", metavar="FILE", help="files written under VERIFY_BOUNDS=FILE by earlier commands")
 
 
 def all_options(p: argparse.ArgumentParser) -> None:
@@ -143,5 +149,28 @@ def cmd_bench(args: argparse.Namespace) -> int:
     return 0
 
 
+def cmd_bounds(args: argparse.Namespace) -> int:
+    """``verify bounds``: the bounds of the algorithms, and what the commands run under VERIFY_BOUNDS used."""
+    from verify.cli.common import UsageError
+    from verify.core.bounds import summary, table
+
+    if not args.logs:
+        print(table())
+        return 0
+    lines: list[str] = []
+    for path in args.logs:
+        try:
+            with open(path, encoding="utf-8") as f:
+                part = f.read().splitlines()
+            summary(part)
+        except (OSError, UnicodeDecodeError) as exc:
+            raise UsageError(f"cannot read {path}: {exc.strerror if isinstance(exc, OSError) else exc}") from None
+        except ValueError as exc:
+            raise UsageError(f"{path}: {exc}") from None
+        lines += part
+    print(table(summary(lines)))
+    return 0
+
+
 #: this group's subcommands, in the order of ``verify --help`` (each N has ``N_options`` and ``cmd_N``)
-COMMANDS = ("report", "bench", "all")
+COMMANDS = ("report", "bench", "bounds", "all")

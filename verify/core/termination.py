@@ -42,6 +42,7 @@ from collections.abc import Sequence
 from fractions import Fraction
 from typing import Any
 
+from verify.core import bounds
 from verify.core.cones.period import period_certificate
 from verify.core.system import System
 from verify.errors import Undecided
@@ -295,10 +296,16 @@ def period_halt(history: list[tuple[int, Any, tuple[int, ...]]], searched: set[t
         if count < next_try[0] or system.r < 3:  # two constraints: the alternating cones above
             return None
         if system.backend.is_parametric and count > PARAMETRIC_IMPULSES:
+            if count == PARAMETRIC_IMPULSES + 1:
+                bounds.reached("parametric_impulses")
             return None
         K = system.backend
-        if not getattr(K, "rationals", False) and max(K.size(x) for x in b) > MAX_BITS:
-            return None  # a search on such numbers costs too much (long rationals are boxed by the search)
+        if not getattr(K, "rationals", False):
+            size = max(K.size(x) for x in b)
+            if size > MAX_BITS:  # a search on such numbers costs too much (long rationals are boxed by the search)
+                bounds.reached("field_bits")
+                return None
+            bounds.use("field_bits", size)
         sets = [set(h[2]) for h in history] + [set(J)]
         periods = [p for p in range(1, MAX_PERIOD + 1) if count >= 3 * p]
         tails = {p: sets[-3 * p - 1 :] for p in periods}
@@ -312,6 +319,9 @@ def period_halt(history: list[tuple[int, Any, tuple[int, ...]]], searched: set[t
                 continue
             cert = period_certificate(system, p, b, history[-p][1])
             if cert:
+                bounds.use("period", p)
+                if system.backend.is_parametric:
+                    bounds.use("parametric_impulses", count)
                 return ("non_terminating", cert)
             searched.add((count, p))
         return None

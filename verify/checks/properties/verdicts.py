@@ -48,9 +48,11 @@ from verify.checks.properties.strategies import FAMILIES, MAX_ITERATIONS, RULES,
 from verify.checks.tasks import Task, TaskRun, TaskRunner, TasksFailed
 from verify.core.rule import LAWS, Budget
 
-BUDGET = Budget(bits=4096)
-#: the census' budget: a run past 4096 bits is decided on certified intervals (up to 400 digits)
-DECIDING_BUDGET = Budget(bits=4096, intervals=True)
+#: the size budget of a run of the verdicts (bits of its exact numbers; :mod:`verify.core.bounds`)
+CENSUS_BITS = 4096
+BUDGET = Budget(bits=CENSUS_BITS)
+#: the census' budget: a run past CENSUS_BITS is decided on certified intervals (up to 400 digits)
+DECIDING_BUDGET = Budget(bits=CENSUS_BITS, intervals=True)
 INTERVAL_DPS, INTERVAL_MAX_DPS, MP_DPS = 30, 120, 30
 #: the COR variants each law is checked with: every rule for the rule; for the simultaneous law
 #: the general, symmetric and ideal CORs (the asymmetric rule's cases are general ones with r = 2)

@@ -37,10 +37,10 @@ class SearchTooLong(Undecided):
 
 
 @contextmanager
-def pivot_budget(pivots: int) -> Iterator[None]:
+def pivot_budget(pivots: int) -> Iterator[list[int]]:
     """Within the block, the simplex and the eliminations may pivot ``pivots`` times in all; the next pivot
     raises :class:`SearchTooLong`. A bound on the work of a search that counts steps, not seconds: the
-    same on every machine.
+    same on every machine. The block gets ``[pivots left, pivots allowed]``.
 
     >>> from fractions import Fraction
     >>> from verify.core.backends.rational import RationalBackend
@@ -51,9 +51,10 @@ def pivot_budget(pivots: int) -> Iterator[None]:
     ...
     verify.core.cones.lp.SearchTooLong: the search spent its 0 pivots
     """
-    token = _LEFT.set([pivots, pivots])
+    left = [pivots, pivots]
+    token = _LEFT.set(left)
     try:
-        yield
+        yield left
     finally:
         _LEFT.reset(token)
 

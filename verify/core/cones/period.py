@@ -49,7 +49,8 @@ from collections.abc import Sequence
 from fractions import Fraction
 from typing import Any
 
-from verify.core.cones.lp import feasible, pivot_budget, solve_columns
+from verify.core import bounds
+from verify.core.cones.lp import SearchTooLong, feasible, pivot_budget, solve_columns
 from verify.core.cones.polar import MAX_VECTORS, extreme, forms, polar_values, pushed, spiral_seeds
 from verify.core.engines.rates import beta_from_rates
 from verify.core.system import System, on_exact_field
@@ -120,7 +121,9 @@ def beta_bounds(system: System, J: Sequence[int], vectors: Sequence[Vector]) -> 
     """
     K = system.backend
     if len(vectors) > MAX_BETA_VECTORS:
+        bounds.reached("beta_vectors")
         return None
+    bounds.use("beta_vectors", len(vectors))
     N, D = forms(system, J, vectors)
     pairs = [(N[k, l], D[k, l]) for k in range(len(vectors)) for l in range(k, len(vectors))]
     ratios = [n / d for n, d in pairs if K.sign(d) > 0]
@@ -236,8 +239,11 @@ def carry(
                 elif all(x <= 0 for x in signs):  # x_f = 0 is carried alike with or without f
                     cut.append((vs, (*J, f)))
                 else:
-                    if sum(x > 0 for x in signs) * sum(x < 0 for x in signs) > MAX_CROSSINGS:
-                        return None  # a cone too wide to carry: its edges would cross x_f = 0 too often
+                    crossings = sum(x > 0 for x in signs) * sum(x < 0 for x in signs)
+                    if crossings > MAX_CROSSINGS:  # a cone too wide to carry: its edges would cross x_f = 0 too often
+                        bounds.reached("crossings")
+                        return None
+                    bounds.use("crossings", crossings)
                     low, high = split(K, vs, f)
                     cut += [(low, (*J, f)), (high, J)]
             parts = cut
@@ -245,7 +251,9 @@ def carry(
         for vs, J in parts:
             if stages is not None and not linear_step(system, J):
                 if len(vs) > MAX_VECTORS:
+                    bounds.reached("polar_vectors")
                     return None
+                bounds.use("polar_vectors", len(vs))
                 moved = extreme(K, polar_values(system, J, vs))
             else:
                 betas = [K.one] if linear_step(system, J) else _widened(K, beta_bounds(system, J, [v for v, _ in vs]))
@@ -258,7 +266,9 @@ def carry(
         current = [(list(v), s) for v, s in nxt.items()]
         current = extreme(K, current) if stages is not None else _prune(K, current)
         if len(current) > MAX_CARRIED:
+            bounds.reached("carried")
             return None
+        bounds.use("carried", len(current))
         if stages is not None and n < p - 1:
             stages.append(current)
     return current
@@ -337,8 +347,9 @@ def close(
     for m in never:
         gens.append([K.one if i == m else K.zero for i in range(r)])
         strict.append(False)
-    limit = len(gens) + MAX_GENERATORS
-    for _ in range(rounds):
+    start = len(gens)
+    limit = start + MAX_GENERATORS
+    for done in range(1, rounds + 1):
         stages: list[Carried] | None = [] if polar else None
         carried = carry(system, gens, strict, p, stages)
         if carried is None:
@@ -351,12 +362,17 @@ def close(
             else:
                 out.append((y, d))
         if not missing:
+            bounds.use("generators", len(gens) - start)
+            bounds.use("rounds", done)
             return gens, strict, out, stages or []
         if len(gens) + len(missing) > limit:
+            bounds.reached("generators")
             return None
         for y, s in missing:
             gens.append(y)
             strict.append(s)
+    if rounds == MAX_ROUNDS:
+        bounds.reached("rounds")
     return None
 
 
@@ -526,12 +542,15 @@ def period_certificate(
     guide: tuple[Sequence[Any], Sequence[Any] | None]
     if K.is_parametric and not _at_sample(system, p, b, earlier):
         return None
-    if K.is_exact and getattr(K, "rationals", False) and max(K.size(x) for x in b) > MAX_BITS:
+    size = max(K.size(x) for x in b) if K.is_exact else 0
+    if K.is_exact and getattr(K, "rationals", False) and size > MAX_BITS:
+        bounds.reached("cone_bits")
         # long exact rationals: the cone is built around a box of short ones that holds the rates exactly
         exact, box = system, rounded_box(K, b)
         seeds = box_seeds(K, *box)
         guide = (box[0], rounded_box(K, earlier)[0] if earlier is not None else None)
     elif K.is_exact:
+        bounds.use("cone_bits", size)
         exact, seeds, guide = system, [list(b)], (b, earlier)
     elif K.encloses and K.is_rigorous and hasattr(K, "bounds"):
         exact = on_exact_field(system, [])
@@ -543,13 +562,18 @@ def period_certificate(
         guide = (box[0], enclosing_box(Q, [K.bounds(x) for x in earlier])[0] if earlier is not None else None)
     else:
         return None
+    left = [MAX_PIVOTS, MAX_PIVOTS]
     try:
-        with pivot_budget(MAX_PIVOTS):
+        with pivot_budget(MAX_PIVOTS) as left:
             found = cone_search(exact, p, seeds, guide)
     except Undecided as exc:  # SearchTooLong among them
+        if isinstance(exc, SearchTooLong):
+            bounds.reached("pivots")
         if hasattr(exc, "polys"):
             raise
+        bounds.use("pivots_failed", MAX_PIVOTS - max(left[0], 0))
         return None
+    bounds.use("pivots" if found else "pivots_failed", MAX_PIVOTS - left[0])
     return _certificate(exact, p, found, b if K.is_exact else None, box) if found else None
 
 

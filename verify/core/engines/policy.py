@@ -19,6 +19,8 @@ from collections.abc import Callable
 from dataclasses import dataclass, field, replace
 from typing import Any
 
+from verify.core import bounds
+
 
 @dataclass(frozen=True)
 class Limits:
@@ -48,8 +50,12 @@ class Limits:
     def over_budget(self, size: Callable[[], int]) -> bool:
         """Whether the run is over budget; ``size()`` (asked only when ``bits`` is set) is the
         largest numerator-plus-denominator size of the velocity, in bits."""
-        if self.bits is not None and size() > self.bits:
-            return True
+        if self.bits is not None:
+            used = size()
+            if used > self.bits:
+                bounds.reached("run_bits")
+                return True
+            bounds.use("run_bits", used)
         return self.deadline is not None and time.monotonic() > self.deadline
 
     def stop(self, impulses: int, size: Callable[[], int]) -> str | None:
