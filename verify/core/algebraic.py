@@ -19,11 +19,18 @@ decimal digits are :func:`verify.core.format.format_decimal`'s (certified).
 
 from __future__ import annotations
 
+from collections.abc import Sequence
 from fractions import Fraction
 from functools import cached_property, total_ordering
 from typing import Any
 
 import sympy as sp
+
+flint: Any
+try:
+    import flint
+except ImportError:  # pragma: no cover - the fast extra is not installed
+    flint = None
 
 X = sp.Symbol("x")
 
@@ -58,8 +65,16 @@ def _eval_interval(coeffs: list[Fraction], lo: Fraction, hi: Fraction) -> tuple[
     return a, b
 
 
-def _sign(x: Fraction) -> int:
-    return (x > 0) - (x < 0)
+def _fmpq(q: Fraction) -> Any:
+    return flint.fmpq(q.numerator, q.denominator)
+
+
+def _fraction_of(q: Any) -> Fraction:
+    return Fraction(int(q.p), int(q.q))
+
+
+def _sign(x: Any) -> int:
+    return int(x > 0) - int(x < 0)
 
 
 def _count_roots(p: sp.Poly, lo: Fraction, hi: Fraction) -> int:
@@ -201,15 +216,29 @@ class RealAlgebraic:
     def __hash__(self) -> int:
         return hash(self.poly.as_expr()) if not self.is_rational else hash(self.lo)
 
-    def sign_of(self, p: sp.Poly) -> int:
-        """The sign of p at this number, exactly."""
-        if p.is_zero:
-            return 0
+    def sign_of(self, p: sp.Poly | Sequence[int | Fraction]) -> int:
+        """The sign of p at this number, exactly: p a SymPy ``Poly`` or its coefficients, lowest degree
+        first. The isolating interval is refined (bisection) until an interval evaluation decides it; with
+        python-flint the same steps run on flint's rationals (the same interval at the end)."""
+        if isinstance(p, sp.Poly):
+            if p.is_zero:
+                return 0
+            coeffs = [_q(c) for c in p.all_coeffs()]
+        else:
+            coeffs = [Fraction(c) for c in reversed(p)]
+            while coeffs and coeffs[0] == 0:
+                coeffs.pop(0)
+            if not coeffs:
+                return 0
         if self.is_rational:
-            return _sign(_eval(p, self.lo))
-        if p.rem(self.poly).is_zero:
+            total = Fraction(0)
+            for c in coeffs:
+                total = total * self.lo + c
+            return _sign(total)
+        if flint is not None:
+            return self._sign_of_flint(coeffs)
+        if sp.Poly(coeffs, X, domain="QQ").rem(self.poly).is_zero:
             return 0
-        coeffs = [_q(c) for c in p.all_coeffs()]
         while True:  # p(x) != 0: an interval evaluation on a fine enough enclosure decides it
             lo, hi = _eval_interval(coeffs, self.lo, self.hi)
             if lo > 0:
@@ -217,6 +246,44 @@ class RealAlgebraic:
             if hi < 0:
                 return -1
             self.refine()
+
+    @cached_property
+    def _flint_poly(self) -> Any:
+        return flint.fmpq_poly([_fmpq(_q(c)) for c in reversed(self.poly.all_coeffs())])
+
+    def _sign_of_flint(self, coeffs: list[Fraction]) -> int:
+        """:meth:`sign_of` on flint's rationals: the same interval evaluations and bisections."""
+        M = self._flint_poly
+        cs = [_fmpq(c) for c in coeffs]
+        if (flint.fmpq_poly(cs[::-1]) % M).is_zero():
+            return 0
+        lo, hi = _fmpq(self.lo), _fmpq(self.hi)
+        try:
+            while True:
+                a = b = flint.fmpq(0)
+                if lo >= 0:  # the same bounds as the four products' least and largest, with fewer products
+                    for c in cs:
+                        a, b = (a * lo if a >= 0 else a * hi) + c, (b * hi if b >= 0 else b * lo) + c
+                else:
+                    for c in cs:
+                        products = (a * lo, a * hi, b * lo, b * hi)
+                        a, b = min(products) + c, max(products) + c
+                if a > 0:
+                    return 1
+                if b < 0:
+                    return -1
+                if lo == hi:  # refine() keeps a rational
+                    continue
+                mid = (lo + hi) / 2
+                v = M(mid)
+                if v == 0:
+                    lo = hi = mid
+                elif _sign(M(lo)) == _sign(v):
+                    lo = mid
+                else:
+                    hi = mid
+        finally:
+            self.lo, self.hi = _fraction_of(lo), _fraction_of(hi)
 
     def between(self, other: RealAlgebraic) -> Fraction:
         """A rational strictly between this number and a larger one."""

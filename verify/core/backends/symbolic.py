@@ -1,7 +1,8 @@
 """A symbolic-parameter backend: eps as a symbol restricted to an interval.
 
-Elements are rational functions of ``eps`` with rational coefficients (SymPy's
-``FracField``). The parameter lives in a :class:`Piece`, an interval of the real line with
+Elements are rational functions of ``eps`` with rational coefficients
+(:mod:`verify.core.backends.ratfunc`: python-flint's polynomials when installed, SymPy's ``FracField``
+otherwise; the same results). The parameter lives in a :class:`Piece`, an interval of the real line with
 exact algebraic endpoints, each open or closed. ``sign(x)`` returns the sign of x when it
 is the same for every eps of the piece; otherwise it raises :class:`Split`, which carries
 the polynomials whose real roots cut the piece into parts where every sign is constant.
@@ -27,15 +28,11 @@ from fractions import Fraction
 from typing import Any
 
 import sympy as sp
-from sympy import QQ
-from sympy.polys.fields import field
 
 from verify.core.algebraic import RealAlgebraic, X
 from verify.core.backends.base import Backend
+from verify.core.backends.ratfunc import EPS, Coefficients, arithmetic
 from verify.errors import BadNumber, Undecided
-
-EPS = sp.Symbol("eps")
-FIELD, _EPS_ELEMENT = field([EPS], QQ)
 
 
 class Split(Undecided):
@@ -106,14 +103,21 @@ class RootCache:
 
     def __init__(self) -> None:
         self._roots: dict[Any, list[RealAlgebraic]] = {}
-        self._polys: dict[Any, sp.Poly] = {}
+        self._polys: dict[Coefficients, sp.Poly] = {}
+        self._by_key: dict[Coefficients, list[RealAlgebraic]] = {}
 
-    def poly(self, p: Any) -> sp.Poly:
-        """A ``PolyElement`` of the field's ring as a SymPy ``Poly`` in x."""
-        key = tuple(sorted(p.items()))
-        if key not in self._polys:
-            self._polys[key] = sp.Poly.from_dict({m[0]: c for m, c in p.items()} or {0: 0}, X, domain="QQ")
-        return self._polys[key]
+    def poly(self, coeffs: Coefficients) -> sp.Poly:
+        """A polynomial (coefficients lowest degree first) as a SymPy ``Poly`` in x."""
+        if coeffs not in self._polys:
+            terms = {k: sp.Rational(Fraction(c).numerator, Fraction(c).denominator) for k, c in enumerate(coeffs) if c}
+            self._polys[coeffs] = sp.Poly.from_dict(terms or {0: 0}, X, domain="QQ")
+        return self._polys[coeffs]
+
+    def roots_of(self, coeffs: Coefficients) -> list[RealAlgebraic]:
+        """The real roots of the polynomial of these coefficients (lowest degree first)."""
+        if coeffs not in self._by_key:
+            self._by_key[coeffs] = self.roots(self.poly(coeffs)) if len(coeffs) > 1 else []
+        return self._by_key[coeffs]
 
     def roots(self, p: sp.Poly) -> list[RealAlgebraic]:
         if p not in self._roots:
@@ -134,32 +138,46 @@ class SymbolicBackend(Backend):
     is_rigorous = True
     is_parametric = True
 
-    def __init__(self, piece: Piece, cache: RootCache | None = None):
+    def __init__(self, piece: Piece, cache: RootCache | None = None, arithmetic_name: str | None = None):
         self.piece = piece
         self.cache = cache or RootCache()
-        self.zero = FIELD(0)
-        self.one = FIELD(1)
-        self.parameter = _EPS_ELEMENT
+        self.arithmetic = arithmetic(arithmetic_name)
+        self.zero = self.arithmetic.zero
+        self.one = self.arithmetic.one
+        self.parameter = self.arithmetic.parameter
+        self._signs: dict[Any, list[tuple[Piece, int]]] = {}
 
     def convert(self, value: Any) -> Any:
         if isinstance(value, Fraction):
-            return FIELD(sp.Rational(value.numerator, value.denominator))
+            return self.arithmetic.rational(value)
         if value.free_symbols - {EPS}:
             raise BadNumber(f"{value}: the symbolic backend knows only the parameter eps")
         try:
-            return FIELD.from_expr(value)
-        except Exception as exc:  # CoercionFailed: sqrt(2) and other irrational constants
+            return self.arithmetic.from_expr(value)
+        except Exception as exc:  # sqrt(2) and other irrational constants
             raise BadNumber(f"{value}: the symbolic backend needs rational functions of eps ({exc})") from None
 
+    def _polys(self, x: Any) -> tuple[sp.Poly, sp.Poly]:
+        n, d = self.arithmetic.keys(x)
+        return self.cache.poly(n), self.cache.poly(d)
+
     def _pieces_and_signs(self, x: Any) -> list[tuple[Piece, int]]:
-        """The piece cut where the numerator or denominator of x vanishes, with the sign of x on each part."""
-        num, den = self.cache.poly(x.numer), self.cache.poly(x.denom)
-        if num.is_zero:
+        """The piece cut where the numerator or denominator of x vanishes, with the sign of x on each part
+        (found once per element and piece: a search asks the same signs many times)."""
+        found = self._signs.get(x)
+        if found is None:
+            found = self._signs[x] = self._cut_and_signs(x)
+        return found
+
+    def _cut_and_signs(self, x: Any) -> list[tuple[Piece, int]]:
+        A = self.arithmetic
+        if A.is_zero(x):
             return [(self.piece, 0)]
+        num, den = self.arithmetic.keys(x)
         if self.piece.is_point:
             r = self.piece.lower
             return [(self.piece, r.sign_of(num) * r.sign_of(den))]
-        points = [r for p in (num, den) for r in self.cache.roots(p) if self.piece.contains(r)]
+        points = [r for p in (num, den) for r in self.cache.roots_of(p) if self.piece.contains(r)]
         parts = self.piece.cut(points) if points else [self.piece]
         out = []
         for part in parts:
@@ -168,13 +186,13 @@ class SymbolicBackend(Backend):
                 out.append((part, r.sign_of(num) * r.sign_of(den)))
             else:
                 q = part.sample()
-                r = RealAlgebraic.rational(q)
-                out.append((part, r.sign_of(num) * r.sign_of(den)))
+                value = A.at(x, q)
+                out.append((part, (value > 0) - (value < 0)))
         return out
 
     def _split(self, x: Any, what: str) -> Split:
-        polys = [p for p in (self.cache.poly(x.numer), self.cache.poly(x.denom)) if p.degree() > 0]
-        return Split(polys, f"the {what} of {x.as_expr()} is not constant for eps in {self.piece}")
+        polys = [p for p in self._polys(x) if p.degree() > 0]
+        return Split(polys, f"the {what} of {self.arithmetic.expr(x)} is not constant for eps in {self.piece}")
 
     def sign(self, x: Any) -> int:
         signs = {s for _, s in self._pieces_and_signs(x)}
@@ -190,7 +208,7 @@ class SymbolicBackend(Backend):
         raise self._split(x, "sign")
 
     def to_number(self, x: Any) -> Any:
-        return x.as_expr()
+        return self.arithmetic.expr(x)
 
     def at_sample(self, x: Any) -> Fraction | None:
         """x at one rational eps strictly inside the piece (None on a point): a quick necessary test
@@ -202,12 +220,11 @@ class SymbolicBackend(Backend):
         """
         if self.piece.is_point:
             return None
-        q = self.piece.sample()
-        value = x.numer(q) / x.denom(q)
-        return Fraction(int(value.p), int(value.q))
+        value: Fraction = self.arithmetic.at(x, self.piece.sample())
+        return value
 
     def to_exact(self, x: Any) -> str:
-        return str(sp.factor(x.as_expr()))
+        return str(sp.factor(self.arithmetic.expr(x)))
 
     def to_decimal(self, x: Any, digits: int = 30) -> str:
         return self.to_exact(x)

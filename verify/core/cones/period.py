@@ -502,11 +502,15 @@ class _Sampled:
     def __init__(self, system: System):
         from verify.core.backends.rational import RationalBackend
 
-        at = getattr(system.backend, "at_sample")  # noqa: B009 (a parameter backend's method)
-        self.backend = RationalBackend("python")
+        sample = getattr(system.backend, "at_sample")  # noqa: B009 (a parameter backend's method)
+        self.backend = K = RationalBackend("auto")  # the fastest installed: the same exact numbers
+
+        def at(x: Any) -> Any:
+            return K.convert(sample(x))
+
         self.gram = [[at(x) for x in row] for row in system.gram]
         self.restitution = [at(x) for x in system.restitution]
-        self.inverse_gram_diag = [1 / self.gram[i][i] for i in range(system.r)]
+        self.inverse_gram_diag = [K.one / self.gram[i][i] for i in range(system.r)]
         self.r = system.r
         self.at = at
 
