@@ -22,10 +22,10 @@ from fractions import Fraction
 import sympy as sp
 from hypothesis import strategies as st
 
-from verify.checks.maps.general import eps_map
 from verify.checks.properties.own import family_verdicts
 from verify.core.rule import solve
 from verify.core.system import System
+from verify.maps.general import eps_map
 from verify.views.text import eps_map_text, properties_text
 
 x, y, theta = sp.symbols("x y theta")

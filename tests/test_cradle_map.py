@@ -12,8 +12,12 @@ from hypothesis import given, settings
 from hypothesis import strategies as st
 
 from tests import certificate_check
-from verify.checks.paper.cradle_map import (
-    aeev_rows_explained,
+from verify.checks.paper.cradle_map import aeev_rows_explained
+from verify.cli import main
+from verify.core.algebraic import RealAlgebraic
+from verify.core.backends.symbolic import EPS
+from verify.errors import InvalidInput, InvalidSystem
+from verify.maps.cradle import (
     approach_counts,
     cradle_map,
     map_json,
@@ -21,10 +25,6 @@ from verify.checks.paper.cradle_map import (
     threshold_between,
     undecided_measure,
 )
-from verify.cli import main
-from verify.core.algebraic import RealAlgebraic
-from verify.core.backends.symbolic import EPS
-from verify.errors import InvalidInput, InvalidSystem
 from verify.models.cradle import run_cradle
 
 BOUND = 40

@@ -6,9 +6,9 @@ from fractions import Fraction as F
 
 import pytest
 
-from verify.checks.paper.cradle_map import approach_counts, cradle_map, termination_boundaries
 from verify.cli import main
 from verify.errors import InvalidInput, NoConvergence
+from verify.maps.cradle import approach_counts, cradle_map, termination_boundaries
 from verify.models.cradle import run_cradle
 
 MASSES = ["1", "2", "3"]

@@ -1,4 +1,4 @@
-"""The map of any system (``verify map``, :func:`verify.checks.maps.general.eps_map`): checked point by
+"""The map of any system (``verify map``, :func:`verify.maps.general.eps_map`): checked point by
 point against single exact runs, and against the cradle map it generalises."""
 
 from __future__ import annotations
@@ -11,15 +11,15 @@ from pathlib import Path
 import pytest
 import sympy as sp
 
-from verify.checks.maps.general import eps_map, eps_map_json
-from verify.checks.maps.line import parts_json
-from verify.checks.paper.cradle_map import cradle_map, map_json
 from verify.cli import main
 from verify.core.format import format_decimal
 from verify.core.parse import parse_number, to_number
 from verify.core.rule import solve
 from verify.core.system import System
 from verify.errors import InvalidInput
+from verify.maps.cradle import cradle_map, map_json
+from verify.maps.general import eps_map, eps_map_json
+from verify.maps.line import parts_json
 from verify.models.cradle import cradle_system
 from verify.records.results import case_from_record
 
@@ -324,7 +324,7 @@ def test_a_case_names_its_contacts_and_the_results_maps_and_figures_use_the_name
     pytest.importorskip("matplotlib")
     import matplotlib.pyplot as plt
 
-    from verify.checks.maps.general import case_map
+    from verify.maps.general import case_map
     from verify.records.results import load_cases
     from verify.views.figures import eps_map_plot
 

@@ -3,7 +3,10 @@ across modules, no import cycle.
 
 The layers, lowest first (a module may import its own layer and the layers below it):
 
-    errors <- core <- models <- records <- physics <- checks <- views <- cli
+    errors <- core <- models <- records <- physics <- maps <- checks <- views <- cli
+
+``maps`` (the exact maps over a parameter) sits at the layer of ``checks``, just below it: the checks and
+the paper's cradle map are built on the maps, which need none of the checks.
 
 ``verify/__init__.py`` (the public API) and ``verify/__main__.py`` stand above them all.
 Everything here reads the source with :mod:`ast`; nothing of the package is run.
@@ -18,7 +21,7 @@ from pathlib import Path
 import pytest
 
 PACKAGE = Path(__file__).resolve().parents[1] / "verify"
-LAYERS = ("errors", "core", "models", "records", "physics", "checks", "views", "cli")
+LAYERS = ("errors", "core", "models", "records", "physics", "maps", "checks", "views", "cli")
 TOP = ("__init__", "__main__")
 MAX_FUNCTION_LINES = 80
 

@@ -12,11 +12,11 @@ from hypothesis import given
 from hypothesis import strategies as st
 
 from tests.helpers import Poison
-from verify.checks.maps.general import eps_map, eps_map_json
-from verify.checks.paper.cradle_map import cradle_map, map_json
 from verify.core.algebraic import RealAlgebraic, poly_from_coeffs
 from verify.core.backends.ratfunc import EPS, FLINT, arithmetic, using
 from verify.core.backends.symbolic import Piece, Split, SymbolicBackend
+from verify.maps.cradle import cradle_map, map_json
+from verify.maps.general import eps_map, eps_map_json
 from verify.models.cradle import cradle_system
 
 pytestmark = pytest.mark.skipif(not FLINT, reason="python-flint is not installed (the fast extra)")

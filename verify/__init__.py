@@ -41,13 +41,13 @@ __version__ = "0.1.0"
 
 #: names imported when first used (they load SymPy and Hypothesis, which the command line's parser does not)
 _LAZY = {
-    "eps_map": "verify.checks.maps.general",
+    "eps_map": "verify.maps.general",
     "family_verdicts": "verify.checks.properties.own",
 }
 
 
 def __getattr__(name: str) -> object:
-    """:func:`~verify.checks.maps.general.eps_map` (the map of any system's CORs as parameters) and
+    """:func:`~verify.maps.general.eps_map` (the map of any system's CORs as parameters) and
     :func:`~verify.checks.properties.own.family_verdicts` (the property suite on a family of your own)."""
     if name in _LAZY:
         import importlib

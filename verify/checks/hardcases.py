@@ -4,7 +4,7 @@
 a one-line reason the case is hard. The families:
 
 - ``cradle*-eps-...``: Newton's cradle with eps just below and just above the exact breakpoints
-  of its map (:func:`verify.checks.paper.cradle_map.cradle_map`: where the number of impulses
+  of its map (:func:`verify.maps.cradle.cradle_map`: where the number of impulses
   changes; 3 - 2*sqrt(2) is where three impulses become four), at distances 10^-k, and at the
   breakpoints themselves when they are rational or quadratic surds. Every eps is a rational whose
   side of the breakpoint is decided exactly (:class:`verify.core.algebraic.RealAlgebraic`), and
@@ -47,12 +47,12 @@ from typing import Any
 import sympy as sp
 
 from verify.checks.oracle import random_geometry
-from verify.checks.paper.cradle_map import CradleMap, Part, cradle_map, termination_boundaries
 from verify.checks.properties.strategies import velocity_with_rates
 from verify.core.algebraic import RealAlgebraic
 from verify.core.backends import RationalBackend
 from verify.core.rule import Budget, impulse, solve
 from verify.core.system import System
+from verify.maps.cradle import CradleMap, Part, cradle_map, termination_boundaries
 from verify.models.corner import corner_geometry, slope_of, velocity_of
 from verify.models.cradle import cradle_geometry
 from verify.models.wedge import below_boundary

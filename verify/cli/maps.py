@@ -132,7 +132,8 @@ def cmd_sweep(args: argparse.Namespace) -> int:
 
 def cmd_cradle_map(args: argparse.Namespace) -> int:
     """``verify cradle-map``: the cradle for every eps of an interval (and its staircase figure)."""
-    from verify.checks.paper.cradle_map import cradle_map, map_json, map_report
+    from verify.checks.paper.cradle_map import map_report
+    from verify.maps.cradle import cradle_map, map_json
     from verify.records.results import dumps
     from verify.views.text import cradle_map_text
 
@@ -159,7 +160,7 @@ def cmd_cradle_map(args: argparse.Namespace) -> int:
 
 def map_options(p: argparse.ArgumentParser) -> None:
     """The options of ``verify map``."""
-    from verify.checks.maps import DEFAULT_LINES, MAX_LINES
+    from verify.maps import DEFAULT_LINES, MAX_LINES
 
     p.add_argument("case", metavar="CASE.json", help='a case file {"cases": [...]} whose CORs name parameters')
     p.add_argument("--case", dest="case_id", metavar="ID", help="the case to map (needed when the file has several)")
@@ -193,7 +194,7 @@ def _parameters(args: argparse.Namespace) -> dict[str, list[str]]:
 
 def cmd_map(args: argparse.Namespace) -> int:
     """``verify map``: a case's CORs as parameters, mapped exactly (one interval, or a grid of lines)."""
-    from verify.checks.maps.general import case_map, eps_map_json
+    from verify.maps.general import case_map, eps_map_json
     from verify.records.results import dumps
     from verify.views.text import eps_map_text
 

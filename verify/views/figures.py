@@ -56,13 +56,13 @@ def staircase_legend(cmap: Any) -> list[tuple[str, str]]:
     (unexplored, every eps proved to exit after the bound), ``undecided`` (unexplored, not
     decided: the label gives the map's reason), ``boundary`` and ``threshold_3_4``.
 
-    >>> from verify.checks.paper.cradle_map import cradle_map
+    >>> from verify.maps.cradle import cradle_map
     >>> staircase_legend(cradle_map(upper="1/20", max_impulses=2))
     [('non_terminating', 'never exits (proved)')]
     >>> staircase_legend(cradle_map(balls=4, max_impulses=3))[1]
     ('undecided', 'undecided: still impacting after 3 impulses\\n(no invariant cone found for the whole interval)')
     """
-    from verify.checks.paper.cradle_map import termination_boundaries, threshold_between
+    from verify.maps.cradle import termination_boundaries, threshold_between
 
     out = []
     if cmap.pieces:
@@ -104,7 +104,7 @@ def staircase_figure(cmap: Any) -> Any:
     from matplotlib.lines import Line2D
     from matplotlib.patches import Patch
 
-    from verify.checks.paper.cradle_map import termination_boundaries, threshold_between
+    from verify.maps.cradle import termination_boundaries, threshold_between
 
     boundaries = termination_boundaries(cmap)
     t34 = threshold_between(cmap, 4, 3)
@@ -492,7 +492,7 @@ def engines_cradle(record: dict[str, Any], path: str | Path) -> Path:
 
 
 def eps_map_figure(m: Any, path: str | Path) -> Path:
-    """A map of :func:`verify.checks.maps.general.eps_map` drawn (:func:`eps_map_plot`) and written to
+    """A map of :func:`verify.maps.general.eps_map` drawn (:func:`eps_map_plot`) and written to
     ``path`` (PNG) whole or not at all."""
     return _save(eps_map_plot(m), path)
 
@@ -503,7 +503,7 @@ def eps_map_legend(m: Any) -> list[tuple[str, str]]:
     Kinds: ``exit`` (one parameter: the impulses to exit; two or more: the colour bar says them),
     ``non_terminating`` (proved never to exit) and ``unexplored`` (still impacting at the bound).
 
-    >>> from verify.checks.maps.general import eps_map
+    >>> from verify.maps.general import eps_map
     >>> from verify.models.cradle import cradle_system
     >>> eps_map_legend(eps_map(cradle_system("1", 3), ["1", "0", "0"], max_impulses=4))
     [('non_terminating', 'never exits (proved)'),

@@ -97,7 +97,8 @@ class Findings:
 
     @cached_property
     def cradle_map(self) -> Any:
-        from verify.checks.paper.cradle_map import cradle_map, map_report
+        from verify.checks.paper.cradle_map import map_report
+        from verify.maps.cradle import cradle_map
 
         return map_report(cradle_map(max_impulses=40), approach=6, paper=True)
 

@@ -454,7 +454,7 @@ def cradle_map_text(
 ) -> str:
     """The cradle map in words and tables. ``exact_in`` says where every exact endpoint and
     certificate is (the command line passes ``"--json"``)."""
-    from verify.checks.paper.cradle_map import termination_boundaries, threshold_between, undecided_measure
+    from verify.maps.cradle import termination_boundaries, threshold_between, undecided_measure
     from verify.models.cradle import cradle_system
 
     masses = ", ".join(format_exact(m) for m in cmap.masses)
@@ -534,7 +534,8 @@ def _sequence(impact_sets: list[tuple[int, ...]], contacts: Sequence[str] | None
 
 def cradle_map_summary(cmap: Any) -> str:
     """A few lines of the cradle map for ``verify all``."""
-    from verify.checks.paper.cradle_map import aeev_rows_explained, termination_boundaries, threshold_between
+    from verify.checks.paper.cradle_map import aeev_rows_explained
+    from verify.maps.cradle import termination_boundaries, threshold_between
 
     lines = [f"  exact map: {len(cmap.pieces)} pieces with an exit, up to {cmap.max_impulses} impulses"]
     t34 = threshold_between(cmap, 4, 3)
@@ -801,7 +802,7 @@ def all_summary(
     """The closing summary of ``verify all`` (Table 1, the cradle map, the corner example and claims,
     the property verdicts of ``profile``, the oracle's self-check), and whether the program
     contradicted itself."""
-    from verify.checks.paper.cradle_map import termination_boundaries
+    from verify.maps.cradle import termination_boundaries
 
     lines = ["", "Summary", "======="]
     bad = [(row.eps, c.column) for row in table.rows for c in row.checks if not c.agrees]
@@ -829,10 +830,10 @@ def all_summary(
 
 
 def eps_map_text(m: Any, *, exact_in: str = "eps_map_json(m)") -> str:
-    """A map of :func:`verify.checks.maps.general.eps_map` in words and tables, one table per line;
+    """A map of :func:`verify.maps.general.eps_map` in words and tables, one table per line;
     ``exact_in`` says where the exact endpoints are (the command line passes ``"--json"``).
 
-    >>> from verify.checks.maps.general import eps_map
+    >>> from verify.maps.general import eps_map
     >>> from verify.core.system import System
     >>> m = eps_map(System([[1, 0], [0, 1]], [[-1, 1]], [1], names=["spring"]), ["1", "0"], ["e"])
     >>> print(eps_map_text(m))
@@ -842,7 +843,7 @@ def eps_map_text(m: Any, *, exact_in: str = "eps_map_json(m)") -> str:
     e in [0, 1]:
     ...
     """
-    from verify.checks.maps.line import undecided_length
+    from verify.maps.line import undecided_length
 
     cors = ", ".join(f"{name} = {cor}" for name, cor in zip(m.system.names, m.restitution))
     ranges = ", ".join(f"{n} in [{format_exact(lo)}, {format_exact(hi)}]" for n, (lo, hi) in m.parameters.items())

@@ -6,7 +6,7 @@ otherwise; the same results). The parameter lives in a :class:`Piece`, an interv
 exact algebraic endpoints, each open or closed. ``sign(x)`` returns the sign of x when it
 is the same for every eps of the piece; otherwise it raises :class:`Split`, which carries
 the polynomials whose real roots cut the piece into parts where every sign is constant.
-The rule itself is not touched: a driver (:mod:`verify.checks.paper.cradle_map`) catches the split,
+The rule itself is not touched: a driver (:mod:`verify.maps.cradle`) catches the split,
 cuts the piece at the roots (exactly: :class:`~verify.core.algebraic.RealAlgebraic`) and runs
 again on each part.
 

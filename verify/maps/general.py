@@ -3,7 +3,7 @@
 :func:`eps_map` takes a system (built by hand, from a case file, or with
 :meth:`~verify.core.system.System.from_functions`), an entrance velocity, and one COR per contact
 as an expression in named parameters (``"e1"``, ``"e2"``, or one shared ``"eps"``). The rule is
-run on the symbolic backend and cut exactly where a sign changes (:mod:`verify.checks.maps.line`).
+run on the symbolic backend and cut exactly where a sign changes (:mod:`verify.maps.line`).
 
 - **One parameter**: the exact map of its interval. Every value belongs to one part, with exact
   algebraic ends; a part exits with a fixed impact sequence and an exit velocity that is a rational
@@ -37,14 +37,14 @@ from typing import Any
 
 import sympy as sp
 
-from verify.checks.maps import DEFAULT_LINES, MAX_LINES
-from verify.checks.maps.line import Part, line_parts, parts_json, piece_json
 from verify.core.algebraic import RealAlgebraic
 from verify.core.backends.symbolic import EPS, Piece, RootCache, Split, SymbolicBackend
 from verify.core.format import format_exact
 from verify.core.parse import CONSTANTS, FUNCTIONS, parse_number, to_number
 from verify.core.system import System
 from verify.errors import BadNumber, InvalidInput, InvalidSystem
+from verify.maps import DEFAULT_LINES, MAX_LINES
+from verify.maps.line import Part, line_parts, parts_json, piece_json
 
 _NAME = re.compile(r"[A-Za-z_][A-Za-z_0-9]*")
 

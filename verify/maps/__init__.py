@@ -1,6 +1,6 @@
 """Parameter maps: the rule for every value of one or more parameters at once, cut exactly where it changes.
 
-:mod:`verify.checks.maps.line` maps one parameter over an interval; :mod:`verify.checks.maps.general` maps
+:mod:`verify.maps.line` maps one parameter over an interval; :mod:`verify.maps.general` maps
 any system's CORs as expressions in parameters (one interval, or a grid of lines). The constants below
 are here, apart from SymPy, for the command line's options.
 """
