@@ -199,6 +199,15 @@ def test_four_and_five_balls(balls, bound):
     assert 0 < lo <= hi < lo + F(1, 10**13) and abs(widths - sp.Rational(lo)) < sp.Rational(1, 10**13)
     normals = [["-1" if j == i else "1" if j == i + 1 else "0" for j in range(balls)] for i in range(balls - 1)]
     for part in m.non_terminating:  # the cone of the whole interval, at a rational point of it
+        if part.piece.is_point:  # eps = 0: decided as verify solve decides it, with its certificate
+            assert part.piece.lower == RealAlgebraic.rational(F(0))
+            cert, zeros = part.certificate, ["0"] * (balls - 1)
+            if cert["kind"] == "repeating direction":
+                assert certificate_check.check_repeating(cert, ["1"] * balls, normals) == []
+            else:
+                assert certificate_check.check_period(cert, ["1"] * balls, normals, restitution=zeros) == []
+            assert run_cradle(0, v0="1", balls=balls, max_iterations=bound).stop == "non_terminating"
+            continue
         eps = inner_rational(part, F(1, 2))
         cert = part.certificate
         assert cert["kind"] == "invariant cone of a period"
@@ -271,3 +280,47 @@ def test_the_text_says_where_the_exact_endpoints_are_for_its_caller(capsys):
     assert "in map_json(cmap)" in text and "--json" not in text
     assert main(["cradle-map", "--max-impulses", "8", "--approach", "0"]) == 0
     assert "as CRootOf, in --json" in capsys.readouterr().out
+
+
+MAP_2112 = {"mass_matrix": [["2", "0", "0", "0"], ["0", "1", "0", "0"], ["0", "0", "1", "0"], ["0", "0", "0", "2"]],
+            "normals": [["-1", "1", "0", "0"], ["0", "-1", "1", "0"], ["0", "0", "-1", "1"]]}  # fmt: skip
+
+
+def _point_parts_and_solve(parts, system_at, velocity, cap):
+    """(part, the run of solve at the part's point) for every point part with a rational value."""
+    from verify.core.rule import solve
+
+    for part in parts:
+        if part.piece.is_point and part.piece.lower.is_rational:
+            yield part, solve(system_at(part.piece.lower.rational_value()), velocity, max_iterations=cap, trace=False)
+
+
+@pytest.mark.parametrize("which", ["4 unit balls", "masses 2, 1, 1, 2"])
+def test_a_point_part_is_decided_as_solve_decides_it(which) -> None:
+    from verify.core.system import System
+    from verify.maps.general import eps_map
+    from verify.models.cradle import cradle_system
+
+    cap = 16
+    if which == "4 unit balls":
+        parts, velocity = cradle_map(4, max_impulses=cap).parts, ["1", "0", "0", "0"]
+        masses, normals = ["1"] * 4, [[str(x) for x in row] for row in cradle_system("1", 4).source["normals"]]
+
+        def system_at(q):
+            return cradle_system(q, 4)
+    else:
+        velocity, masses, normals = ["1", "0", "0", "0"], ["2", "1", "1", "2"], MAP_2112["normals"]
+        parts = eps_map(System(MAP_2112["mass_matrix"], normals, ["1"] * 3), velocity, ["eps"] * 3,
+                        max_impulses=cap).lines[0].parts  # fmt: skip
+
+        def system_at(q):
+            return System(MAP_2112["mass_matrix"], normals, [q] * 3)
+
+    checked = list(_point_parts_and_solve(parts, system_at, velocity, cap))
+    assert checked, "no rational point part to check"
+    for part, r in checked:
+        assert (part.stop, part.iterations) == (r.stop, r.iterations), part.piece
+    zero = next(part for part, _ in checked if part.piece.lower.rational_value() == 0)
+    assert zero.stop == "non_terminating" and zero.certificate["kind"] == "repeating direction"
+    # the certificate, checked by the tests' own formulas
+    assert certificate_check.check_repeating(zero.certificate, masses, normals) == []

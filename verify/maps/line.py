@@ -32,10 +32,12 @@ from typing import Any
 
 import sympy as sp
 
+from verify.core.algebraic import RealAlgebraic
 from verify.core.backends.symbolic import EPS, Piece, RootCache, Split, SymbolicBackend
 from verify.core.format import format_decimal
 from verify.core.rule import solve
 from verify.core.system import System
+from verify.errors import InvalidInput, Undecided
 
 
 @dataclass
@@ -78,7 +80,8 @@ def line_parts(
     """The parts of ``domain``, in order: ``build(K)`` is the system on the symbolic backend ``K`` (its
     parameter, :data:`~verify.core.backends.symbolic.EPS`, ranging over one piece), ``velocity`` the
     exact entrance velocity. Each part's exit velocity is written in the parameter's own name,
-    ``parameter`` (see the module's example).
+    ``parameter`` (see the module's example). A point part the parametric run leaves at the bound is
+    run again as :func:`~verify.core.rule.solve` runs it at that value (:func:`_as_solve_decides`).
 
     >>> from verify.core.system import System
     >>> one = lambda K: System([[1, 0], [0, 1]], [[-1, 1]], [EPS], backend=K)
@@ -101,11 +104,32 @@ def line_parts(
                 raise RuntimeError(f"cutting {piece} made no progress ({split})") from None
             work.extend(cuts)
             continue
-        velocity_out = [sp.sympify(K.to_number(x)).subs(EPS, symbol) for x in r.exit_velocity]
+        if r.stop == "max_iterations" and piece.is_point:
+            r = _as_solve_decides(system, velocity, piece.lower, max_impulses) or r
+        velocity_out = [sp.sympify(r.backend.to_number(x)).subs(EPS, symbol) for x in r.exit_velocity]
         done.append(
             Part(piece, r.stop, r.iterations, list(r.impact_sets), velocity_out, r.certificate, parameter=parameter)
         )
     return merge(sorted(done, key=lambda p: (p.piece.lower, not p.piece.is_point)))
+
+
+def _as_solve_decides(system: System, velocity: Sequence[Any], point: RealAlgebraic, max_impulses: int) -> Any:
+    """The run at one value of the parameter as :func:`~verify.core.rule.solve` makes it on the exact
+    numbers of that value (rationals, or the number field of a quadratic irrational), with every proof
+    of non-termination it has (repeating directions among them, which the parametric run does not look
+    for): its result when it decides what the parametric run left undecided, else None."""
+    if not (point.is_rational or point.poly.degree() == 2):
+        return None
+    src, value = system.source, str(point)
+    cors = [sp.sympify(e).subs(EPS, sp.sympify(value)) if getattr(e, "free_symbols", None) else e
+            for e in src["restitution"]]  # fmt: skip
+    try:
+        exact = System(src["mass_matrix"], src["normals"], [str(e) for e in cors], src["time_terms"],
+                       names=system.names, coordinates=system.coordinates)  # fmt: skip
+        r = solve(exact, velocity, max_iterations=max_impulses, trace=False)
+    except (InvalidInput, Undecided):
+        return None
+    return r if r.stop != "max_iterations" else None
 
 
 def merge(parts: list[Part]) -> list[Part]:

@@ -481,6 +481,9 @@ def cradle_map_text(
         cert = part.certificate or {}
         if "mu" in cert:
             how = f"invariant cones (mu = {', '.join(cert['mu'])})"
+        elif cert.get("kind") == "repeating direction":
+            cycle = len(cert.get("cycle", []))
+            how = f"a direction of the rates that repeats after {cycle} impulses (verify solve's run at that point)"
         else:
             gens, impulses = len(cert.get("generators", [])), cert.get("impulses")
             how = f"a cone of {gens} generators that {impulses} impulses map into itself"
@@ -515,6 +518,8 @@ def parts_table(parts: Sequence[Any], name: str = "eps", contacts: Sequence[str]
         right = "]" if part.piece.upper_closed else ")"
         if part.stop == "exit":
             what = "exit: " + _sequence(part.impact_sets, contacts)
+        elif part.stop == "non_terminating" and (part.certificate or {}).get("kind") == "repeating direction":
+            what = "never exits (certificate: repeating direction)"
         elif part.stop == "non_terminating":
             what = "never exits (certificate: invariant cones)"
         else:
