@@ -20,6 +20,7 @@ from verify.cli.common import (
     BoundedInt,
     OutputDir,
     OutputFile,
+    Seconds,
     StatusLine,
     UsageError,
     cluster_options,
@@ -57,6 +58,30 @@ def sweep_options(p: argparse.ArgumentParser) -> None:
     p.add_argument("--json", action="store_true", help="print the results as JSON")
 
 
+#: the most parts a map may be asked to decide (--max-parts)
+MAX_PARTS = 10**7
+#: the exit code of a map stopped by Ctrl-C (the map decided so far is printed first)
+INTERRUPTED = 130
+
+
+def map_budget_options(p: argparse.ArgumentParser) -> None:
+    """The budgets of ``verify map`` and ``verify cradle-map`` (their progress line goes with them)."""
+    p.add_argument("--time-limit", type=Seconds(), default=None, metavar="SECONDS",
+                   help="stop after this wall-clock time and print the map decided so far (default: none)")  # fmt: skip
+    p.add_argument("--max-parts", type=BoundedInt(0, MAX_PARTS), default=None, metavar="N",
+                   help="stop after deciding N parts (all lines together) and print the map so far")  # fmt: skip
+    p.add_argument("--quiet", action="store_true", help="no progress line on stderr")
+
+
+def map_watch(args: argparse.Namespace, label: str) -> tuple[Any, StatusLine]:
+    """The :class:`~verify.maps.line.Watch` of the budget options, with a status line on a terminal."""
+    from verify.maps.line import Watch
+
+    status = StatusLine.for_args(args)
+    progress = (lambda line: status.show(f"{label} {line}")) if status.enabled else None
+    return Watch(seconds=args.time_limit, max_parts=args.max_parts, progress=progress), status
+
+
 def cradle_map_options(p: argparse.ArgumentParser) -> None:
     """The options of ``verify cradle-map``."""
     p.add_argument("--balls", type=BALLS, default=None, help=f"number of balls N, 2 to {MAX_BALLS} ({BALLS_DEFAULT})")
@@ -74,6 +99,7 @@ def cradle_map_options(p: argparse.ArgumentParser) -> None:
     )
     p.add_argument("--figure", type=OutputFile((".png",)), help="also write the staircase figure (PNG) to this path")
     p.add_argument("--json", action="store_true", help="print the map as JSON (contracts)")
+    map_budget_options(p)
 
 
 def cmd_corner_claims(args: argparse.Namespace) -> int:
@@ -141,8 +167,12 @@ def cmd_cradle_map(args: argparse.Namespace) -> int:
     if len(interval) != 2:
         raise UsageError(f"{PROG} cradle-map: --interval takes two numbers LO,HI, got {args.interval!r}")
     masses, velocity = (split_option(x) if x else None for x in (args.masses, args.velocity))
-    cmap = cradle_map(args.balls, masses, velocity, v0=args.v0, lower=interval[0], upper=interval[1],
-                      max_impulses=args.max_impulses)  # fmt: skip
+    watch, status = map_watch(args, "cradle-map:")
+    try:
+        cmap = cradle_map(args.balls, masses, velocity, v0=args.v0, lower=interval[0], upper=interval[1],
+                          max_impulses=args.max_impulses, watch=watch)  # fmt: skip
+    finally:
+        status.close()
     if args.json:
         sys.stdout.write(dumps(map_json(cmap)))
     else:  # the paper's AEEV rows beside the paper's own cradle
@@ -155,7 +185,7 @@ def cmd_cradle_map(args: argparse.Namespace) -> int:
         with writing(args.figure, "--figure"):
             cradle_staircase(cmap, args.figure)
         print(f"figure written to {args.figure}", file=sys.stderr)
-    return 0
+    return INTERRUPTED if watch.interrupted else 0
 
 
 def map_options(p: argparse.ArgumentParser) -> None:
@@ -177,6 +207,7 @@ def map_options(p: argparse.ArgumentParser) -> None:
                    help="bound on the exploration (default 40)")  # fmt: skip
     p.add_argument("--figure", type=OutputFile((".png",)), help="also draw the map (PNG) to this path")
     p.add_argument("--json", action="store_true", help="print the map as JSON")
+    map_budget_options(p)
 
 
 def _parameters(args: argparse.Namespace) -> dict[str, list[str]]:
@@ -198,7 +229,12 @@ def cmd_map(args: argparse.Namespace) -> int:
     from verify.records.results import dumps
     from verify.views.text import eps_map_text
 
-    m = case_map(args.case, args.case_id, _parameters(args), lines=args.lines, max_impulses=args.max_impulses)
+    watch, status = map_watch(args, "map:")
+    try:
+        m = case_map(args.case, args.case_id, _parameters(args), lines=args.lines, max_impulses=args.max_impulses,
+                     watch=watch)  # fmt: skip
+    finally:
+        status.close()
     sys.stdout.write(dumps(eps_map_json(m)) if args.json else eps_map_text(m, exact_in="--json"))
     if args.figure:
         from verify.views.figures import eps_map_figure
@@ -206,7 +242,7 @@ def cmd_map(args: argparse.Namespace) -> int:
         with writing(args.figure, "--figure"):
             eps_map_figure(m, args.figure)
         print(f"figure written to {args.figure}", file=sys.stderr)
-    return 0
+    return INTERRUPTED if watch.interrupted else 0
 
 
 #: this group's subcommands, in the order of ``verify --help`` (each N has ``N_options`` and ``cmd_N``)

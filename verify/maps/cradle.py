@@ -32,7 +32,7 @@ from verify.core.backends.symbolic import EPS, Piece, RootCache, Split, Symbolic
 from verify.core.format import format_exact
 from verify.core.parse import to_number
 from verify.errors import InvalidInput, InvalidSystem
-from verify.maps.line import Part, line_parts, parts_json, piece_json, undecided_length
+from verify.maps.line import Part, Watch, line_parts, parts_json, piece_json, undecided_length
 from verify.models.cradle import cradle_system, cradle_velocity
 
 DEFAULT_MAX_IMPULSES = 40
@@ -48,6 +48,7 @@ class CradleMap:
     domain: Piece
     max_impulses: int
     parts: list[Part] = field(default_factory=list)
+    stopped: str = ""  #: why the map stopped before it was complete (a budget, Ctrl-C), else ""
 
     @property
     def pieces(self) -> list[Part]:
@@ -93,6 +94,7 @@ def cradle_map(
     lower: Any = 0,
     upper: Any = 1,
     max_impulses: int = DEFAULT_MAX_IMPULSES,
+    watch: Watch | None = None,
 ) -> CradleMap:
     """The cradle for every eps in [lower, upper] (one COR for all contacts); ``balls`` by default the
     length of ``masses`` or ``velocity``, else 3.
@@ -100,7 +102,8 @@ def cradle_map(
     ``max_impulses`` bounds the exploration: a part still impacting after that many
     impulses, and not proved never to exit, is reported as unexplored. The interval must
     lie in [0, 1] with ``lower <= upper``; otherwise :class:`~verify.errors.InvalidInput`
-    names the values.
+    names the values. ``watch`` (:class:`~verify.maps.line.Watch`) gives a wall-clock and a size budget
+    and a progress callback; a map stopped by one (or by Ctrl-C) says why in ``stopped``.
 
     >>> cradle_map(lower="0.5", upper="0.2")
     Traceback (most recent call last):
@@ -118,10 +121,11 @@ def cradle_map(
     v = cradle_velocity(balls, v0, velocity)
     cache = RootCache()
     domain = Piece.closed(lo, hi)
-    parts = line_parts(lambda K: cradle_system(EPS, balls, masses, backend=K), v, domain, max_impulses, cache)
+    parts = line_parts(lambda K: cradle_system(EPS, balls, masses, backend=K), v, domain, max_impulses, cache,
+                       watch=watch)  # fmt: skip
     system0 = cradle_system("1", balls, masses)
     for part in parts:
-        if part.stop == "max_iterations":
+        if part.stop == "max_iterations" and not part.stopped_by:
             part.reason, part.exits_beyond_bound = _unexplored_reason(part, balls, masses, cache)
     return CradleMap(
         balls,
@@ -130,6 +134,7 @@ def cradle_map(
         domain,
         max_impulses,
         parts,
+        watch.stopped if watch is not None else "",
     )
 
 
@@ -245,6 +250,7 @@ def map_json(cmap: CradleMap) -> dict[str, Any]:
         "max_impulses": cmap.max_impulses,
         "interval": piece_json(cmap.domain),
         **parts_json(cmap.parts),
+        **({"stopped": cmap.stopped} if cmap.stopped else {}),
     }
 
 

@@ -44,7 +44,7 @@ from verify.core.parse import CONSTANTS, FUNCTIONS, parse_number, to_number
 from verify.core.system import System
 from verify.errors import BadNumber, InvalidInput, InvalidSystem
 from verify.maps import DEFAULT_LINES, MAX_LINES
-from verify.maps.line import Part, line_parts, parts_json, piece_json
+from verify.maps.line import Part, Watch, line_parts, parts_json, piece_json
 
 _NAME = re.compile(r"[A-Za-z_][A-Za-z_0-9]*")
 
@@ -83,6 +83,7 @@ class EpsMap:
     max_impulses: int
     grid: dict[str, list[Fraction]] = field(default_factory=dict)  # empty for one parameter
     lines: list[Line] = field(default_factory=list)
+    stopped: str = ""  #: why the map stopped before it was complete (a budget, Ctrl-C), else ""
 
     @property
     def layout(self) -> str:
@@ -181,6 +182,7 @@ def eps_map(
     *,
     lines: int = DEFAULT_LINES,
     max_impulses: int = 40,
+    watch: Watch | None = None,
 ) -> EpsMap:
     """The rule on ``system`` from ``velocity`` for every value of the parameters of ``restitution``.
 
@@ -189,7 +191,8 @@ def eps_map(
     maps a name to its interval ``(lo, hi)`` (rationals, default ``(0, 1)``); the CORs must lie in
     [0, 1] over it. With two or more parameters the map is a grid of ``lines`` values per parameter
     (see the module). ``max_impulses`` bounds each run: what is still impacting then, and not proved
-    never to exit, is unexplored.
+    never to exit, is unexplored. ``watch`` (:class:`~verify.maps.line.Watch`) gives budgets and progress
+    shared by every line; a map stopped by one (or by Ctrl-C) says why in ``stopped``.
 
     >>> m = eps_map(System([[1, 0], [0, 1]], [[-1, 1]], [1]), ["1", "0"], ["e"], {"e": ("1/2", "1")})
     >>> line = m.lines[0]
@@ -224,7 +227,8 @@ def eps_map(
         others = [n for n in names if n != free]
         for values in itertools.product(*(grid[n] for n in others)):
             fixed = dict(zip(others, values))
-            out.lines.append(_line(out, free, fixed, cache))
+            out.lines.append(_line(out, free, fixed, cache, watch))
+    out.stopped = watch.stopped if watch is not None else ""
     return out
 
 
@@ -249,7 +253,7 @@ def _check_cors(m: EpsMap, cors: list[Any], domain: Piece, where: str, cache: Ro
             raise InvalidSystem(f"restitution[{i}] = {shown} is outside [0, 1] for some point of {where}")
 
 
-def _line(m: EpsMap, free: str, fixed: dict[str, Fraction], cache: RootCache) -> Line:
+def _line(m: EpsMap, free: str, fixed: dict[str, Fraction], cache: RootCache, watch: Watch | None = None) -> Line:
     subs = {sp.Symbol(n): sp.Rational(v.numerator, v.denominator) for n, v in fixed.items()}
     cors = [sp.sympify(c).subs({**subs, sp.Symbol(free): EPS}, simultaneous=True) for c in m.restitution]
     src = m.system.source
@@ -265,9 +269,9 @@ def _line(m: EpsMap, free: str, fixed: dict[str, Fraction], cache: RootCache) ->
     domain = Piece.closed(lo, hi)
     shown = ", ".join(f"{n} = {format_exact(v)}" for n, v in fixed.items())
     _check_cors(m, cors, domain, f"{free} in {domain}" + (f", {shown}" if shown else ""), cache)
-    parts = line_parts(build, m.velocity, domain, m.max_impulses, cache, parameter=free)
+    parts = line_parts(build, m.velocity, domain, m.max_impulses, cache, parameter=free, watch=watch)
     for part in parts:
-        if part.stop == "max_iterations":
+        if part.stop == "max_iterations" and not part.stopped_by:
             part.reason = f"still impacting after {part.iterations} impulses; not proved never to exit"
     return Line(free, fixed, domain, parts)
 
@@ -283,6 +287,7 @@ def eps_map_json(m: EpsMap) -> dict[str, Any]:
         "layout": m.layout,
         "grid": {n: [format_exact(x) for x in values] for n, values in m.grid.items()},
         "max_impulses": m.max_impulses,
+        **({"stopped": m.stopped} if m.stopped else {}),
         "lines": [
             {
                 "free": line.free,
@@ -302,9 +307,11 @@ def case_map(
     *,
     lines: int = DEFAULT_LINES,
     max_impulses: int = 40,
+    watch: Watch | None = None,
 ) -> EpsMap:
     """:func:`eps_map` of a case in a case file (``docs/records.md``) whose ``restitution`` strings name
-    parameters (``["e1", "e2"]``); ``case_id`` picks the case (needed when the file has several).
+    parameters (``["e1", "e2"]``); ``case_id`` picks the case (needed when the file has several);
+    ``watch`` as for :func:`eps_map`.
 
     >>> import json, os, tempfile
     >>> path = os.path.join(tempfile.mkdtemp(), "case.json")
@@ -336,6 +343,7 @@ def case_map(
         raise InvalidInput(f"{where}.restitution: expected a list of strings")
     case = case_from_record({**record, "restitution": ["1"] * len(cors)}, where)  # the geometry, validated
     try:
-        return eps_map(case.system, record["velocity"], cors, parameters, lines=lines, max_impulses=max_impulses)
+        return eps_map(case.system, record["velocity"], cors, parameters, lines=lines, max_impulses=max_impulses,
+                       watch=watch)  # fmt: skip
     except InvalidInput as exc:
         raise type(exc)(f"{where}: {exc}") from None

@@ -25,8 +25,9 @@ part, decided exactly; the union is the whole piece.
 
 from __future__ import annotations
 
+import time
 from collections.abc import Callable, Sequence
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 from fractions import Fraction
 from typing import Any
 
@@ -53,6 +54,7 @@ class Part:
     reason: str = ""
     exits_beyond_bound: bool = False  # unexplored, but every value of it is proved to exit
     parameter: str = "eps"  # the name of the parameter that `exit_velocity` is written in
+    stopped_by: str = ""  # unexplored because the map stopped early (a budget, Ctrl-C): why, else ""
 
     def same_behaviour(self, other: Part) -> bool:
         return (
@@ -68,6 +70,68 @@ def _cone_of(certificate: dict[str, Any] | None) -> tuple:
     return c.get("mu"), c.get("generators"), c.get("images"), c.get("strict")
 
 
+@dataclass
+class Watch:
+    """The budgets and the progress of one map, shared by its lines: a wall-clock budget (``seconds``), a
+    size budget (``max_parts``: parts decided, over all lines), a ``progress`` callback (a line of text:
+    parts done, the measure decided so far, the deepest impulse) and, on Ctrl-C, the map decided so far.
+    When the map stops early, ``stopped`` says why and every part not yet run is unexplored, with that
+    reason; ``interrupted`` is True after Ctrl-C.
+
+    >>> from verify.core.system import System
+    >>> one = lambda K: System([[1, 0], [0, 1]], [[-1, 1]], [EPS], backend=K)
+    >>> w = Watch(max_parts=0)
+    >>> [(str(p.piece), p.stop, p.reason) for p in line_parts(one, ["1", "0"], Piece.closed(0, 1), 5, watch=w)]
+    [('[0, 1]', 'max_iterations', 'not explored: the size budget of 0 parts was reached')]
+    """
+
+    seconds: float | None = None
+    max_parts: int | None = None
+    progress: Callable[[str], None] | None = None
+    started: float = field(default_factory=time.monotonic)
+    parts: int = 0
+    decided: Fraction = Fraction(0)
+    deepest: int = 0
+    stopped: str = ""
+    interrupted: bool = False
+
+    def check(self) -> bool:
+        """Whether the map must stop now (and ``stopped`` says why)."""
+        if not self.stopped and self.max_parts is not None and self.parts >= self.max_parts:
+            self.stopped = f"the size budget of {self.max_parts} parts was reached"
+        if not self.stopped and self.seconds is not None and time.monotonic() - self.started >= self.seconds:
+            shown = _decimal(Fraction(self.seconds).limit_denominator(1000), 3).rstrip("0").rstrip(".")
+            self.stopped = f"the wall-clock budget of {shown} s ran out"
+        return bool(self.stopped)
+
+    def done(self, part: Part) -> None:
+        """Count a decided part (its length, a lower bound within 2e-9 of it)."""
+        self.parts += 1
+        self.deepest = max(self.deepest, part.iterations)
+        if part.stop != "max_iterations":
+            lower, upper = _narrow(part.piece.lower), _narrow(part.piece.upper)
+            self.decided += max(Fraction(0), upper[0] - lower[1])
+        if self.progress is not None:
+            elapsed = Fraction(time.monotonic() - self.started).limit_denominator(10)
+            self.progress(f"map: {self.parts} parts, decided a length of {_decimal(self.decided)}, "
+                          f"deepest impulse {self.deepest}, {_decimal(elapsed, 0)} s")  # fmt: skip
+
+
+def _narrow(x: RealAlgebraic, width: Fraction = Fraction(1, 10**9)) -> tuple[Fraction, Fraction]:
+    """An interval of at most ``width`` around x, refined on a copy (the map's own numbers, whose
+    intervals choose its sample points, are left as they are)."""
+    y = RealAlgebraic(x.poly, x.lo, x.hi)
+    while y.hi - y.lo > width:
+        y.refine()
+    return y.lo, y.hi
+
+
+def _decimal(q: Fraction, places: int = 6) -> str:
+    """q >= 0 rounded to ``places`` decimals, exactly (no float)."""
+    n = round(q * 10**places)
+    return f"{n // 10**places}.{n % 10**places:0{places}d}" if places else str(n)
+
+
 def line_parts(
     build: Callable[[SymbolicBackend], System],
     velocity: Sequence[Any],
@@ -76,6 +140,7 @@ def line_parts(
     cache: RootCache | None = None,
     *,
     parameter: str = "eps",
+    watch: Watch | None = None,
 ) -> list[Part]:
     """The parts of ``domain``, in order: ``build(K)`` is the system on the symbolic backend ``K`` (its
     parameter, :data:`~verify.core.backends.symbolic.EPS`, ranging over one piece), ``velocity`` the
@@ -92,25 +157,53 @@ def line_parts(
     symbol = sp.Symbol(parameter)
     work: list[Piece] = [domain]
     done: list[Part] = []
-    while work:
-        piece = work.pop()
-        K = SymbolicBackend(piece, cache)
-        system = build(K)
-        try:
-            r = solve(system, velocity, max_iterations=max_impulses, trace=False)
-        except Split as split:
-            cuts = piece.cut([root for p in split.polys for root in cache.roots(p)])
-            if len(cuts) < 2:
-                raise RuntimeError(f"cutting {piece} made no progress ({split})") from None
-            work.extend(cuts)
-            continue
-        if r.stop == "max_iterations" and piece.is_point:
-            r = _as_solve_decides(system, velocity, piece.lower, max_impulses) or r
-        velocity_out = [sp.sympify(r.backend.to_number(x)).subs(EPS, symbol) for x in r.exit_velocity]
-        done.append(
-            Part(piece, r.stop, r.iterations, list(r.impact_sets), velocity_out, r.certificate, parameter=parameter)
-        )
+    try:
+        while work and not (watch is not None and watch.check()):
+            piece = work.pop()
+            try:
+                part = _run_piece(build, velocity, piece, max_impulses=max_impulses, cache=cache, symbol=symbol,
+                                  parameter=parameter)  # fmt: skip
+            except Split as split:
+                cuts = piece.cut([root for p in split.polys for root in cache.roots(p)])
+                if len(cuts) < 2:
+                    raise RuntimeError(f"cutting {piece} made no progress ({split})") from None
+                work.extend(cuts)
+                continue
+            except KeyboardInterrupt:
+                work.append(piece)
+                raise
+            done.append(part)
+            if watch is not None:
+                watch.done(part)
+    except KeyboardInterrupt:
+        if watch is None:
+            raise
+        watch.stopped, watch.interrupted = "interrupted (Ctrl-C)", True
+    for piece in work:  # what the map did not reach: unexplored, saying why
+        reason = f"not explored: {watch.stopped if watch is not None else ''}"
+        done.append(Part(piece, "max_iterations", 0, [], [], reason=reason, parameter=parameter,
+                         stopped_by=watch.stopped if watch is not None else "stopped"))  # fmt: skip
     return merge(sorted(done, key=lambda p: (p.piece.lower, not p.piece.is_point)))
+
+
+def _run_piece(
+    build: Callable[[SymbolicBackend], System],
+    velocity: Sequence[Any],
+    piece: Piece,
+    *,
+    max_impulses: int,
+    cache: RootCache,
+    symbol: sp.Symbol,
+    parameter: str,
+) -> Part:
+    """The part of one piece (raises :class:`Split` when a sign changes inside it)."""
+    K = SymbolicBackend(piece, cache)
+    system = build(K)
+    r = solve(system, velocity, max_iterations=max_impulses, trace=False)
+    if r.stop == "max_iterations" and piece.is_point:
+        r = _as_solve_decides(system, velocity, piece.lower, max_impulses) or r
+    velocity_out = [sp.sympify(r.backend.to_number(x)).subs(EPS, symbol) for x in r.exit_velocity]
+    return Part(piece, r.stop, r.iterations, list(r.impact_sets), velocity_out, r.certificate, parameter=parameter)
 
 
 def _as_solve_decides(system: System, velocity: Sequence[Any], point: RealAlgebraic, max_impulses: int) -> Any:

@@ -445,6 +445,13 @@ def approach_table(rows: Sequence[tuple[Fraction, int | str]]) -> list[str]:
     return lines
 
 
+def _stopped_line(stopped: str) -> list[str]:
+    """The line that says a map stopped early (none for a complete map)."""
+    if not stopped:
+        return []
+    return [f"Stopped early: {stopped}. Below is what was decided; the rest is unexplored, saying so."]
+
+
 def cradle_map_text(
     cmap: Any,
     *,
@@ -463,6 +470,7 @@ def cradle_map_text(
         f"({', '.join(format_exact(v) for v in cmap.velocity)}), one COR eps for every contact",
         f"eps in {cmap.domain}; explored up to {cmap.max_impulses} impulses; exact endpoints, "
         "decimals rounded to 12 digits",
+        *_stopped_line(cmap.stopped),
         "",
         *parts_table(cmap.parts, contacts=cradle_system("1", cmap.balls).names),
     ]
@@ -857,6 +865,7 @@ def eps_map_text(m: Any, *, exact_in: str = "eps_map_json(m)") -> str:
         f"({', '.join(format_exact(v) for v in m.velocity)}); CORs {cors}",
         f"{ranges}; explored up to {m.max_impulses} impulses; exact endpoints (in {exact_in}), decimals rounded to "
         "12 digits",
+        *_stopped_line(m.stopped),
     ]
     if m.layout != "interval":
         grid = "; ".join(f"{n}: {', '.join(format_exact(x) for x in xs)}" for n, xs in m.grid.items())

@@ -1,0 +1,128 @@
+"""Maps bounded and visible (verify.maps.line.Watch): a wall-clock and a size budget, progress, and on a budget
+or Ctrl-C the map decided so far, whole: every value of the interval in one part, the rest unexplored, saying why."""
+
+from __future__ import annotations
+
+import itertools
+import json
+import signal
+import subprocess
+import sys
+import time
+from fractions import Fraction as F
+
+import pytest
+
+from verify.cli import main
+from verify.core.algebraic import RealAlgebraic
+from verify.maps import line
+from verify.maps.cradle import cradle_map, map_json
+from verify.maps.line import Watch
+
+
+def _covers_once(parts) -> bool:
+    return all(a.piece.upper == b.piece.lower and a.piece.upper_closed != b.piece.lower_closed
+               for a, b in itertools.pairwise(parts))  # fmt: skip
+
+
+@pytest.fixture(scope="module")
+def full():
+    return cradle_map(4, max_impulses=12)
+
+
+@pytest.mark.parametrize("budget", [0, 1, 3, 6])
+def test_a_size_budget_stops_the_map_and_what_was_decided_is_the_full_maps(full, budget) -> None:
+    m = cradle_map(4, max_impulses=12, watch=Watch(max_parts=budget))
+    assert m.stopped == f"the size budget of {budget} parts was reached"
+    assert _covers_once(m.parts) and m.parts[0].piece.lower == full.parts[0].piece.lower
+    assert m.parts[-1].piece.upper == full.parts[-1].piece.upper
+    left = [p for p in m.parts if p.stopped_by]
+    assert left and all(p.reason == f"not explored: {m.stopped}" and p.stop == "max_iterations" for p in left)
+    for part in m.parts:
+        if part.stopped_by:
+            continue
+        inside = part.piece.lower if part.piece.is_point else RealAlgebraic.rational(part.piece.sample())
+        same = full.locate(inside)
+        assert (same.stop, same.iterations, same.impact_sets) == (part.stop, part.iterations, part.impact_sets)
+    assert map_json(m)["stopped"] == m.stopped and "stopped" not in map_json(full)
+
+
+def test_a_budget_that_is_not_reached_changes_nothing(full) -> None:
+    m = cradle_map(4, max_impulses=12, watch=Watch(seconds=3600.0, max_parts=10**6))
+    assert m.stopped == "" and json.dumps(map_json(m)) == json.dumps(map_json(full))
+
+
+def test_a_spent_wall_clock_budget_leaves_the_whole_interval_unexplored() -> None:
+    m = cradle_map(4, max_impulses=12, watch=Watch(seconds=0.0))
+    assert m.stopped == "the wall-clock budget of 0 s ran out"
+    assert [(str(p.piece), p.stop) for p in m.parts] == [("[0, 1]", "max_iterations")]
+
+
+def test_progress_counts_the_parts_the_length_decided_and_the_deepest_impulse(full) -> None:
+    seen: list[str] = []
+    cradle_map(4, max_impulses=12, watch=Watch(progress=seen.append))
+    counts = [int(s.split()[1]) for s in seen]
+    assert counts == list(range(1, len(seen) + 1)) and len(seen) >= len(full.parts)
+    deepest = max(p.iterations for p in full.parts)
+    assert seen[-1].startswith(f"map: {len(seen)} parts, decided a length of ")
+    assert f"deepest impulse {deepest}," in seen[-1]
+    decided = F(seen[-1].split("length of ")[1].split(",")[0])
+    exact = sum((p.piece.upper.lo - p.piece.lower.hi for p in full.parts if p.stop != "max_iterations"), F(0))
+    assert abs(decided - exact) < F(1, 10**5)
+
+
+def _interrupt_after(monkeypatch: pytest.MonkeyPatch, calls: int) -> None:
+    real, count = line.solve, [0]
+
+    def solve(*args, **kwargs):
+        count[0] += 1
+        if count[0] > calls:
+            raise KeyboardInterrupt
+        return real(*args, **kwargs)
+
+    monkeypatch.setattr(line, "solve", solve)
+
+
+def test_without_a_watch_ctrl_c_is_not_caught(monkeypatch: pytest.MonkeyPatch) -> None:
+    _interrupt_after(monkeypatch, 2)
+    with pytest.raises(KeyboardInterrupt):
+        cradle_map(4, max_impulses=12)
+
+
+@pytest.mark.parametrize("argv", [["cradle-map", "--balls", "4", "--max-impulses", "12"],
+                                  ["map", "docs/examples/corner-map.json", "--lines", "2"]])  # fmt: skip
+def test_ctrl_c_prints_the_map_so_far_and_exits_130(monkeypatch, capsys, argv) -> None:
+    _interrupt_after(monkeypatch, 3)
+    assert main([*argv, "--json"]) == 130
+    out = json.loads(capsys.readouterr().out)
+    assert out["stopped"] == "interrupted (Ctrl-C)"
+    _interrupt_after(monkeypatch, 3)
+    assert main(argv) == 130
+    assert "Stopped early: interrupted (Ctrl-C)." in capsys.readouterr().out
+
+
+def test_a_real_ctrl_c_gives_the_map_decided_so_far(tmp_path) -> None:
+    proc = subprocess.Popen(
+        [sys.executable, "-m", "verify", "cradle-map", "--balls", "5", "--max-impulses", "30", "--json"],
+        stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True,
+        preexec_fn=lambda: signal.signal(signal.SIGINT, signal.SIG_DFL),  # noqa: PLW1509 (a test's own child)
+    )  # fmt: skip
+    time.sleep(4)  # the imports, and some parts of the map
+    proc.send_signal(signal.SIGINT)
+    out, err = proc.communicate(timeout=120)
+    assert proc.returncode == 130, err
+    data = json.loads(out)
+    assert data["stopped"] == "interrupted (Ctrl-C)" and "Traceback" not in err
+    assert data["unexplored"]
+
+
+BAD = [("--time-limit", "0"), ("--time-limit", "nan"), ("--time-limit", "-1"), ("--max-parts", "-1")]
+BAD += [("--max-parts", "x")]
+
+
+@pytest.mark.parametrize(("option", "value"), BAD)
+@pytest.mark.parametrize("command", [["cradle-map"], ["map", "docs/examples/corner-map.json"]])
+def test_bad_budgets_are_refused_with_exit_code_2(capsys, command, option, value) -> None:
+    assert main([*command, option, value]) == 2
+    out = capsys.readouterr()
+    assert option in out.err and "Traceback" not in out.err and out.out == ""
