@@ -28,12 +28,15 @@ The batches (:data:`BATCHES`; every figure names its ``batch`` in the JSON):
 - ``impulse_cost``: one long run (the ideal rule in a corner of slope 1/10000), the cost of an impulse
   at 10 to 10,000 impulses on the exact and interval backends, with the size of the exact numbers
   and the digits the intervals needed.
+- ``maps``: the exact map of four unit balls over eps in [0, 1] up to 40 impulses (``verify cradle-map
+  --balls 4``), on python-flint's arithmetic of the parameter against SymPy's alone (the baseline: the
+  map without the ``fast`` extra), once each; the two maps must be the same, byte for byte.
 
 Where PARI/GP is installed (``gp``), the paper's loop in GP (:mod:`verify.checks.gp`, exact
 rationals) runs the corner, short and cradle batches, and Table 1 in GP's reals (the paper's
 arithmetic) and on rationals; its branch sequences must be the exact engine's.
 
->>> figures = bench(size=20, repeats=1, impulses=(10,), table=False, cradle=5, general=3, gp=False)
+>>> figures = bench(size=20, repeats=1, impulses=(10,), table=False, cradle=5, general=3, gp=False, map_impulses=4)
 >>> [(f.name, f.unit, f.batch) for f in figures[:2]]
 [('corner_batch.fraction_loop', 'cases/s', 'corner'), ('corner_batch.exact_engine', 'cases/s', 'corner')]
 """
@@ -41,6 +44,7 @@ arithmetic) and on rationals; its branch sequences must be the exact engine's.
 from __future__ import annotations
 
 import gc
+import json
 import os
 import platform
 import resource
@@ -68,7 +72,10 @@ GENERAL_SEED = 2
 #: tables of Table 1 per clock reading (one table takes a few milliseconds)
 TABLE_RUNS = 20
 #: ``verify bench --quick``: a smoke run (CI runs it), not a measurement
-QUICK = {"size": 500, "repeats": 1, "impulses": (10, 100), "table": False, "cradle": 100, "general": 100, "gp": False}
+QUICK = {"size": 500, "repeats": 1, "impulses": (10, 100), "table": False, "cradle": 100, "general": 100, "gp": False,
+         "map_impulses": 8}  # fmt: skip
+#: the maps batch: the exact map of four unit balls over eps in [0, 1], explored up to this many impulses
+MAP_BALLS, MAP_IMPULSES = 4, 40
 #: the long run of the cost-per-impulse figures: the ideal rule in a corner of slope
 #: 1/10000, which reflects the disk 15,706 times before it leaves (exact), all single impacts
 LONG_RUN: dict[str, Any] = {
@@ -87,6 +94,7 @@ BATCHES = {
     "general": "random general systems (r = 2..4, n = r+1..r+2, some moving), at most 100 impulses",
     "table1": "Table 1 of the paper: its 17 rows, exact and paper mode",
     "impulse_cost": "one long run (the ideal rule in a corner of slope 1/10000), cost per impulse",
+    "maps": "the exact map of four unit balls over eps in [0, 1] (verify cradle-map --balls 4), once each way",
     "memory": "peak resident memory of the bench process",
 }
 #: the prefixes of figure names (kept stable between versions) and their batch
@@ -522,6 +530,29 @@ def _rss_mib() -> float:
     return resource.getrusage(resource.RUSAGE_SELF).ru_maxrss * scale / 2**20
 
 
+def _map_figures(impulses: int) -> list[Figure]:
+    """The map of four unit balls, on python-flint's arithmetic of the parameter against SymPy's alone (the
+    baseline: the map as it runs without the fast extra), once each (the same map: checked), and its size."""
+    from verify.core.backends.ratfunc import FLINT, using
+    from verify.maps.cradle import cradle_map, map_json
+
+    def run() -> str:
+        return json.dumps(map_json(cradle_map(MAP_BALLS, max_impulses=impulses)))
+
+    def on_sympy() -> str:
+        with using("sympy"):
+            return run()
+
+    fns = {"sympy": on_sympy, **({"flint": run} if FLINT else {})}
+    times, results = _best(fns, 1)
+    if len(set(results.values())) != 1:
+        raise AssertionError("the map on flint's arithmetic differs from the map on SymPy's")
+    base = "maps.sympy"
+    speed = {name: Figure(f"maps.{name}", round(1 / t, 4), "maps/s", base, round(times["sympy"] / t, 2))
+             for name, t in times.items()}  # fmt: skip
+    return [*speed.values(), Figure("maps.max_impulses", impulses, "impulses", "maps.max_impulses", 1.0)]
+
+
 def bench(
     *,
     size: int = BATCH_SIZE,
@@ -531,10 +562,12 @@ def bench(
     cradle: int = CRADLE_SIZE,
     general: int = GENERAL_SIZE,
     gp: bool = True,
+    map_impulses: int = MAP_IMPULSES,
     progress: Callable[[str], None] | None = None,
 ) -> list[Figure]:
     """Every figure of ``verify bench`` (see the module docstring): ``size`` cases in each corner
-    batch, ``cradle`` eps in the cradle batch, ``general`` systems in the general one."""
+    batch, ``cradle`` eps in the cradle batch, ``general`` systems in the general one, the maps batch
+    explored up to ``map_impulses``."""
     say = progress or (lambda _msg: None)
     start_rss = _rss_mib()
     say(f"corner batch: {size} cases, best of {repeats}")
@@ -550,6 +583,8 @@ def bench(
         figures += _table_figures(repeats, gp)
     say(f"cost per impulse at {', '.join(map(str, impulses))} impulses")
     figures += _impulse_figures(impulses)
+    say(f"the map of {MAP_BALLS} unit balls up to {map_impulses} impulses, on flint's arithmetic and on SymPy's")
+    figures += _map_figures(map_impulses)
     peak = _rss_mib()
     figures.append(Figure("peak_memory", round(peak, 1), "MiB", "memory_after_import", round(peak / start_rss, 2)))
     figures.append(Figure("memory_after_import", round(start_rss, 1), "MiB", "memory_after_import", 1.0))

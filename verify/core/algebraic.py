@@ -32,6 +32,8 @@ try:
 except ImportError:  # pragma: no cover - the fast extra is not installed
     flint = None
 
+from verify.core.backends.ratfunc import flint_in_use  # noqa: E402 (after the optional import of flint)
+
 X = sp.Symbol("x")
 
 
@@ -235,7 +237,7 @@ class RealAlgebraic:
             for c in coeffs:
                 total = total * self.lo + c
             return _sign(total)
-        if flint is not None:
+        if flint is not None and flint_in_use():
             return self._sign_of_flint(coeffs)
         if sp.Poly(coeffs, X, domain="QQ").rem(self.poly).is_zero:
             return 0

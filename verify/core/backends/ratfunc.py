@@ -303,10 +303,22 @@ def arithmetic(name: str | None = None) -> Any:
     return _ARITHMETICS[name]
 
 
+def flint_in_use() -> bool:
+    """Whether the parameter's arithmetic is flint's now (:func:`using` may choose SymPy's): the signs at
+    algebraic points (:meth:`verify.core.algebraic.RealAlgebraic.sign_of`) then run on flint's rationals too.
+
+    >>> with using("sympy"):
+    ...     flint_in_use()
+    False
+    """
+    return bool(arithmetic().name == "flint")
+
+
 @contextmanager
 def using(name: str) -> Iterator[None]:
-    """Within the block, every symbolic backend made without naming its arithmetic uses ``name``: the
-    maps run on SymPy's arithmetic to compare (``verify bench``, the tests).
+    """Within the block, every symbolic backend made without naming its arithmetic uses ``name``, and with
+    ``"sympy"`` the signs at algebraic points run on Python's fractions: the maps as they run without
+    python-flint, to compare (``verify bench``, the tests).
 
     >>> with using("sympy"):
     ...     arithmetic().name
