@@ -6,6 +6,7 @@ from fractions import Fraction as F
 
 import pytest
 
+from tests import certificate_check
 from verify.cli import main
 from verify.errors import InvalidInput, NoConvergence
 from verify.maps.cradle import approach_counts, cradle_map, termination_boundaries
@@ -130,7 +131,13 @@ def test_four_balls_staircase_claims_only_what_is_proved(tmp_path, monkeypatch):
     monkeypatch.setattr(Figure, "savefig", keep)
     m = cradle_map(4, ["1", "2", "3", "4"], max_impulses=6)
     # what is proved never to exit carries a certificate (a cone of a period); nothing claims an exit beyond
-    assert m.unexplored and all(p.certificate["kind"] == "invariant cone of a period" for p in m.non_terminating)
+    kinds = [p.certificate["kind"] for p in m.non_terminating]
+    assert m.unexplored and set(kinds) <= {"invariant cone of a period", "repeating direction"}
+    normals = [["-1", "1", "0", "0"], ["0", "-1", "1", "0"], ["0", "0", "-1", "1"]]
+    for p in m.non_terminating:  # eps = 0 is decided as verify solve decides it: its certificate checked here
+        if p.certificate["kind"] == "repeating direction":
+            assert p.piece.is_point
+            assert certificate_check.check_repeating(p.certificate, ["1", "2", "3", "4"], normals) == []
     assert not any(p.exits_beyond_bound for p in m.unexplored)
     assert cradle_staircase(m, tmp_path / "s.png").read_bytes()[:4] == b"\x89PNG"
     (labels,) = saved

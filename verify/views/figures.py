@@ -59,8 +59,8 @@ def staircase_legend(cmap: Any) -> list[tuple[str, str]]:
     >>> from verify.maps.cradle import cradle_map
     >>> staircase_legend(cradle_map(upper="1/20", max_impulses=2))
     [('non_terminating', 'never exits (proved)')]
-    >>> staircase_legend(cradle_map(balls=4, max_impulses=3))[1]
-    ('undecided', 'undecided: still impacting after 3 impulses\\n(no invariant cone found for the whole interval)')
+    >>> dict(staircase_legend(cradle_map(balls=4, max_impulses=3)))["undecided"]
+    'undecided: still impacting after 3 impulses\\n(no invariant cone found for the whole interval)'
     """
     from verify.maps.cradle import termination_boundaries, threshold_between
 
