@@ -12,6 +12,8 @@ import time
 from fractions import Fraction as F
 
 import pytest
+from hypothesis import given, settings
+from hypothesis import strategies as st
 
 from verify.cli import main
 from verify.core.algebraic import RealAlgebraic
@@ -126,3 +128,46 @@ def test_bad_budgets_are_refused_with_exit_code_2(capsys, command, option, value
     assert main([*command, option, value]) == 2
     out = capsys.readouterr()
     assert option in out.err and "Traceback" not in out.err and out.out == ""
+
+
+@settings(max_examples=200)
+@given(st.lists(st.fractions(min_value=0, max_value=1, max_denominator=9), max_size=6), st.data())
+def test_what_is_left_uncovered_is_exactly_what_no_part_holds(cuts, data) -> None:
+    from verify.core.backends.symbolic import Piece
+    from verify.maps.line import uncovered
+
+    domain = Piece.closed(0, 1)
+    parts = domain.cut([RealAlgebraic.rational(c) for c in cuts])
+    kept = [p for p in parts if data.draw(st.booleans())]
+    left = uncovered(domain, kept)
+    whole = sorted(kept + left, key=lambda p: (p.lower, not p.is_point))
+    assert _covers_once_pieces(whole) and whole[0].lower == domain.lower and whole[-1].upper == domain.upper
+    assert whole[0].lower_closed and whole[-1].upper_closed
+    for p in parts:
+        if p not in kept:
+            inside = p.lower if p.is_point else RealAlgebraic.rational(p.sample())
+            assert any(q.contains(inside) for q in left)
+            assert not any(q.contains(inside) for q in kept)
+
+
+def _covers_once_pieces(pieces) -> bool:
+    return all(a.upper == b.lower and a.upper_closed != b.lower_closed for a, b in itertools.pairwise(pieces))
+
+
+def test_ctrl_c_while_a_piece_is_cut_still_gives_a_whole_map(monkeypatch: pytest.MonkeyPatch) -> None:
+    from verify.core.backends.symbolic import Piece
+
+    real, count = Piece.cut, [0]
+
+    def cut(self, points):
+        count[0] += 1
+        if count[0] == 3:
+            raise KeyboardInterrupt
+        return real(self, points)
+
+    monkeypatch.setattr(Piece, "cut", cut)
+    watch = Watch()
+    m = cradle_map(4, max_impulses=12, watch=watch)
+    assert watch.interrupted and m.stopped == "interrupted (Ctrl-C)"
+    assert _covers_once(m.parts) and m.parts[0].piece.lower_closed and m.parts[-1].piece.upper_closed
+    assert any(p.stopped_by for p in m.parts)

@@ -169,9 +169,6 @@ def line_parts(
                     raise RuntimeError(f"cutting {piece} made no progress ({split})") from None
                 work.extend(cuts)
                 continue
-            except KeyboardInterrupt:
-                work.append(piece)
-                raise
             done.append(part)
             if watch is not None:
                 watch.done(part)
@@ -179,11 +176,37 @@ def line_parts(
         if watch is None:
             raise
         watch.stopped, watch.interrupted = "interrupted (Ctrl-C)", True
-    for piece in work:  # what the map did not reach: unexplored, saying why
-        reason = f"not explored: {watch.stopped if watch is not None else ''}"
-        done.append(Part(piece, "max_iterations", 0, [], [], reason=reason, parameter=parameter,
-                         stopped_by=watch.stopped if watch is not None else "stopped"))  # fmt: skip
-    return merge(sorted(done, key=lambda p: (p.piece.lower, not p.piece.is_point)))
+    done.sort(key=lambda p: (p.piece.lower, not p.piece.is_point))
+    if watch is not None and watch.stopped:  # what the map did not reach (wherever Ctrl-C fell): unexplored
+        for piece in uncovered(domain, [p.piece for p in done]):
+            done.append(Part(piece, "max_iterations", 0, [], [], reason=f"not explored: {watch.stopped}",
+                             parameter=parameter, stopped_by=watch.stopped))  # fmt: skip
+        done.sort(key=lambda p: (p.piece.lower, not p.piece.is_point))
+    return merge(done)
+
+
+def uncovered(domain: Piece, pieces: Sequence[Piece]) -> list[Piece]:
+    """The parts of ``domain`` that none of ``pieces`` (disjoint, in order, inside it) holds.
+
+    >>> half = Piece(RealAlgebraic.rational(Fraction(0)), RealAlgebraic.rational(Fraction(1, 2)), True, False)
+    >>> [str(p) for p in uncovered(Piece.closed(0, 1), [half])]
+    ['[1/2, 1]']
+    """
+    out: list[Piece] = []
+    at, closed = domain.lower, domain.lower_closed  # the next value not yet held, and whether it is itself free
+    for piece in pieces:
+        side = at.cmp(piece.lower)
+        if side < 0:
+            out.append(Piece(at, piece.lower, closed, not piece.lower_closed))
+        elif side == 0 and closed and not piece.lower_closed:  # the one value between two open ends
+            out.append(Piece(at, at, True, True))
+        at, closed = piece.upper, not piece.upper_closed
+    side = at.cmp(domain.upper)
+    if side < 0:
+        out.append(Piece(at, domain.upper, closed, domain.upper_closed))
+    elif side == 0 and closed and domain.upper_closed:
+        out.append(Piece(at, at, True, True))
+    return out
 
 
 def _run_piece(
