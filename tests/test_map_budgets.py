@@ -12,7 +12,7 @@ import time
 from fractions import Fraction as F
 
 import pytest
-from hypothesis import given, settings
+from hypothesis import given
 from hypothesis import strategies as st
 
 from verify.cli import main
@@ -130,7 +130,6 @@ def test_bad_budgets_are_refused_with_exit_code_2(capsys, command, option, value
     assert option in out.err and "Traceback" not in out.err and out.out == ""
 
 
-@settings(max_examples=200)
 @given(st.lists(st.fractions(min_value=0, max_value=1, max_denominator=9), max_size=6), st.data())
 def test_what_is_left_uncovered_is_exactly_what_no_part_holds(cuts, data) -> None:
     from verify.core.backends.symbolic import Piece
