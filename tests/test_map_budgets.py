@@ -5,6 +5,7 @@ from __future__ import annotations
 
 import itertools
 import json
+import os
 import signal
 import subprocess
 import sys
@@ -103,19 +104,36 @@ def test_ctrl_c_prints_the_map_so_far_and_exits_130(monkeypatch, capsys, argv) -
     assert "Stopped early: interrupted (Ctrl-C)." in capsys.readouterr().out
 
 
-def test_a_real_ctrl_c_gives_the_map_decided_so_far(tmp_path) -> None:
+def test_a_real_ctrl_c_gives_the_map_decided_so_far() -> None:
+    import pty
+    import select
+
+    master, slave = pty.openpty()  # stderr on a terminal: the status line shows when the map is under way
     proc = subprocess.Popen(
         [sys.executable, "-m", "verify", "cradle-map", "--balls", "5", "--max-impulses", "30", "--json"],
-        stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True,
+        stdout=subprocess.PIPE, stderr=slave, text=True, env={**os.environ, "TERM": "xterm"},
         preexec_fn=lambda: signal.signal(signal.SIGINT, signal.SIG_DFL),  # noqa: PLW1509 (a test's own child)
     )  # fmt: skip
-    time.sleep(4)  # the imports, and some parts of the map
+    os.close(slave)
+    seen, deadline = b"", time.monotonic() + 120
+    while b"parts" not in seen and time.monotonic() < deadline and proc.poll() is None:
+        if select.select([master], [], [], 0.5)[0]:
+            seen += os.read(master, 4096)
     proc.send_signal(signal.SIGINT)
-    out, err = proc.communicate(timeout=120)
-    assert proc.returncode == 130, err
+    out, _ = proc.communicate(timeout=120)
+    while select.select([master], [], [], 0.2)[0]:
+        try:
+            chunk = os.read(master, 4096)
+        except OSError:  # the child is gone: its end of the terminal is closed
+            break
+        if not chunk:
+            break
+        seen += chunk
+    os.close(master)
+    assert b"cradle-map: map: " in seen  # the progress line: parts, the length decided, the deepest impulse
+    assert proc.returncode == 130 and b"Traceback" not in seen
     data = json.loads(out)
-    assert data["stopped"] == "interrupted (Ctrl-C)" and "Traceback" not in err
-    assert data["unexplored"]
+    assert data["stopped"] == "interrupted (Ctrl-C)" and data["unexplored"]
 
 
 BAD = [("--time-limit", "0"), ("--time-limit", "nan"), ("--time-limit", "-1"), ("--max-parts", "-1")]
