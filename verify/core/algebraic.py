@@ -58,21 +58,46 @@ def _eval(p: sp.Poly, q: Fraction) -> Fraction:
     return total
 
 
-def _eval_interval(coeffs: list[Fraction], lo: Fraction, hi: Fraction) -> tuple[Fraction, Fraction]:
-    """An enclosure of {p(t) : lo <= t <= hi} (interval Horner, exact rationals)."""
-    a = b = Fraction(0)
+def _eval_interval(coeffs: Sequence[Any], lo: Any, hi: Any) -> tuple[Any, Any]:
+    """An enclosure of {p(t) : lo <= t <= hi} (interval Horner; exact rationals: Fractions or flint's
+    fmpq, coefficients highest degree first). For lo >= 0 the least and largest of the four products
+    are known from the signs of the bounds, and only those two are formed (the same enclosure)."""
+    a = b = lo - lo
+    if lo >= 0:
+        for c in coeffs:
+            a, b = (a * lo if a >= 0 else a * hi) + c, (b * hi if b >= 0 else b * lo) + c
+        return a, b
     for c in coeffs:
         products = (a * lo, a * hi, b * lo, b * hi)
         a, b = min(products) + c, max(products) + c
     return a, b
 
 
+def _halved(value_at: Any, lo: Any, hi: Any) -> tuple[Any, Any]:
+    """The half of [lo, hi] that holds the root of the polynomial ``value_at`` evaluates (exact bisection;
+    the root itself when it is the midpoint)."""
+    mid = (lo + hi) / 2
+    v = value_at(mid)
+    if v == 0:  # cannot happen for an irreducible polynomial of degree >= 2
+        return mid, mid
+    return (mid, hi) if _sign(value_at(lo)) == _sign(v) else (lo, mid)
+
+
+def _decided(coeffs: Sequence[Any], lo: Any, hi: Any, value_at: Any) -> tuple[int, Any, Any]:
+    """The sign of p (its ``coeffs``, not 0 at the root) at the root that [lo, hi] isolates, and the
+    interval halved until an interval evaluation decided it."""
+    while True:
+        a, b = _eval_interval(coeffs, lo, hi)
+        if a > 0:
+            return 1, lo, hi
+        if b < 0:
+            return -1, lo, hi
+        if lo != hi:
+            lo, hi = _halved(value_at, lo, hi)
+
+
 def _fmpq(q: Fraction) -> Any:
     return flint.fmpq(q.numerator, q.denominator)
-
-
-def _fraction_of(q: Any) -> Fraction:
-    return Fraction(int(q.p), int(q.q))
 
 
 def _sign(x: Any) -> int:
@@ -169,15 +194,7 @@ class RealAlgebraic:
         """Halve the isolating interval (exact bisection)."""
         if self.is_rational:
             return
-        mid = (self.lo + self.hi) / 2
-        v = _eval(self.poly, mid)
-        if v == 0:  # cannot happen for an irreducible polynomial of degree >= 2
-            self.lo = self.hi = mid
-            return
-        if _sign(_eval(self.poly, self.lo)) == _sign(v):
-            self.lo = mid
-        else:
-            self.hi = mid
+        self.lo, self.hi = _halved(lambda t: _eval(self.poly, t), self.lo, self.hi)
 
     def _same_root(self, other: RealAlgebraic) -> bool:
         if self.poly != other.poly:
@@ -237,55 +254,22 @@ class RealAlgebraic:
             for c in coeffs:
                 total = total * self.lo + c
             return _sign(total)
-        if flint is not None and flint_in_use():
-            return self._sign_of_flint(coeffs)
+        if flint is not None and flint_in_use():  # the same steps on flint's rationals
+            M = self._flint_poly
+            cs = [_fmpq(c) for c in coeffs]
+            if (flint.fmpq_poly(cs[::-1]) % M).is_zero():
+                return 0
+            sign, lo, hi = _decided(cs, _fmpq(self.lo), _fmpq(self.hi), M)
+            self.lo, self.hi = _q(lo), _q(hi)
+            return sign
         if sp.Poly(coeffs, X, domain="QQ").rem(self.poly).is_zero:
             return 0
-        while True:  # p(x) != 0: an interval evaluation on a fine enough enclosure decides it
-            lo, hi = _eval_interval(coeffs, self.lo, self.hi)
-            if lo > 0:
-                return 1
-            if hi < 0:
-                return -1
-            self.refine()
+        sign, self.lo, self.hi = _decided(coeffs, self.lo, self.hi, lambda t: _eval(self.poly, t))
+        return sign
 
     @cached_property
     def _flint_poly(self) -> Any:
         return flint.fmpq_poly([_fmpq(_q(c)) for c in reversed(self.poly.all_coeffs())])
-
-    def _sign_of_flint(self, coeffs: list[Fraction]) -> int:
-        """:meth:`sign_of` on flint's rationals: the same interval evaluations and bisections."""
-        M = self._flint_poly
-        cs = [_fmpq(c) for c in coeffs]
-        if (flint.fmpq_poly(cs[::-1]) % M).is_zero():
-            return 0
-        lo, hi = _fmpq(self.lo), _fmpq(self.hi)
-        try:
-            while True:
-                a = b = flint.fmpq(0)
-                if lo >= 0:  # the same bounds as the four products' least and largest, with fewer products
-                    for c in cs:
-                        a, b = (a * lo if a >= 0 else a * hi) + c, (b * hi if b >= 0 else b * lo) + c
-                else:
-                    for c in cs:
-                        products = (a * lo, a * hi, b * lo, b * hi)
-                        a, b = min(products) + c, max(products) + c
-                if a > 0:
-                    return 1
-                if b < 0:
-                    return -1
-                if lo == hi:  # refine() keeps a rational
-                    continue
-                mid = (lo + hi) / 2
-                v = M(mid)
-                if v == 0:
-                    lo = hi = mid
-                elif _sign(M(lo)) == _sign(v):
-                    lo = mid
-                else:
-                    hi = mid
-        finally:
-            self.lo, self.hi = _fraction_of(lo), _fraction_of(hi)
 
     def between(self, other: RealAlgebraic) -> Fraction:
         """A rational strictly between this number and a larger one."""

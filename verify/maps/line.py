@@ -100,7 +100,7 @@ class Watch:
         if not self.stopped and self.max_parts is not None and self.parts >= self.max_parts:
             self.stopped = f"the size budget of {self.max_parts} parts was reached"
         if not self.stopped and self.seconds is not None and time.monotonic() - self.started >= self.seconds:
-            shown = _decimal(Fraction(self.seconds).limit_denominator(1000), 3).rstrip("0").rstrip(".")
+            shown = format_decimal(Fraction(self.seconds).limit_denominator(1000), 12)
             self.stopped = f"the wall-clock budget of {shown} s ran out"
         return bool(self.stopped)
 
@@ -112,9 +112,9 @@ class Watch:
             lower, upper = _narrow(part.piece.lower), _narrow(part.piece.upper)
             self.decided += max(Fraction(0), upper[0] - lower[1])
         if self.progress is not None:
-            elapsed = Fraction(time.monotonic() - self.started).limit_denominator(10)
-            self.progress(f"map: {self.parts} parts, decided a length of {_decimal(self.decided)}, "
-                          f"deepest impulse {self.deepest}, {_decimal(elapsed, 0)} s")  # fmt: skip
+            elapsed = round(time.monotonic() - self.started)  # the clock: a float, shown to the second
+            self.progress(f"map: {self.parts} parts, decided a length of {format_decimal(self.decided, 6)}, "
+                          f"deepest impulse {self.deepest}, {elapsed} s")  # fmt: skip
 
 
 def _narrow(x: RealAlgebraic, width: Fraction = Fraction(1, 10**9)) -> tuple[Fraction, Fraction]:
@@ -124,12 +124,6 @@ def _narrow(x: RealAlgebraic, width: Fraction = Fraction(1, 10**9)) -> tuple[Fra
     while y.hi - y.lo > width:
         y.refine()
     return y.lo, y.hi
-
-
-def _decimal(q: Fraction, places: int = 6) -> str:
-    """q >= 0 rounded to ``places`` decimals, exactly (no float)."""
-    n = round(q * 10**places)
-    return f"{n // 10**places}.{n % 10**places:0{places}d}" if places else str(n)
 
 
 def line_parts(

@@ -82,11 +82,16 @@ class RatFunc:
         return RatFunc(n, d)
 
     @staticmethod
+    def constant(q: Fraction) -> RatFunc:
+        """The constant function q."""
+        return RatFunc(flint.fmpq_poly([flint.fmpq(q.numerator, q.denominator)]), _ONE)
+
+    @staticmethod
     def _of(x: Any) -> RatFunc | None:
         if isinstance(x, RatFunc):
             return x
         if isinstance(x, int | Fraction):
-            return RatFunc(flint.fmpq_poly([flint.fmpq(Fraction(x).numerator, Fraction(x).denominator)]), _ONE)
+            return RatFunc.constant(Fraction(x))
         return None
 
     def __add__(self, other: Any) -> RatFunc:
@@ -129,11 +134,10 @@ class RatFunc:
             return RatFunc(flint.fmpq_poly(), _ONE)
         if self.d.is_one() and o.d.is_one():
             return RatFunc(self.n * o.n, _ONE)
-        # cross-cancel: the pairs stay coprime and the denominator monic
+        # cross-cancel: the pairs stay coprime, and the denominator monic (flint's gcds are monic, and a
+        # monic polynomial divided by a monic one is monic)
         g1, g2 = self.n.gcd(o.d), o.n.gcd(self.d)
-        n = (self.n // g1) * (o.n // g2)
-        d = (self.d // g2) * (o.d // g1)
-        return RatFunc.reduced(n, d) if d.leading_coefficient() != 1 else RatFunc(n, d)
+        return RatFunc((self.n // g1) * (o.n // g2), (self.d // g2) * (o.d // g1))
 
     __rmul__ = __mul__
 
@@ -198,7 +202,7 @@ class FlintArithmetic:
 
     def rational(self, q: Fraction) -> RatFunc:
         """The constant function q."""
-        return RatFunc(flint.fmpq_poly([flint.fmpq(q.numerator, q.denominator)]), _ONE)
+        return RatFunc.constant(q)
 
     def from_expr(self, value: Any) -> RatFunc:
         """A SymPy expression in :data:`EPS` with rational coefficients (ValueError otherwise)."""
