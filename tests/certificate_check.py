@@ -252,12 +252,87 @@ def _cone_lp(y: list, gens: list, strict: list, need_strict: bool) -> bool:
     """y is a non-negative combination of gens (with weight on a strict one if asked), at a rational point:
     a simplex method written here for the checker (dense tableau over Fractions, Bland's rule), apart
     from the search's (verify/core/cones/lp.py) and from SymPy's (whose lpmax stalled on some of them)."""
-    rows = [[_q(g[m]) for g in gens] + [_q(y[m])] for m in range(len(y))]
+    entries = [x for g in gens for x in g] + list(y)
+    number = _q if all(sp.sympify(x).is_Rational for x in entries) else _Quadratic.of
+    rows = [[number(g[m]) for g in gens] + [number(y[m])] for m in range(len(y))]
     try:  # the largest strict weight (or 0 with no objective), None if y is not in the cone
         best = _simplex(rows, len(gens), [Fraction(1 if s else 0) for s in strict] if need_strict else None)
     except OverflowError:  # an unbounded strict weight: positive
         return True
     return best is not None and (best > 0 if need_strict else True)
+
+
+class _Quadratic:
+    """A number of a real quadratic field (a + b sqrt(d), SymPy), kept in that canonical form after every
+    operation so that 0 is recognised as 0; its sign is decided by SymPy at 60 digits only when it is not 0
+    (a non-zero a + b sqrt(d) with rational a, b is far from 0 at that precision for the sizes here). For
+    the checker's simplex at a boundary point such as eps = 3 - 2*sqrt(2)."""
+
+    def __init__(self, x: sp.Expr):
+        self.x = sp.expand(sp.radsimp(x))
+
+    @classmethod
+    def of(cls, x: object) -> _Quadratic:
+        return cls(sp.sympify(x))
+
+    @staticmethod
+    def _e(y: object) -> sp.Expr:
+        if isinstance(y, _Quadratic):
+            return y.x
+        if isinstance(y, Fraction):
+            return sp.Rational(y.numerator, y.denominator)
+        return sp.sympify(y)
+
+    def __add__(self, y: object) -> _Quadratic:
+        return _Quadratic(self.x + self._e(y))
+
+    __radd__ = __add__
+
+    def __sub__(self, y: object) -> _Quadratic:
+        return _Quadratic(self.x - self._e(y))
+
+    def __rsub__(self, y: object) -> _Quadratic:
+        return _Quadratic(self._e(y) - self.x)
+
+    def __mul__(self, y: object) -> _Quadratic:
+        return _Quadratic(self.x * self._e(y))
+
+    __rmul__ = __mul__
+
+    def __truediv__(self, y: object) -> _Quadratic:
+        return _Quadratic(self.x / self._e(y))
+
+    def __rtruediv__(self, y: object) -> _Quadratic:
+        return _Quadratic(self._e(y) / self.x)
+
+    def __neg__(self) -> _Quadratic:
+        return _Quadratic(-self.x)
+
+    def sign(self) -> int:
+        return 0 if self.x == 0 else (1 if self.x.evalf(60) > 0 else -1)
+
+    def _cmp(self, y: object) -> int:
+        return (self - y).sign()
+
+    def __lt__(self, y: object) -> bool:
+        return self._cmp(y) < 0
+
+    def __gt__(self, y: object) -> bool:
+        return self._cmp(y) > 0
+
+    def __le__(self, y: object) -> bool:
+        return self._cmp(y) <= 0
+
+    def __ge__(self, y: object) -> bool:
+        return self._cmp(y) >= 0
+
+    def __eq__(self, y: object) -> bool:
+        return self._cmp(y) == 0
+
+    def __ne__(self, y: object) -> bool:
+        return self._cmp(y) != 0
+
+    __hash__ = None  # type: ignore[assignment]
 
 
 def _q(x: object) -> Fraction:

@@ -192,13 +192,15 @@ def test_four_and_five_balls(balls, bound):
         if not part.piece.is_point:
             r = run_cradle(inner_rational(part, F(1, 2)), v0="1", balls=balls)
             assert (r.iterations, r.impact_sets) == (part.iterations, part.impact_sets)
-    assert all("no invariant cone" in p.reason for p in m.unexplored)
+    assert all("no invariant cone" in p.reason or "above the boundary eps = " in p.reason for p in m.unexplored)
     # the measure of what stays undecided: the unexplored widths, from SymPy's decimals of their endpoints
     lo, hi = undecided_measure(m)
     widths = sum(sp.N(p.piece.upper.expr - p.piece.lower.expr, 30) for p in m.unexplored)
     assert 0 < lo <= hi < lo + F(1, 10**13) and abs(widths - sp.Rational(lo)) < sp.Rational(1, 10**13)
     normals = [["-1" if j == i else "1" if j == i + 1 else "0" for j in range(balls)] for i in range(balls - 1)]
     for part in m.non_terminating:  # the cone of the whole interval, at a rational point of it
+        if "boundary" in part.certificate:  # checked on its whole interval in tests/test_map_boundary.py
+            continue
         if part.piece.is_point:  # eps = 0: decided as verify solve decides it, with its certificate
             assert part.piece.lower == RealAlgebraic.rational(F(0))
             cert, zeros = part.certificate, ["0"] * (balls - 1)

@@ -70,6 +70,12 @@ def map_budget_options(p: argparse.ArgumentParser) -> None:
                    help="stop after this wall-clock time and print the map decided so far (default: none)")  # fmt: skip
     p.add_argument("--max-parts", type=BoundedInt(0, MAX_PARTS), default=None, metavar="N",
                    help="stop after deciding N parts (all lines together) and print the map so far")  # fmt: skip
+    from verify.maps import DEFAULT_WIDEN, MAX_WIDEN
+
+    p.add_argument("--widen", type=BoundedInt(0, MAX_WIDEN), default=DEFAULT_WIDEN, metavar="N",
+                   help="try up to N rational points of each unexplored interval: where the run at a point is "
+                        "proved never to exit by a cone, the cone is checked for the widest interval around "
+                        f"the point (default {DEFAULT_WIDEN}; 0: none)")  # fmt: skip
     p.add_argument("--quiet", action="store_true", help="no progress line on stderr")
 
 
@@ -170,7 +176,7 @@ def cmd_cradle_map(args: argparse.Namespace) -> int:
     watch, status = map_watch(args, "cradle-map:")
     try:
         cmap = cradle_map(args.balls, masses, velocity, v0=args.v0, lower=interval[0], upper=interval[1],
-                          max_impulses=args.max_impulses, watch=watch)  # fmt: skip
+                          max_impulses=args.max_impulses, watch=watch, widen=args.widen)  # fmt: skip
     finally:
         status.close()
     if args.json:
@@ -232,7 +238,7 @@ def cmd_map(args: argparse.Namespace) -> int:
     watch, status = map_watch(args, "map:")
     try:
         m = case_map(args.case, args.case_id, _parameters(args), lines=args.lines, max_impulses=args.max_impulses,
-                     watch=watch)  # fmt: skip
+                     watch=watch, widen=args.widen)  # fmt: skip
     finally:
         status.close()
     sys.stdout.write(dumps(eps_map_json(m)) if args.json else eps_map_text(m, exact_in="--json"))

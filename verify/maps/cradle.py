@@ -32,6 +32,7 @@ from verify.core.backends.symbolic import EPS, Piece, RootCache, Split, Symbolic
 from verify.core.format import format_exact
 from verify.core.parse import to_number
 from verify.errors import InvalidInput, InvalidSystem
+from verify.maps import DEFAULT_WIDEN
 from verify.maps.line import Part, Watch, line_parts, parts_json, piece_json, undecided_length
 from verify.models.cradle import cradle_system, cradle_velocity
 
@@ -95,6 +96,7 @@ def cradle_map(
     upper: Any = 1,
     max_impulses: int = DEFAULT_MAX_IMPULSES,
     watch: Watch | None = None,
+    widen: int = DEFAULT_WIDEN,
 ) -> CradleMap:
     """The cradle for every eps in [lower, upper] (one COR for all contacts); ``balls`` by default the
     length of ``masses`` or ``velocity``, else 3.
@@ -103,7 +105,8 @@ def cradle_map(
     impulses, and not proved never to exit, is reported as unexplored. The interval must
     lie in [0, 1] with ``lower <= upper``; otherwise :class:`~verify.errors.InvalidInput`
     names the values. ``watch`` (:class:`~verify.maps.line.Watch`) gives a wall-clock and a size budget
-    and a progress callback; a map stopped by one (or by Ctrl-C) says why in ``stopped``.
+    and a progress callback; a map stopped by one (or by Ctrl-C) says why in ``stopped``. ``widen``: the points
+    of each unexplored interval at which a single run's cone is widened (:func:`~verify.maps.line.widened`).
 
     >>> cradle_map(lower="0.5", upper="0.2")
     Traceback (most recent call last):
@@ -122,11 +125,12 @@ def cradle_map(
     cache = RootCache()
     domain = Piece.closed(lo, hi)
     parts = line_parts(lambda K: cradle_system(EPS, balls, masses, backend=K), v, domain, max_impulses, cache,
-                       watch=watch)  # fmt: skip
+                       watch=watch, widen=widen)  # fmt: skip
     system0 = cradle_system("1", balls, masses)
     for part in parts:
         if part.stop == "max_iterations" and not part.stopped_by:
-            part.reason, part.exits_beyond_bound = _unexplored_reason(part, balls, masses, cache)
+            reason, part.exits_beyond_bound = _unexplored_reason(part, balls, masses, cache)
+            part.reason = reason if part.exits_beyond_bound or not part.reason else part.reason
     return CradleMap(
         balls,
         [system0.source["mass_matrix"][i][i] for i in range(balls)],

@@ -43,7 +43,7 @@ from verify.core.format import format_exact
 from verify.core.parse import CONSTANTS, FUNCTIONS, parse_number, to_number
 from verify.core.system import System
 from verify.errors import BadNumber, InvalidInput, InvalidSystem
-from verify.maps import DEFAULT_LINES, MAX_LINES
+from verify.maps import DEFAULT_LINES, DEFAULT_WIDEN, MAX_LINES
 from verify.maps.line import Part, Watch, line_parts, parts_json, piece_json
 
 _NAME = re.compile(r"[A-Za-z_][A-Za-z_0-9]*")
@@ -183,6 +183,7 @@ def eps_map(
     lines: int = DEFAULT_LINES,
     max_impulses: int = 40,
     watch: Watch | None = None,
+    widen: int = DEFAULT_WIDEN,
 ) -> EpsMap:
     """The rule on ``system`` from ``velocity`` for every value of the parameters of ``restitution``.
 
@@ -192,7 +193,9 @@ def eps_map(
     [0, 1] over it. With two or more parameters the map is a grid of ``lines`` values per parameter
     (see the module). ``max_impulses`` bounds each run: what is still impacting then, and not proved
     never to exit, is unexplored. ``watch`` (:class:`~verify.maps.line.Watch`) gives budgets and progress
-    shared by every line; a map stopped by one (or by Ctrl-C) says why in ``stopped``.
+    shared by every line; a map stopped by one (or by Ctrl-C) says why in ``stopped``. ``widen`` is the number
+    of rational points of each unexplored interval at which a single run's cone is widened
+    (:func:`~verify.maps.line.widened`).
 
     >>> m = eps_map(System([[1, 0], [0, 1]], [[-1, 1]], [1]), ["1", "0"], ["e"], {"e": ("1/2", "1")})
     >>> line = m.lines[0]
@@ -227,7 +230,7 @@ def eps_map(
         others = [n for n in names if n != free]
         for values in itertools.product(*(grid[n] for n in others)):
             fixed = dict(zip(others, values))
-            out.lines.append(_line(out, free, fixed, cache, watch))
+            out.lines.append(_line(out, free, fixed, cache, watch=watch, widen=widen))
     out.stopped = watch.stopped if watch is not None else ""
     return out
 
@@ -253,7 +256,10 @@ def _check_cors(m: EpsMap, cors: list[Any], domain: Piece, where: str, cache: Ro
             raise InvalidSystem(f"restitution[{i}] = {shown} is outside [0, 1] for some point of {where}")
 
 
-def _line(m: EpsMap, free: str, fixed: dict[str, Fraction], cache: RootCache, watch: Watch | None = None) -> Line:
+def _line(
+    m: EpsMap, free: str, fixed: dict[str, Fraction], cache: RootCache, *, watch: Watch | None = None,
+    widen: int = DEFAULT_WIDEN,
+) -> Line:  # fmt: skip
     subs = {sp.Symbol(n): sp.Rational(v.numerator, v.denominator) for n, v in fixed.items()}
     cors = [sp.sympify(c).subs({**subs, sp.Symbol(free): EPS}, simultaneous=True) for c in m.restitution]
     src = m.system.source
@@ -269,9 +275,9 @@ def _line(m: EpsMap, free: str, fixed: dict[str, Fraction], cache: RootCache, wa
     domain = Piece.closed(lo, hi)
     shown = ", ".join(f"{n} = {format_exact(v)}" for n, v in fixed.items())
     _check_cors(m, cors, domain, f"{free} in {domain}" + (f", {shown}" if shown else ""), cache)
-    parts = line_parts(build, m.velocity, domain, m.max_impulses, cache, parameter=free, watch=watch)
+    parts = line_parts(build, m.velocity, domain, m.max_impulses, cache, parameter=free, watch=watch, widen=widen)
     for part in parts:
-        if part.stop == "max_iterations" and not part.stopped_by:
+        if part.stop == "max_iterations" and not part.stopped_by and not part.reason:
             part.reason = f"still impacting after {part.iterations} impulses; not proved never to exit"
     return Line(free, fixed, domain, parts)
 
@@ -308,10 +314,11 @@ def case_map(
     lines: int = DEFAULT_LINES,
     max_impulses: int = 40,
     watch: Watch | None = None,
+    widen: int = DEFAULT_WIDEN,
 ) -> EpsMap:
     """:func:`eps_map` of a case in a case file (``docs/records.md``) whose ``restitution`` strings name
     parameters (``["e1", "e2"]``); ``case_id`` picks the case (needed when the file has several);
-    ``watch`` as for :func:`eps_map`.
+    ``watch`` and ``widen`` as for :func:`eps_map`.
 
     >>> import json, os, tempfile
     >>> path = os.path.join(tempfile.mkdtemp(), "case.json")
@@ -344,6 +351,6 @@ def case_map(
     case = case_from_record({**record, "restitution": ["1"] * len(cors)}, where)  # the geometry, validated
     try:
         return eps_map(case.system, record["velocity"], cors, parameters, lines=lines, max_impulses=max_impulses,
-                       watch=watch)  # fmt: skip
+                       watch=watch, widen=widen)  # fmt: skip
     except InvalidInput as exc:
         raise type(exc)(f"{where}: {exc}") from None

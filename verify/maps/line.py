@@ -38,7 +38,9 @@ from verify.core.backends.symbolic import EPS, Piece, RootCache, Split, Symbolic
 from verify.core.format import format_decimal
 from verify.core.rule import solve
 from verify.core.system import System
-from verify.errors import InvalidInput, Undecided
+from verify.maps import DEFAULT_WIDEN
+from verify.maps.boundary import closed_below, pattern_of
+from verify.maps.widen import around_point, point_run, without
 
 
 @dataclass
@@ -135,12 +137,15 @@ def line_parts(
     *,
     parameter: str = "eps",
     watch: Watch | None = None,
+    widen: int = DEFAULT_WIDEN,
 ) -> list[Part]:
     """The parts of ``domain``, in order: ``build(K)`` is the system on the symbolic backend ``K`` (its
     parameter, :data:`~verify.core.backends.symbolic.EPS`, ranging over one piece), ``velocity`` the
     exact entrance velocity. Each part's exit velocity is written in the parameter's own name,
     ``parameter`` (see the module's example). A point part the parametric run leaves at the bound is
-    run again as :func:`~verify.core.rule.solve` runs it at that value (:func:`_as_solve_decides`).
+    run again as :func:`~verify.core.rule.solve` runs it at that value (:func:`~verify.maps.widen.point_run`),
+    and an interval it leaves there is tried at up to ``widen`` rational points of it, each run's cone widened
+    to the largest interval around its point on which it holds (:func:`widened`).
 
     >>> from verify.core.system import System
     >>> one = lambda K: System([[1, 0], [0, 1]], [[-1, 1]], [EPS], backend=K)
@@ -163,9 +168,13 @@ def line_parts(
                     raise RuntimeError(f"cutting {piece} made no progress ({split})") from None
                 work.extend(cuts)
                 continue
-            done.append(part)
+            found = bounded(build, velocity, part, cache) if _unexplored(part) else [part]
+            found = [x for one in found for x in (widened(build, velocity, one, cache, max_points=widen, watch=watch)
+                                                   if _unexplored(one) else [one])]  # fmt: skip
+            done.extend(found)
             if watch is not None:
-                watch.done(part)
+                for one in found:
+                    watch.done(one)
     except KeyboardInterrupt:
         if watch is None:
             raise
@@ -177,6 +186,94 @@ def line_parts(
                              parameter=parameter, stopped_by=watch.stopped))  # fmt: skip
         done.sort(key=lambda p: (p.piece.lower, not p.piece.is_point))
     return merge(done)
+
+
+def bounded(
+    build: Callable[[SymbolicBackend], System], velocity: Sequence[Any], part: Part, cache: RootCache
+) -> list[Part]:
+    """The unexplored interval ``part`` with what a cone of its own repeating impacts decides up to the boundary
+    where their period's largest eigenvalues turn non-real (:mod:`verify.maps.boundary`): the parts proved
+    never to exit, and the rest unexplored, its reason naming the boundary.
+
+    >>> from verify.models.cradle import cradle_system
+    >>> build = lambda K: cradle_system(EPS, 4, backend=K)
+    >>> cache = RootCache()
+    >>> part = _run_piece(build, ["1", "0", "0", "0"], Piece.closed("0.16", "0.175"), max_impulses=24, cache=cache,
+    ...                   symbol=EPS, parameter="eps")
+    >>> part.stop, part.iterations
+    ('max_iterations', 24)
+    >>> for p in bounded(build, ["1", "0", "0", "0"], part, cache):
+    ...     print(p.piece, p.stop)
+    [4/25, 3 - 2*sqrt(2)) non_terminating
+    {3 - 2*sqrt(2)} non_terminating
+    (3 - 2*sqrt(2), 7/40] max_iterations
+    """
+    pattern = pattern_of(part.impact_sets)
+    decided = closed_below(build, velocity, part.piece, pattern, bound=part.iterations, cache=cache) if pattern else []
+    if not decided:
+        return [part]
+    symbol = sp.Symbol(part.parameter)
+    out = [Part(d.piece, "non_terminating", d.iterations, d.impact_sets, [x.subs(EPS, symbol) for x in d.velocity],
+                d.certificate, parameter=part.parameter) for d in decided]  # fmt: skip
+    star = decided[-1].certificate["boundary"]["eps"]
+    for piece in uncovered(part.piece, [d.piece for d in decided]):
+        above = piece.lower.cmp(decided[-1].piece.upper) >= 0
+        reason = (f"still impacting after {part.iterations} impulses; above the boundary eps = {star} of the repeating "
+                  f"impacts {pattern}, where the largest eigenvalues of their period are not real, no cone of them "
+                  "exists; not decided") if above else ""  # fmt: skip
+        out.append(Part(piece, part.stop, part.iterations, part.impact_sets, part.exit_velocity, reason=reason,
+                        parameter=part.parameter))  # fmt: skip
+    out.sort(key=lambda p: (p.piece.lower, not p.piece.is_point))
+    return out
+
+
+def _unexplored(part: Part) -> bool:
+    return part.stop == "max_iterations" and not part.piece.is_point and not part.stopped_by
+
+
+def widened(
+    build: Callable[[SymbolicBackend], System],
+    velocity: Sequence[Any],
+    part: Part,
+    cache: RootCache,
+    *,
+    max_points: int = DEFAULT_WIDEN,
+    watch: Watch | None = None,
+) -> list[Part]:
+    """The parts that replace the unexplored interval ``part``: intervals around rational points of it where
+    the cone of the single run at the point holds for the whole interval (non-terminating, with the
+    certificate; :func:`~verify.maps.widen.around_point`), and what is left, unexplored as before. At most
+    ``max_points`` points are tried (a budget of the map, ``--widen``).
+
+    >>> from verify.models.cradle import cradle_system
+    >>> build = lambda K: cradle_system(EPS, 4, backend=K)
+    >>> part = line_parts(build, ["1", "0", "0", "0"], Piece.closed("0.161", "0.168"), 16, widen=0)[0]
+    >>> part.stop, part.iterations
+    ('max_iterations', 16)
+    >>> [(p.stop, p.iterations) for p in widened(build, ["1", "0", "0", "0"], part, RootCache(), max_points=1)]
+    [('max_iterations', 16), ('non_terminating', 16), ('max_iterations', 16)]
+    """
+    todo, out, tried = [part.piece], [], 0
+    while todo:
+        piece = todo.pop()
+        if piece.is_point or tried >= max_points or (watch is not None and watch.check()):
+            out.append(Part(piece, part.stop, part.iterations, part.impact_sets, part.exit_velocity,
+                            reason=part.reason, parameter=part.parameter))  # fmt: skip
+            continue
+        tried += 1
+        found = around_point(build, velocity, piece, part.iterations, cache)
+        if found is None:
+            out.append(Part(piece, part.stop, part.iterations, part.impact_sets, part.exit_velocity,
+                            reason=part.reason, parameter=part.parameter))  # fmt: skip
+            continue
+        inner, run, certificate = found
+        symbol = sp.Symbol(part.parameter)
+        exit_velocity = [sp.sympify(run.backend.to_number(x)).subs(EPS, symbol) for x in run.exit_velocity]
+        out.append(Part(inner, "non_terminating", run.iterations, list(run.impact_sets), exit_velocity, certificate,
+                        parameter=part.parameter))  # fmt: skip
+        todo.extend(without(piece, inner))
+    out.sort(key=lambda p: (p.piece.lower, not p.piece.is_point))
+    return out
 
 
 def uncovered(domain: Piece, pieces: Sequence[Piece]) -> list[Piece]:
@@ -218,28 +315,9 @@ def _run_piece(
     system = build(K)
     r = solve(system, velocity, max_iterations=max_impulses, trace=False)
     if r.stop == "max_iterations" and piece.is_point:
-        r = _as_solve_decides(system, velocity, piece.lower, max_impulses) or r
+        r = point_run(system, velocity, piece.lower, max_impulses) or r
     velocity_out = [sp.sympify(r.backend.to_number(x)).subs(EPS, symbol) for x in r.exit_velocity]
     return Part(piece, r.stop, r.iterations, list(r.impact_sets), velocity_out, r.certificate, parameter=parameter)
-
-
-def _as_solve_decides(system: System, velocity: Sequence[Any], point: RealAlgebraic, max_impulses: int) -> Any:
-    """The run at one value of the parameter as :func:`~verify.core.rule.solve` makes it on the exact
-    numbers of that value (rationals, or the number field of a quadratic irrational), with every proof
-    of non-termination it has (repeating directions among them, which the parametric run does not look
-    for): its result when it decides what the parametric run left undecided, else None."""
-    if not (point.is_rational or point.poly.degree() == 2):
-        return None
-    src, value = system.source, str(point)
-    cors = [sp.sympify(e).subs(EPS, sp.sympify(value)) if getattr(e, "free_symbols", None) else e
-            for e in src["restitution"]]  # fmt: skip
-    try:
-        exact = System(src["mass_matrix"], src["normals"], [str(e) for e in cors], src["time_terms"],
-                       names=system.names, coordinates=system.coordinates)  # fmt: skip
-        r = solve(exact, velocity, max_iterations=max_impulses, trace=False)
-    except (InvalidInput, Undecided):
-        return None
-    return r if r.stop != "max_iterations" else None
 
 
 def merge(parts: list[Part]) -> list[Part]:

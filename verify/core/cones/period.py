@@ -333,12 +333,21 @@ Found = tuple[list[Vector], list[bool], list[tuple[Vector, dict[int, Any]]], lis
 
 
 def close(
-    system: System, p: int, seeds: Sequence[Vector], extra: Sequence[Vector], rounds: int = 8, *, polar: bool = False
+    system: System,
+    p: int,
+    seeds: Sequence[Vector],
+    extra: Sequence[Vector],
+    rounds: int = 8,
+    *,
+    polar: bool = False,
+    inflate: Vector | None = None,
 ) -> Found | None:
     """A cone of the seeds (strict), the ``extra`` strict vectors and the weak unit vectors of the
     constraints no seed is hit on in p impulses, closed under p impulses: (generators, strict flags, the
     vectors carried through p impulses with their combinations, the stages of :func:`carry` when
-    ``polar``), or None."""
+    ``polar``), or None. With ``inflate`` (a vector inside the cone, rationals), a carried vector y the cone
+    lacks is added as ``y + (y - s c) / 64`` (s c: ``inflate`` at y's scale), so that y itself lies inside
+    the cone, not on an edge: the cone then holds for parameters near these ones too."""
     K, r = system.backend, system.r
     gens = [list(g) for g in (*seeds, *extra)]
     strict = [True] * len(gens)
@@ -369,11 +378,19 @@ def close(
             bounds.reached("generators")
             return None
         for y, s in missing:
-            gens.append(y)
+            gens.append(_inflated(K, y, inflate) if inflate is not None else y)
             strict.append(s)
     if rounds == MAX_ROUNDS:
         bounds.reached("rounds")
     return None
+
+
+def _inflated(K: Any, y: Vector, center: Vector) -> Vector:
+    """y pushed away from ``center`` (scaled to y's size) by 1/64 of their difference (exact rationals)."""
+    top = max(abs(Fraction(K.to_number(x))) for x in center)
+    scale = K.convert(max(abs(Fraction(K.to_number(x))) for x in y) / top) if top else K.zero
+    step = K.convert(Fraction(1, 64))
+    return [a + (a - scale * c) * step for a, c in zip(y, center)]
 
 
 def box_seeds(K: Any, center: Sequence[Any], radius: Sequence[Any]) -> list[Vector]:
@@ -447,13 +464,29 @@ def _limit(system: System, b: Sequence[Any], p: int, periods: int = 400) -> tupl
     return v, on
 
 
-def _around(K: Any, b: Sequence[Any], v: Vector, on: list[int]) -> list[Vector]:
-    """Points around the direction v (:func:`_limit`), with b's own scale: v and v +- 2^-12 times each unit
+def limit_cone(system: System, p: int, b: Sequence[Any], bits: int) -> Found | None:
+    """A cone closed under p impulses around the direction the rates b tend to (rationals), seeded with that
+    direction +- 2^-bits of the rates' scale along each rate hit (:func:`_around`; b itself is not a seed), or
+    None."""
+    limit = _limit(system, b, p)
+    if limit is None:
+        return None
+    seeds = _around(system.backend, b, *limit, bits)
+    return close(system, p, seeds, [], MAX_ROUNDS, inflate=seeds[0])
+
+
+def rates_after(system: System, b: Sequence[Any], n: int) -> Vector | None:
+    """The rates after n impulses of the rule from b (None when one of them finds nothing to hit)."""
+    return _rule_steps(system, b, n)
+
+
+def _around(K: Any, b: Sequence[Any], v: Vector, on: list[int], bits: int = 12) -> list[Vector]:
+    """Points around the direction v (:func:`_limit`), with b's own scale: v and v +- 2^-bits times each unit
     vector of H, scaled to b's H-rates, with b's other rates (the weak generators add to those what the cone
     needs)."""
     scale = max(abs(Fraction(K.to_number(b[i]))) for i in on)
     size = K.convert(scale)
-    delta = K.convert(scale / 2**12)
+    delta = K.convert(scale / 2**bits)
     base = [v[i] * size if i in on else b[i] for i in range(len(b))]
     out = [base]
     for i in on:
@@ -578,7 +611,7 @@ def period_certificate(
         bounds.use("pivots_failed", MAX_PIVOTS - max(left[0], 0))
         return None
     bounds.use("pivots" if found else "pivots_failed", MAX_PIVOTS - left[0])
-    return _certificate(exact, p, found, b if K.is_exact else None, box) if found else None
+    return certificate_of(exact, p, found, b if K.is_exact else None, box) if found else None
 
 
 def rounded_box(K: Any, b: Sequence[Any], bits: int = 64) -> tuple[Vector, Vector]:
@@ -640,13 +673,15 @@ def _exponent(q: Fraction) -> int:
     return e
 
 
-def _certificate(
+def certificate_of(
     system: System,
     p: int,
     found: Found,
     b: Sequence[Any] | None,
-    box: tuple[Vector, Vector] | None,
+    box: tuple[Vector, Vector] | None = None,
 ) -> dict[str, Any]:
+    """The certificate (a JSON-ready dict) of a cone found by :func:`close` for the rates ``b`` (or for a box
+    of them), in the exact numbers of ``system``'s backend."""
     K = system.backend
     gens, strict, carried, stages = found
     show = K.to_exact

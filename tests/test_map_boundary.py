@@ -1,0 +1,133 @@
+"""The boundary of never-exits (verify.maps.boundary): found from the pattern's own period, checked without it."""
+
+from __future__ import annotations
+
+import pytest
+import sympy as sp
+
+from tests import certificate_check
+from verify.core.backends.symbolic import EPS, Piece, RootCache, SymbolicBackend
+from verify.maps.boundary import collisions, pattern_map, pattern_of
+from verify.maps.cradle import cradle_map
+from verify.maps.general import case_map
+from verify.models.cradle import cradle_system
+
+E = sp.Symbol("e")
+
+
+def _period(masses: list[int], sets: list[list[int]]) -> sp.Matrix:
+    """The test's own period matrix on the rates of a chain of balls: impulses on sets of contacts that do not
+    touch the same ball, each b -> b - (1 + e) (b_j / G_jj) G[:, j] (Newton's law on one contact)."""
+    n = len(masses)
+    N = sp.Matrix(n - 1, n, lambda i, k: -1 if k == i else 1 if k == i + 1 else 0)
+    G = N * sp.diag(*[sp.Rational(1, m) for m in masses]) * N.T
+    M = sp.eye(n - 1)
+    for J in sets:
+        A = sp.eye(n - 1)
+        for j in J:
+            A[:, j] -= (1 + E) / G[j, j] * G[:, j]
+        M = A * M
+    return M
+
+
+@pytest.mark.parametrize(
+    ("masses", "sets"),
+    [([1, 1, 1], [[0], [1]]), ([1, 1, 1, 1], [[0, 2], [1]]), ([2, 1, 1, 2], [[0, 2], [1]])],
+)
+def test_the_boundary_is_where_the_periods_largest_eigenvalues_meet(masses, sets) -> None:
+    K = SymbolicBackend(Piece.closed(0, 1), RootCache())
+    system = cradle_system(EPS, len(masses), [str(m) for m in masses], backend=K)
+    found = collisions(pattern_map(system, [tuple(J) for J in sets]), Piece.closed(0, 1), RootCache())
+    assert len(found) == 1
+    star = found[0][0].expr
+    M = _period(masses, sets)
+    lam = sp.Symbol("lam")
+    at = sp.Poly(M.subs(E, star).charpoly(lam).as_expr(), lam)
+    # a double eigenvalue at eps*, the largest in modulus
+    double = [r for r, m in sp.roots(at).items() if m == 2]
+    assert len(double) == 1
+    assert all(sp.Abs(r) <= sp.Abs(double[0]) for r in sp.roots(at))
+    # all real just below; just above, a non-real pair of the largest modulus
+    for shift, real in ((-sp.Rational(1, 10**6), True), (sp.Rational(1, 10**6), False)):
+        roots = sp.Poly(M.subs(E, sp.nsimplify(star + shift)).charpoly(lam).as_expr(), lam).nroots(n=40)
+        nonreal = [r for r in roots if abs(sp.im(r)) > 1e-30]
+        assert (not nonreal) == real
+        if nonreal:
+            assert max(abs(r) for r in nonreal) > max(abs(r) for r in roots) - 1e-30
+
+
+def test_a_pattern_is_the_shortest_period_the_impacts_repeat() -> None:
+    assert pattern_of([(0,), (1,), (0, 2), (1,), (0, 2), (1,), (0, 2)]).sets == ((1,), (0, 2))
+    assert pattern_of([(0,), (1,), (0,), (2,)]) is None
+
+
+NORMALS4 = [["-1", "1", "0", "0"], ["0", "-1", "1", "0"], ["0", "0", "-1", "1"]]
+
+
+def _check_boundary_parts(parts, masses: list[str], restitution: list[str], star: str) -> int:
+    """Every part whose certificate reaches the boundary, checked by the independent checker on its whole
+    interval (or at its point); the number checked."""
+    checked = 0
+    for part in parts:
+        cert = part.certificate or {}
+        if "boundary" not in cert:
+            continue
+        assert cert["boundary"]["eps"] == star
+        piece = part.piece
+        if piece.is_point:
+            assert str(piece.lower) == star
+            at = [str(sp.sympify(x).subs(sp.Symbol("eps"), sp.sympify(star))) for x in restitution]
+            assert certificate_check.check_period(cert, masses, NORMALS4, restitution=at) == []
+        else:
+            interval = (str(piece.lower), str(piece.upper))
+            assert certificate_check.check_period(
+                cert, masses, NORMALS4, interval=interval, closed=(piece.lower_closed, piece.upper_closed),
+                restitution=restitution,
+            ) == []  # fmt: skip
+        checked += 1
+    return checked
+
+
+def test_four_balls_never_exit_up_to_and_at_3_minus_2_sqrt_2() -> None:
+    m = cradle_map(balls=4, lower="0.16", upper="0.175", max_impulses=16, widen=0)
+    star = "3 - 2*sqrt(2)"
+    assert _check_boundary_parts(m.parts, ["1"] * 4, ["eps"] * 3, star) >= 2
+    # the same certificates do not hold past the boundary (the checker is not blind to it)
+    cone = next(p for p in m.non_terminating if "boundary" in p.certificate and not p.piece.is_point)
+    beyond = (str(cone.piece.lower), "43/250")
+    assert certificate_check.check_period(cone.certificate, ["1"] * 4, NORMALS4, interval=beyond,
+                                          restitution=["eps"] * 3) != []  # fmt: skip
+    point = m.locate(_algebraic(certificate_check.read(star)))
+    assert point.stop == "non_terminating" and point.piece.is_point
+    # everything below it in the range is decided never to exit; above it, what is left names the boundary
+    below = [p for p in m.parts if p.piece.upper.cmp(point.piece.lower) <= 0]
+    assert below and all(p.stop == "non_terminating" for p in below)
+    above = m.unexplored
+    assert above and all(f"boundary eps = {star}" in p.reason for p in above)
+
+
+def test_the_masses_2_1_1_2_never_exit_up_to_and_at_2_minus_sqrt_3(tmp_path) -> None:
+    path = tmp_path / "case.json"
+    path.write_text(
+        '{"cases": [{"id": "balls-2112", "mass_matrix": [["2","0","0","0"],["0","1","0","0"],["0","0","1","0"],'
+        '["0","0","0","2"]], "normals": [["-1","1","0","0"],["0","-1","1","0"],["0","0","-1","1"]], '
+        '"restitution": ["eps","eps","eps"], "velocity": ["1","0","0","0"]}]}'
+    )
+    m = case_map(str(path), None, {"eps": ("0.25", "0.275")}, max_impulses=16, widen=0)
+    parts = m.lines[0].parts
+    assert _check_boundary_parts(parts, ["2", "1", "1", "2"], ["eps"] * 3, "2 - sqrt(3)") >= 2
+    star = certificate_check.read("2 - sqrt(3)")
+    assert all(p.stop == "non_terminating" for p in parts if p.piece.upper.cmp(_algebraic(star)) <= 0)
+
+
+def _algebraic(x):
+    from verify.core.algebraic import RealAlgebraic
+
+    return RealAlgebraic.from_number(x)
+
+
+def test_a_boundary_cone_is_not_claimed_where_the_pattern_is_not_linear() -> None:
+    K = SymbolicBackend(Piece.closed(0, 1), RootCache())
+    system = cradle_system(EPS, 4, backend=K)
+    assert pattern_map(system, [(0, 1)]) is None  # contacts 1 and 2 share a ball: beta depends on the rates
+    assert pattern_map(system, [(0, 2)]) is not None

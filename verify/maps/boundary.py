@@ -1,0 +1,334 @@
+"""The boundary of never-exits, closed exactly: where a repeating pattern of impacts stops attracting.
+
+Below a boundary the runs of a map settle into a pattern: the same p impact sets forever, each one
+single or of mutually orthogonal constraints, so that each impulse is a linear map of the rates
+(beta = 1, :func:`~verify.core.cones.period.linear_step`) and a period is one matrix M(eps) of rational
+functions (:func:`pattern_map`). Write its characteristic polynomial over Q(eps); where a quadratic
+factor q has the largest roots and its discriminant changes sign, the two largest eigenvalues meet and
+turn non-real: that root of the discriminant, eps*, is the boundary (:func:`collisions`). For three balls
+it gives 7 - 4*sqrt(3), for four unit balls 3 - 2*sqrt(2), for the masses 2, 1, 1, 2 it gives 2 - sqrt(3).
+
+Up to eps*, a cone closed under the period is built from the pattern itself
+(:func:`boundary_generators`): on the plane W = ker q(M), with M|W = B in a basis (w_a, w_b), an
+eigenvector is (B_01, lam - B_00), affine in lam, so the vector at the mean of the two eigenvalues,
+
+    v_mid = B_01 w_a + (B_11 - B_00)/2 w_b,
+
+lies between the two eigen-directions while they are real and is the one eigen-direction at eps*: a
+rational function of eps. The directions of W flow from the smaller eigenvector to the larger one, so
+the sector from v_mid to the rates' own W-part (on the far side of the larger eigenvector) is mapped
+into itself, up to and at eps*. The other eigenvalues (the factors of the characteristic polynomial
+besides q, each linear) are no larger in modulus there, so a slab of half-width delta around the
+sector along their eigenvectors z_i closes it in the full space. The generators are the rates b, their
+mirror 2 b_W - b across W, and v_mid +- delta z_i; the cone is checked as every cone of a period is
+(:func:`~verify.core.cones.period.close`, exact signs on the whole piece, cut where a sign changes), and
+at eps* itself on the number field of eps*. The certificate is an ordinary "invariant cone of a
+period": ``tests/certificate_check.py`` checks it without this module.
+
+Above eps* the largest eigenvalues of the period are non-real: no cone of this kind exists there, and
+that part stays unexplored unless the runs exit within the bound.
+
+>>> import sympy as sp
+>>> from verify.models.cradle import cradle_system
+>>> K = SymbolicBackend(Piece.closed(0, 1), RootCache())
+>>> M = pattern_map(cradle_system(EPS, 4, backend=K), [(0, 2), (1,)])
+>>> [str(x) for x, _ in collisions(M, Piece.closed(0, 1), RootCache())]
+['3 - 2*sqrt(2)']
+"""
+
+from __future__ import annotations
+
+from collections.abc import Callable, Sequence
+from dataclasses import dataclass
+from fractions import Fraction
+from typing import Any
+
+import sympy as sp
+
+from verify.core.algebraic import RealAlgebraic, X
+from verify.core.backends.symbolic import EPS, Piece, RootCache, Split, SymbolicBackend
+from verify.core.cones.lp import pivot_budget
+from verify.core.cones.period import MAX_PIVOTS, certificate_of, close, linear_step
+from verify.core.rule import solve
+from verify.core.system import System
+from verify.core.termination import MAX_PERIOD
+from verify.errors import Undecided
+from verify.maps.widen import at_point
+
+LAM = sp.Symbol("lam")
+#: the slab's half-width, as a share of the most that keeps v_mid +- delta z in the pattern's signs
+SLABS = (Fraction(1, 2), Fraction(3, 4), Fraction(1, 4), Fraction(7, 8))
+#: periods of the pattern tried as the start of the cone (the run's rates come closer to the larger eigenvector)
+STARTS = 4
+
+Build = Callable[[SymbolicBackend], System]
+
+
+@dataclass
+class Decided:
+    """A part proved never to exit by a boundary cone: the run's impulses up to the cone, their impact sets,
+    the velocity there (SymPy, in eps) and the certificate."""
+
+    piece: Piece
+    iterations: int
+    impact_sets: list[tuple[int, ...]]
+    velocity: list[Any]
+    certificate: dict[str, Any]
+
+
+@dataclass(frozen=True)
+class Pattern:
+    """Impact sets that repeat from impulse ``start`` on, ``sets`` being one period."""
+
+    start: int
+    sets: tuple[tuple[int, ...], ...]
+
+    def __str__(self) -> str:
+        return "".join("(" + ",".join(f"S{j + 1}" for j in J) + ")" for J in self.sets)
+
+
+def pattern_of(impact_sets: Sequence[Sequence[int]], repeats: int = 3) -> Pattern | None:
+    """The shortest period (at most ``MAX_PERIOD`` impulses) that the impact sets repeat at their end, at least
+    ``repeats`` times, from the earliest impulse on which they do.
+
+    >>> pattern_of([(0,), (1,), (0, 2), (1,), (0, 2), (1,), (0, 2), (1,)])
+    Pattern(start=1, sets=((1,), (0, 2)))
+    """
+    sets = [tuple(J) for J in impact_sets]
+    for p in range(1, MAX_PERIOD + 1):
+        start = len(sets) - p
+        while start > 0 and sets[start - 1] == sets[start - 1 + p]:
+            start -= 1
+        if len(sets) - start >= repeats * p:
+            return Pattern(start, tuple(sets[start : start + p]))
+    return None
+
+
+def _sym(K: Any, x: Any) -> Any:
+    return sp.sympify(K.to_number(x))
+
+
+def pattern_map(system: System, sets: Sequence[Sequence[int]]) -> sp.Matrix | None:
+    """The matrix of one period of linear impulses on the rates, over Q(eps) (None when an impulse of the
+    pattern is not linear): an impulse on J is ``b -> b - sum_j (1 + e_j)(b_j / G_jj) G[:, j]``."""
+    K, r = system.backend, system.r
+    if not all(linear_step(system, J) for J in sets):
+        return None
+    G = sp.Matrix(r, r, lambda i, j: _sym(K, system.gram[i][j]))
+    e = [_sym(K, x) for x in system.restitution]
+    M = sp.eye(r)
+    for J in sets:
+        A = sp.eye(r)
+        for j in J:
+            A -= (1 + e[j]) / G[j, j] * G[:, j] * sp.Matrix([[1 if k == j else 0 for k in range(r)]])
+        M = (A * M).applyfunc(sp.cancel)
+    return M
+
+
+def _factors(M: sp.Matrix) -> list[sp.Poly]:
+    poly = sp.Poly(sp.together(M.charpoly(LAM).as_expr()).as_numer_denom()[0], LAM, EPS)
+    return [f for f, _ in sp.factor_list(poly.as_expr(), LAM, EPS)[1] if sp.Poly(f, LAM).degree() > 0]
+
+
+def collisions(M: sp.Matrix, piece: Piece, cache: RootCache) -> list[tuple[RealAlgebraic, sp.Poly]]:
+    """The points of ``piece`` where the two largest eigenvalues of M meet: (eps*, the quadratic factor q of
+    the characteristic polynomial whose double root is there), where q's discriminant changes sign and
+    every other factor is linear with roots no larger in modulus at eps*."""
+    factors = _factors(M)
+    out = []
+    for q in factors:
+        Q = sp.Poly(q, LAM)
+        if Q.degree() != 2:
+            continue
+        others = [f for f in factors if f is not q]
+        if any(sp.Poly(f, LAM).degree() != 1 for f in others):
+            continue
+        a, b, _ = Q.all_coeffs()
+        disc = sp.Poly(sp.discriminant(q, LAM), EPS)
+        for d, times in disc.factor_list()[1]:
+            if d.degree() < 1 or times % 2 == 0:  # an irreducible factor: of even multiplicity, no change of sign
+                continue
+            for x in cache.roots(sp.Poly(d.as_expr().subs(EPS, X), X, domain="QQ")):
+                if not piece.contains(x) or x.poly.degree() > 2:
+                    continue
+                if _largest(-b / (2 * a), others, x):
+                    out.append((x, q))
+    return out
+
+
+def _value(expr: Any, x: RealAlgebraic) -> Any:
+    return sp.nsimplify(sp.sympify(expr).subs(EPS, x.expr))
+
+
+def _largest(root: Any, others: Sequence[Any], x: RealAlgebraic) -> bool:
+    """|root| >= |root of each linear factor| at x (exact, in x's number field)."""
+    at = sp.Abs(_value(root, x))
+    for f in others:
+        c1, c0 = sp.Poly(f, LAM).all_coeffs()
+        if sp.simplify(at - sp.Abs(_value(-c0 / c1, x))).is_negative:
+            return False
+    return True
+
+
+@dataclass
+class Frame:
+    """The plane W = ker q(M) and the other eigenvectors U of a period M, with v_mid (see the module) and the
+    inverse of the basis (W, U), all over Q(eps)."""
+
+    W: list[sp.Matrix]
+    U: list[sp.Matrix]
+    mid: sp.Matrix
+    inverse: sp.Matrix
+
+
+def frame(M: sp.Matrix, q: Any) -> Frame | None:
+    """The frame of the period M for its quadratic factor q, or None when M is not diagonalisable into W and
+    eigenvectors of linear factors over Q(eps)."""
+    r = M.shape[0]
+    a2, a1, a0 = sp.Poly(q, LAM).all_coeffs()
+    W = (a2 * M * M + a1 * M + a0 * sp.eye(r)).applyfunc(sp.cancel).nullspace(simplify=True)
+    if len(W) != 2:
+        return None
+    U: list[sp.Matrix] = []
+    for f in _factors(M):
+        if sp.Poly(f, LAM).degree() == 1:
+            c1, c0 = sp.Poly(f, LAM).all_coeffs()
+            U += (M + (c0 / c1) * sp.eye(r)).applyfunc(sp.cancel).nullspace(simplify=True)
+    basis = sp.Matrix.hstack(*W, *U)
+    if len(U) != r - 2 or sp.cancel(basis.det()) == 0:
+        return None
+    Wm = sp.Matrix.hstack(*W)
+    B = ((Wm.T * Wm).inv() * Wm.T * M * Wm).applyfunc(sp.cancel)
+    mid = (B[0, 1] * W[0] + (B[1, 1] - B[0, 0]) / 2 * W[1]).applyfunc(sp.cancel)
+    return Frame(W, U, mid, basis.inv().applyfunc(sp.cancel))
+
+
+def boundary_generators(
+    f: Frame, first: Sequence[int], b: Sequence[Any], *, slab: Fraction, sample: Fraction
+) -> list[list[Any]] | None:
+    """The generators of the boundary cone (see the module) as SymPy expressions in eps: the rates' mirror
+    across W, then v_mid +- delta z_i; ``first`` is the pattern's first impact set (the signs at the cone's
+    phase), ``sample`` a value of eps inside the piece where the orientation and the slab's width are chosen
+    (the cone is checked on the whole piece afterwards)."""
+    r = len(b)
+    at = {EPS: sp.Rational(sample.numerator, sample.denominator)}
+    v = f.mid
+    if all(v[i].subs(at) > 0 for i in first):
+        v = -v
+    if not all(v[i].subs(at) < 0 for i in first):
+        return None
+    coords = f.inverse * sp.Matrix(b)
+    b_w = sum((coords[i] * f.W[i] for i in range(2)), sp.zeros(r, 1))
+    gens = [list((2 * b_w - sp.Matrix(b)).applyfunc(sp.cancel))]
+    for z in f.U:
+        ratios = [sp.cancel(v[i] / z[i]) for i in range(r) if z[i] != 0 and v[i] != 0]
+        if not ratios:
+            return None
+        widest = min(ratios, key=lambda t: abs(t.subs(at)))
+        delta = sp.cancel(sp.Rational(slab.numerator, slab.denominator) * widest * sp.sign(widest.subs(at)))
+        gens += [list((v + delta * z).applyfunc(sp.cancel)), list((v - delta * z).applyfunc(sp.cancel))]
+    return gens
+
+
+@dataclass
+class _Search:
+    """What the boundary cones of one phase of a pattern are built from."""
+
+    build: Build
+    velocity: Sequence[Any]
+    pattern: Pattern
+    frame: Frame
+    bound: int
+    cache: RootCache
+
+    def decide(self, piece: Piece) -> list[Decided]:
+        """The parts of ``piece`` (an interval up to eps*, or eps* itself) with a boundary cone, cut where a sign
+        changes."""
+        out, work = [], [piece]
+        while work:
+            part = work.pop()
+            system: System | None = self.build(SymbolicBackend(part, self.cache))
+            value = None
+            if part.is_point:
+                value, system = part.lower.expr, at_point(system, part.lower)  # type: ignore[arg-type]
+            if system is None:
+                continue
+            sample = Fraction(part.lower.lo) if part.is_point else part.sample()
+            try:
+                cert = self._first_cone(system, sample, value)
+            except Split as split:
+                work.extend(part.cut([x for poly in split.polys for x in self.cache.roots(poly)]))
+                continue
+            if cert is not None:
+                run = solve(system, self.velocity, max_iterations=cert[0], trace=False)
+                shown = [sp.sympify(system.backend.to_number(x)) for x in run.exit_velocity]
+                out.append(Decided(part, cert[0], list(run.impact_sets), shown, cert[1]))
+        return out
+
+    def _first_cone(self, system: System, sample: Fraction, value: Any) -> tuple[int, dict[str, Any]] | None:
+        """(impulses to the cone, its certificate) for the first start and slab that close, or None; at a point
+        (``value``) the generators are taken at that value, in its number field."""
+        p = len(self.pattern.sets)
+        starts = range(self.pattern.start, min(self.bound, self.pattern.start + STARTS * p) + 1, p)
+        for start in starts:
+            run = solve(system, self.velocity, max_iterations=start, trace=False)
+            if run.stop != "max_iterations" or run.iterations != start:
+                return None
+            b = list(system.rates(run.exit_velocity))
+            for slab in SLABS:
+                gens = boundary_generators(self.frame, self.pattern.sets[0], [_sym(system.backend, x) for x in b],
+                                           slab=slab, sample=sample)  # fmt: skip
+                if gens is None:
+                    continue
+                if value is not None:
+                    gens = [[sp.nsimplify(sp.expand(x.subs(EPS, value))) for x in g] for g in gens]
+                cert = _closed(system, b, p, gens)
+                if cert is not None:
+                    return start, cert
+        return None
+
+
+def _closed(system: System, b: Sequence[Any], p: int, gens: list[list[Any]]) -> dict[str, Any] | None:
+    """The certificate of the cone of the rates b and ``gens`` (SymPy) closed under p impulses on the system's
+    piece, or None; :class:`Split` when a sign changes inside the piece."""
+    K = system.backend
+    try:
+        extra = [[K.convert(sp.sympify(x)) for x in g] for g in gens]
+        with pivot_budget(MAX_PIVOTS):
+            found = close(system, p, [list(b)], extra, 2)
+    except Undecided as exc:
+        if hasattr(exc, "polys"):
+            raise
+        return None
+    return certificate_of(system, p, found, b) if found is not None else None
+
+
+def closed_below(
+    build: Build, velocity: Sequence[Any], piece: Piece, pattern: Pattern, *, bound: int, cache: RootCache
+) -> list[Decided]:
+    """The parts of ``piece`` proved never to exit by a boundary cone of ``pattern`` (the run's rates after
+    ``pattern.start + k p`` impulses, k < :data:`STARTS`, at most ``bound``), in order; the rest of ``piece`` is
+    not in the list. Each certificate names the boundary it reaches (``"boundary"``)."""
+    p = len(pattern.sets)
+    found: list[Decided] = []
+    for j in range(p):  # each phase of the period in turn, until one gives cones
+        phase = Pattern(pattern.start + j, pattern.sets[j:] + pattern.sets[:j])
+        M = pattern_map(build(SymbolicBackend(piece, cache)), phase.sets)
+        if M is None:
+            return []
+        for star, q in collisions(M, piece, cache):
+            f = frame(M, q)
+            if f is None:
+                continue
+            search = _Search(build, velocity, phase, f, bound, cache)
+            parts = [Piece(star, star, True, True)]
+            if piece.lower.cmp(star) < 0:
+                parts = Piece(piece.lower, star, piece.lower_closed, True).cut([star])
+            decided = [d for part in parts for d in search.decide(part)]
+            for d in decided:
+                d.certificate["boundary"] = {"pattern": str(pattern), "eps": str(star), "factor": str(q)}
+            found += decided
+        if found:
+            break
+    found.sort(key=lambda f: (f.piece.lower, not f.piece.is_point))
+    return found
