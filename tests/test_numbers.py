@@ -274,3 +274,35 @@ def test_ilog10_is_the_exact_floor_of_log10(num, den):
 def test_to_sympy_is_exact_and_keeps_closed_forms():
     assert to_sympy(Fraction(10**30 + 1, 3)) == sp.Rational(10**30 + 1, 3)
     assert to_sympy(sp.sqrt(2)) is sp.sqrt(2)
+
+
+def test_a_closed_form_that_cancels_beyond_the_precision_bound_is_decided_exactly(monkeypatch) -> None:
+    """(sqrt(2) - 1)^400 written as a + b sqrt(2): a and b have 153 digits and cancel to 1e-153, beyond
+    256 bits of interval arithmetic; the number's minimal polynomial then decides its sign and digits."""
+    import mpmath
+
+    from verify.core import numeric
+
+    monkeypatch.setattr(numeric, "MAX_PREC", 256)
+    x = sp.expand((sp.sqrt(2) - 1) ** 400)
+    assert numeric.certified_sign(x) == 1 and numeric.certified_sign(-x) == -1
+    with mpmath.workdps(60):  # the same number without the cancellation, as a reference
+        reference = mpmath.nstr((mpmath.sqrt(2) - 1) ** 400, 30, min_fixed=1, max_fixed=0)
+    digits = format_decimal(x, 30)
+    assert sp.Float(digits, 30) == sp.Float(reference, 30) and digits.startswith(reference.split("e")[0][:20])
+
+
+def test_the_command_line_lifts_the_limit_on_printed_integers_and_restores_it(monkeypatch, capsys) -> None:
+    """Exact outputs are printed whole (SymPy prints its rationals with Python's str, limited to 4300 digits
+    by default); the process's limit is as it was afterwards."""
+    import sys
+
+    from verify.cli import main
+    from verify.views import text
+
+    seen = []
+    monkeypatch.setattr(text, "cradle_text", lambda *a, **k: seen.append(str(sp.Integer(10) ** 5000)) or "")
+    before = sys.get_int_max_str_digits()
+    assert main(["cradle", "--eps", "1/2"]) == 0
+    assert sys.get_int_max_str_digits() == before and len(seen[0]) == 5001
+    assert "Traceback" not in capsys.readouterr().err

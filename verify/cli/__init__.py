@@ -56,6 +56,8 @@ def build_parser() -> argparse.ArgumentParser:
 def main(argv: Sequence[str] | None = None) -> int:
     """Run the command line; returns the exit code (0 ok, 1 mismatch, 2 bad input)."""
     parser = build_parser()
+    limit = sys.get_int_max_str_digits()
+    sys.set_int_max_str_digits(0)  # exact outputs are printed whole, however many digits they have
     try:
         args = parser.parse_args(argv)
         if args.command is None:
@@ -74,3 +76,5 @@ def main(argv: Sequence[str] | None = None) -> int:
         return 130
     except BrokenPipeError:  # pragma: no cover - e.g. piped into head
         return 0
+    finally:
+        sys.set_int_max_str_digits(limit)

@@ -241,7 +241,15 @@ def _format_algebraic_decimal(value: Any, digits: int, rounding: str) -> str:
 def _closed_form_digits(expr: Any, digits: int) -> str:
     """``digits`` significant digits of a closed form (rounded half to even), certified by an
     interval enclosure at rising precision."""
-    from verify.core.numeric import MAX_PREC, START_PREC, certified_sign, evaluate, interval_context, mpf_to_fraction
+    from verify.core.numeric import (
+        MAX_PREC,
+        START_PREC,
+        certified_sign,
+        evaluate,
+        interval_context,
+        mpf_to_fraction,
+        shown,
+    )
     from verify.errors import NoConvergence
 
     if certified_sign(expr) == 0:
@@ -254,7 +262,11 @@ def _closed_form_digits(expr: Any, digits: int) -> str:
         if lo == hi:
             return lo
         prec *= 2
-    raise NoConvergence(f"cannot certify {digits} digits of {expr}")
+    if expr.is_algebraic:  # long coefficients cancel beyond MAX_PREC: its minimal polynomial decides
+        from verify.core.algebraic import RealAlgebraic
+
+        return _algebraic_digits(RealAlgebraic.from_number(expr), digits, "half_even")
+    raise NoConvergence(f"cannot certify {digits} digits of {shown(expr)}")
 
 
 def _directed_closed_form(value: Any, digits: int, rounding: str) -> str:

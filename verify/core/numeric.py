@@ -119,7 +119,25 @@ def certified_sign(expr: Any) -> int:
         prec *= 2
     if _is_exact_zero(expr):
         return 0
-    raise NoConvergence(f"cannot decide the sign of {expr} at {MAX_PREC} bits")
+    if getattr(expr, "is_algebraic", False):  # long coefficients cancel beyond MAX_PREC: the exact number decides
+        from verify.core.algebraic import RealAlgebraic
+
+        return RealAlgebraic.from_number(expr).cmp(RealAlgebraic.rational(Fraction(0)))
+    raise NoConvergence(f"cannot decide the sign of {shown(expr)} at {MAX_PREC} bits")
+
+
+def shown(expr: Any, limit: int = 200) -> str:
+    """``expr`` as text for a message, or how long it is when longer than ``limit`` characters (or when its
+    integers are too long for Python to print under its default limit).
+
+    >>> shown(Fraction(1, 3)), shown(Fraction(10**300))
+    ('1/3', '<a number of 301 characters>')
+    """
+    try:
+        text = str(expr)
+    except ValueError:  # an integer of more digits than sys.get_int_max_str_digits()
+        return "<a number with integers of more than 4300 digits>"
+    return text if len(text) <= limit else f"<a number of {len(text)} characters>"
 
 
 def mpf_to_fraction(x: Any) -> Fraction:
