@@ -252,9 +252,15 @@ def _closed_form_digits(expr: Any, digits: int) -> str:
     )
     from verify.errors import NoConvergence
 
-    if certified_sign(expr) == 0:
-        return "0"
-    prec = max(START_PREC, digits * 10 // 3 + 32)
+    try:
+        if certified_sign(expr) == 0:
+            return "0"
+    except NoConvergence:
+        if not expr.is_algebraic:
+            raise
+        prec = MAX_PREC + 1  # long coefficients cancel beyond MAX_PREC: the exact number decides (below)
+    else:
+        prec = max(START_PREC, digits * 10 // 3 + 32)
     while prec <= MAX_PREC:
         x = evaluate(expr, interval_context(prec))
         lo = format_decimal(mpf_to_fraction(x.a), digits)

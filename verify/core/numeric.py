@@ -119,10 +119,6 @@ def certified_sign(expr: Any) -> int:
         prec *= 2
     if _is_exact_zero(expr):
         return 0
-    if getattr(expr, "is_algebraic", False):  # long coefficients cancel beyond MAX_PREC: the exact number decides
-        from verify.core.algebraic import RealAlgebraic
-
-        return RealAlgebraic.from_number(expr).cmp(RealAlgebraic.rational(Fraction(0)))
     raise NoConvergence(f"cannot decide the sign of {shown(expr)} at {MAX_PREC} bits")
 
 

@@ -260,7 +260,7 @@ class _Search:
                 work.extend(part.cut([x for poly in split.polys for x in self.cache.roots(poly)]))
                 continue
             if cert is not None:
-                run = solve(system, self.velocity, max_iterations=cert[0], trace=False)
+                run = solve(system, self.velocity, max_iterations=cert[0], trace=False, certify=False)
                 shown = [sp.sympify(system.backend.to_number(x)) for x in run.exit_velocity]
                 out.append(Decided(part, cert[0], list(run.impact_sets), shown, cert[1]))
         return out
@@ -271,7 +271,7 @@ class _Search:
         p = len(self.pattern.sets)
         starts = range(self.pattern.start, min(self.bound, self.pattern.start + STARTS * p) + 1, p)
         for start in starts:
-            run = solve(system, self.velocity, max_iterations=start, trace=False)
+            run = solve(system, self.velocity, max_iterations=start, trace=False, certify=False)
             if run.stop != "max_iterations" or run.iterations != start:
                 return None
             b = list(system.rates(run.exit_velocity))

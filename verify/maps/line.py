@@ -218,9 +218,12 @@ def bounded(
     star = decided[-1].certificate["boundary"]["eps"]
     for piece in uncovered(part.piece, [d.piece for d in decided]):
         above = piece.lower.cmp(decided[-1].piece.upper) >= 0
-        reason = (f"still impacting after {part.iterations} impulses; above the boundary eps = {star} of the repeating "
-                  f"impacts {pattern}, where the largest eigenvalues of their period are not real, no cone of them "
-                  "exists; not decided") if above else ""  # fmt: skip
+        reason = ""
+        if above:
+            reason = (f"still impacting after {part.iterations} impulses; above the boundary eps = {star} of the "
+                      f"repeating impacts {pattern}, where the largest eigenvalues of their period are not real, no "
+                      "cone is mapped into itself by their period (its spectral radius is not an eigenvalue); "
+                      "not decided")  # fmt: skip
         out.append(Part(piece, part.stop, part.iterations, part.impact_sets, part.exit_velocity, reason=reason,
                         parameter=part.parameter))  # fmt: skip
     out.sort(key=lambda p: (p.piece.lower, not p.piece.is_point))

@@ -170,14 +170,15 @@ def _widest(
     gens: Sequence[Sequence[Any]], cache: RootCache,
 ) -> tuple[Piece, Any, dict[str, Any]] | None:  # fmt: skip
     """The part of ``piece`` around ``at`` on which the cone of ``gens`` (constants) and the parametric rates
-    after k impulses closes under p impulses: cut at the roots of each condition that changes sign. The run
-    is made once: its rates are the same rational functions on every part of the piece."""
-    run = solve(build(SymbolicBackend(piece, cache)), velocity, max_iterations=k, trace=False)
-    if run.stop != "max_iterations" or run.iterations != k:
-        return None
+    after k impulses closes under p impulses: cut at the roots of each condition that changes sign (the run's
+    own impact sets among them)."""
     while True:
         try:
-            found = _certified(build(SymbolicBackend(piece, cache)), run.exit_velocity, p, gens)
+            system = build(SymbolicBackend(piece, cache))
+            run = solve(system, velocity, max_iterations=k, trace=False, certify=False)
+            if run.stop != "max_iterations" or run.iterations != k:
+                return None
+            found = _certified(system, run.exit_velocity, p, gens)
         except Split as split:
             cuts = [c for c in piece.cut([x for poly in split.polys for x in cache.roots(poly)]) if c.contains(at)]
             if not cuts or cuts[0].is_point or str(cuts[0]) == str(piece):

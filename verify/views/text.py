@@ -495,13 +495,17 @@ def cradle_map_text(
         else:
             gens, impulses = len(cert.get("generators", [])), cert.get("impulses")
             how = f"a cone of {gens} generators that {impulses} impulses map into itself"
+            if "boundary" in cert:
+                how += f" (built from the period of the repeating impacts {cert['boundary']['pattern']})"
+        checker = "tests/test_map_boundary.py" if "boundary" in cert else "tests/test_cradle_map.py"
         lines += [
             "",
             f"Never exits for eps in {part.piece}: proved by {how};",
-            f"  the certificate is in {exact_in}; tests/test_cradle_map.py checks it without the code that found it.",
+            f"  the certificate is in {exact_in}; {checker} checks it without the code that found it.",
         ]
     for bound in bounds:
         lines.append(f"Termination boundary: eps = {bound} = {format_decimal(bound, 20)}")
+    lines += boundary_lines(cmap.parts, "eps")
     for part in cmap.unexplored:
         lines += ["", f"Unexplored {part.piece}: {part.reason}"]
     lo, hi = undecided_measure(cmap)
@@ -842,6 +846,28 @@ def all_summary(
     return "\n".join(lines) + "\n", failed
 
 
+def boundary_lines(parts: Sequence[Any], name: str) -> list[str]:
+    """A paragraph for each boundary of never-exits that the parts reach with a cone of their repeating impacts
+    (:mod:`verify.maps.boundary`): the exact point, what holds up to it and what is known above it."""
+    from verify.core.algebraic import RealAlgebraic
+    from verify.core.parse import parse_number
+
+    seen: dict[str, str] = {}
+    for part in parts:
+        b = (part.certificate or {}).get("boundary")
+        if b is not None and b["eps"] not in seen:
+            seen[b["eps"]] = b["pattern"]
+    out = []
+    for star, pattern in seen.items():
+        value = format_decimal(RealAlgebraic.from_number(parse_number(star)), 20)
+        out += [
+            "",
+            f"Boundary of never-exits: {name} = {star} = {value}: up to and at it the impacts {pattern} repeat",
+            "forever (the cones above); beyond it the two largest eigenvalues of their period are not real.",
+        ]
+    return out
+
+
 def eps_map_text(m: Any, *, exact_in: str = "eps_map_json(m)") -> str:
     """A map of :func:`verify.maps.general.eps_map` in words and tables, one table per line;
     ``exact_in`` says where the exact endpoints are (the command line passes ``"--json"``).
@@ -877,6 +903,7 @@ def eps_map_text(m: Any, *, exact_in: str = "eps_map_json(m)") -> str:
         fixed = ", ".join(f"{n} = {format_exact(v)}" for n, v in line.fixed.items())
         lines += ["", f"{line.free} in {line.domain}" + (f", {fixed}" if fixed else "") + ":"]
         lines += parts_table(line.parts, line.free, m.system.names)
+        lines += ["  " + x for x in boundary_lines(line.parts, line.free) if x]
         lo, hi = undecided_length(line.parts)
         if hi > 0:
             middle, error = format_decimal((lo + hi) / 2, 12), format_decimal((hi - lo) / 2, 2)
