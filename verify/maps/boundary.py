@@ -49,6 +49,7 @@ from verify.core.algebraic import RealAlgebraic, X
 from verify.core.backends.symbolic import EPS, Piece, RootCache, Split, SymbolicBackend
 from verify.core.cones.lp import pivot_budget
 from verify.core.cones.period import MAX_PIVOTS, certificate_of, close, linear_step
+from verify.core.numeric import certified_sign
 from verify.core.rule import solve
 from verify.core.system import System
 from verify.core.termination import MAX_PERIOD
@@ -157,15 +158,17 @@ def collisions(M: sp.Matrix, piece: Piece, cache: RootCache) -> list[tuple[RealA
 
 
 def _value(expr: Any, x: RealAlgebraic) -> Any:
-    return sp.nsimplify(sp.sympify(expr).subs(EPS, x.expr))
+    """A rational function of eps at x, exactly (radicals for a quadratic irrational x)."""
+    return sp.radsimp(sp.expand(sp.sympify(expr).subs(EPS, x.expr)))
 
 
 def _largest(root: Any, others: Sequence[Any], x: RealAlgebraic) -> bool:
-    """|root| >= |root of each linear factor| at x (exact, in x's number field)."""
-    at = sp.Abs(_value(root, x))
+    """|root| >= |root of each linear factor| at x (signs certified: intervals, and an exact test of 0)."""
+    at = _value(root, x)
     for f in others:
         c1, c0 = sp.Poly(f, LAM).all_coeffs()
-        if sp.simplify(at - sp.Abs(_value(-c0 / c1, x))).is_negative:
+        other = _value(-c0 / c1, x)
+        if certified_sign(at * at - other * other) < 0:
             return False
     return True
 
@@ -281,7 +284,7 @@ class _Search:
                 if gens is None:
                     continue
                 if value is not None:
-                    gens = [[sp.nsimplify(sp.expand(x.subs(EPS, value))) for x in g] for g in gens]
+                    gens = [[sp.radsimp(sp.expand(x.subs(EPS, value))) for x in g] for g in gens]
                 cert = _closed(system, b, p, gens)
                 if cert is not None:
                     return start, cert
