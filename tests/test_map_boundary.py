@@ -131,3 +131,24 @@ def test_a_boundary_cone_is_not_claimed_where_the_pattern_is_not_linear() -> Non
     system = cradle_system(EPS, 4, backend=K)
     assert pattern_map(system, [(0, 1)]) is None  # contacts 1 and 2 share a ball: beta depends on the rates
     assert pattern_map(system, [(0, 2)]) is not None
+
+
+def test_above_the_boundary_no_cone_is_mapped_into_itself() -> None:
+    """The claim the map prints above eps*: the period's largest eigenvalues are not real and none of its real
+    eigenvalues is positive (so its spectral radius is not an eigenvalue); checked here at rational points with
+    the test's own period matrix, and refused below eps*."""
+    from verify.core.algebraic import RealAlgebraic
+    from verify.maps.boundary import without_real_top
+
+    cache = RootCache()
+    K = SymbolicBackend(Piece.closed(0, 1), cache)
+    M = pattern_map(cradle_system(EPS, 4, backend=K), [(0, 2), (1,)])
+    ((star, q),) = collisions(M, Piece.closed(0, 1), cache)
+    above = Piece(star, RealAlgebraic.rational(sp.Rational(7, 40)), False, True)
+    assert without_real_top(M, q, above, cache)
+    assert not without_real_top(M, q, Piece.closed("0.16", "0.17"), cache)
+    lam = sp.Symbol("lam")
+    for eps in (sp.Rational(1716, 10**4), sp.Rational(172, 1000), sp.Rational(7, 40)):
+        poly = sp.Poly(_period([1, 1, 1, 1], [[0, 2], [1]]).subs(E, eps).charpoly(lam).as_expr(), lam)
+        real = sp.real_roots(poly)
+        assert len(real) < poly.degree() and all(r < 0 for r in real)

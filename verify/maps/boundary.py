@@ -173,6 +173,30 @@ def _largest(root: Any, others: Sequence[Any], x: RealAlgebraic) -> bool:
     return True
 
 
+def without_real_top(M: sp.Matrix, q: Any, piece: Piece, cache: RootCache) -> bool:
+    """Whether, on all of ``piece``, the roots of the quadratic factor q of M's characteristic polynomial are
+    not real and no other eigenvalue (the roots of the linear factors) is a positive real number of at least
+    their modulus: then the spectral radius of M is not an eigenvalue, and by the Krein-Rutman theorem M maps
+    no closed pointed cone into itself but {0}. Every sign is decided exactly on the piece; a sign that
+    changes inside it gives False."""
+    K = SymbolicBackend(piece, cache)
+    Q = sp.Poly(q, LAM)
+    a, b, c = Q.all_coeffs()
+    try:
+        if K.sign(K.convert(sp.cancel(b * b - 4 * a * c))) >= 0:
+            return False
+        modulus = K.convert(sp.cancel(c / a))  # the product of the two non-real roots: their modulus squared
+        for f in _factors(M):
+            if sp.Poly(f, LAM).degree() == 1:
+                c1, c0 = sp.Poly(f, LAM).all_coeffs()
+                root = K.convert(sp.cancel(-c0 / c1))
+                if K.sign(root) > 0 and K.sign(modulus - root * root) <= 0:
+                    return False
+    except Split:
+        return False
+    return True
+
+
 @dataclass
 class Frame:
     """The plane W = ker q(M) and the other eigenvectors U of a period M, with v_mid (see the module) and the
@@ -328,8 +352,16 @@ def closed_below(
             if piece.lower.cmp(star) < 0:
                 parts = Piece(piece.lower, star, piece.lower_closed, True).cut([star])
             decided = [d for part in parts for d in search.decide(part)]
+            beyond = star.cmp(piece.upper) < 0 and without_real_top(
+                M, q, Piece(star, piece.upper, False, piece.upper_closed), cache
+            )
             for d in decided:
-                d.certificate["boundary"] = {"pattern": str(pattern), "eps": str(star), "factor": str(q)}
+                d.certificate["boundary"] = {
+                    "pattern": str(pattern),
+                    "eps": str(star),
+                    "factor": str(q),
+                    "no_cone_beyond": beyond,  # above it, up to the piece's end: no cone is mapped into itself
+                }
             found += decided
         if found:
             break

@@ -215,15 +215,20 @@ def bounded(
     symbol = sp.Symbol(part.parameter)
     out = [Part(d.piece, "non_terminating", d.iterations, d.impact_sets, [x.subs(EPS, symbol) for x in d.velocity],
                 d.certificate, parameter=part.parameter) for d in decided]  # fmt: skip
-    star = decided[-1].certificate["boundary"]["eps"]
+    boundary = decided[-1].certificate["boundary"]
     for piece in uncovered(part.piece, [d.piece for d in decided]):
-        above = piece.lower.cmp(decided[-1].piece.upper) >= 0
         reason = ""
-        if above:
-            reason = (f"still impacting after {part.iterations} impulses; above the boundary eps = {star} of the "
-                      f"repeating impacts {pattern}, where the largest eigenvalues of their period are not real, no "
-                      "cone is mapped into itself by their period (its spectral radius is not an eigenvalue); "
-                      "not decided")  # fmt: skip
+        if piece.lower.cmp(decided[-1].piece.upper) >= 0:  # above the boundary
+            why = (
+                (
+                    ", where the largest eigenvalues of their period are not real and no cone is mapped into itself "
+                    "by their period (its spectral radius is not an eigenvalue)"
+                )
+                if boundary["no_cone_beyond"]
+                else ""
+            )
+            reason = (f"still impacting after {part.iterations} impulses; above the boundary eps = {boundary['eps']} "
+                      f"of the repeating impacts {pattern}{why}; not decided")  # fmt: skip
         out.append(Part(piece, part.stop, part.iterations, part.impact_sets, part.exit_velocity, reason=reason,
                         parameter=part.parameter))  # fmt: skip
     out.sort(key=lambda p: (p.piece.lower, not p.piece.is_point))

@@ -852,18 +852,19 @@ def boundary_lines(parts: Sequence[Any], name: str) -> list[str]:
     from verify.core.algebraic import RealAlgebraic
     from verify.core.parse import parse_number
 
-    seen: dict[str, str] = {}
+    seen: dict[str, dict[str, Any]] = {}
     for part in parts:
         b = (part.certificate or {}).get("boundary")
         if b is not None and b["eps"] not in seen:
-            seen[b["eps"]] = b["pattern"]
+            seen[b["eps"]] = b
     out = []
-    for star, pattern in seen.items():
+    for star, b in seen.items():
         value = format_decimal(RealAlgebraic.from_number(parse_number(star)), 20)
         out += [
             "",
-            f"Boundary of never-exits: {name} = {star} = {value}: up to and at it the impacts {pattern} repeat",
-            "forever (the cones above); beyond it the two largest eigenvalues of their period are not real.",
+            f"Boundary of never-exits: {name} = {star} = {value}: up to and at it the impacts {b['pattern']} repeat",
+            "forever (the cones above)"
+            + ("; beyond it the two largest eigenvalues of their period are not real." if b["no_cone_beyond"] else "."),
         ]
     return out
 
