@@ -25,8 +25,10 @@ mirror 2 b_W - b across W, and v_mid +- delta z_i; the cone is checked as every 
 at eps* itself on the number field of eps*. The certificate is an ordinary "invariant cone of a
 period": ``tests/certificate_check.py`` checks it without this module.
 
-Above eps* the largest eigenvalues of the period are non-real: no cone of this kind exists there, and
-that part stays unexplored unless the runs exit within the bound.
+Above eps* the two eigenvalues that met are not real; where, besides, no real eigenvalue of the period is
+positive of their modulus (:func:`without_real_top`, exact), its spectral radius is not an eigenvalue and
+no cone at all is mapped into itself by the period (Krein-Rutman). That part stays unexplored unless the
+runs exit within the bound.
 
 >>> import sympy as sp
 >>> from verify.models.cradle import cradle_system

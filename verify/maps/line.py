@@ -192,7 +192,7 @@ def bounded(
     build: Callable[[SymbolicBackend], System], velocity: Sequence[Any], part: Part, cache: RootCache
 ) -> list[Part]:
     """The unexplored interval ``part`` with what a cone of its own repeating impacts decides up to the boundary
-    where their period's largest eigenvalues turn non-real (:mod:`verify.maps.boundary`): the parts proved
+    where the two largest eigenvalues of their period meet (:mod:`verify.maps.boundary`): the parts proved
     never to exit, and the rest unexplored, its reason naming the boundary.
 
     >>> from verify.models.cradle import cradle_system
@@ -221,8 +221,8 @@ def bounded(
         if piece.lower.cmp(decided[-1].piece.upper) >= 0:  # above the boundary
             why = (
                 (
-                    ", where the largest eigenvalues of their period are not real and no cone is mapped into itself "
-                    "by their period (its spectral radius is not an eigenvalue)"
+                    ", where the two eigenvalues of their period that meet there are not real and its spectral "
+                    "radius is not an eigenvalue, so no cone is mapped into itself by it"
                 )
                 if boundary["no_cone_beyond"]
                 else ""

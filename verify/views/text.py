@@ -864,7 +864,12 @@ def boundary_lines(parts: Sequence[Any], name: str) -> list[str]:
             "",
             f"Boundary of never-exits: {name} = {star} = {value}: up to and at it the impacts {b['pattern']} repeat",
             "forever (the cones above)"
-            + ("; beyond it the two largest eigenvalues of their period are not real." if b["no_cone_beyond"] else "."),
+            + (
+                "; beyond it the two eigenvalues of their period that meet there are not real and its spectral "
+                "radius is not an eigenvalue: no cone is mapped into itself by it."
+                if b["no_cone_beyond"]
+                else "."
+            ),
         ]
     return out
 
