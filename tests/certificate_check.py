@@ -264,8 +264,7 @@ def _cone_lp(y: list, gens: list, strict: list, need_strict: bool) -> bool:
 
 class _Quadratic:
     """A number of a real quadratic field (a + b sqrt(d), SymPy), kept in that canonical form after every
-    operation so that 0 is recognised as 0; its sign is decided by SymPy at 60 digits only when it is not 0
-    (a non-zero a + b sqrt(d) with rational a, b is far from 0 at that precision for the sizes here). For
+    operation so that 0 is recognised as 0; its sign is decided exactly from a, b and d (no rounding). For
     the checker's simplex at a boundary point such as eps = 3 - 2*sqrt(2)."""
 
     def __init__(self, x: sp.Expr):
@@ -309,7 +308,22 @@ class _Quadratic:
         return _Quadratic(-self.x)
 
     def sign(self) -> int:
-        return 0 if self.x == 0 else (1 if self.x.evalf(60) > 0 else -1)
+        """The sign of a + b sqrt(d), exactly: the common sign of a and b, or, where they differ, the sign of
+        the larger of a^2 and b^2 d."""
+        x = self.x
+        if x.is_Rational:
+            return int(sp.sign(x))
+        roots = {p for p in x.atoms(sp.Pow) if p.exp == sp.Rational(1, 2) and p.base.is_Rational}
+        if len(roots) != 1:
+            raise ValueError(f"not a number of one real quadratic field: {x}")
+        (s,) = roots
+        b, a = sp.Poly(x, s).all_coeffs() if sp.Poly(x, s).degree() == 1 else (sp.Integer(0), x)
+        if not (a.is_Rational and b.is_Rational):
+            raise ValueError(f"not a number of one real quadratic field: {x}")
+        sa, sb = int(sp.sign(a)), int(sp.sign(b))
+        if sa == 0 or sb in (0, sa):
+            return sa or sb
+        return sa if a * a > b * b * s.base else sb
 
     def _cmp(self, y: object) -> int:
         return (self - y).sign()

@@ -4,6 +4,8 @@ from __future__ import annotations
 
 import pytest
 import sympy as sp
+from hypothesis import given
+from hypothesis import strategies as st
 
 from tests import certificate_check
 from verify.core.backends.symbolic import EPS, Piece, RootCache, SymbolicBackend
@@ -152,3 +154,16 @@ def test_above_the_boundary_no_cone_is_mapped_into_itself() -> None:
         poly = sp.Poly(_period([1, 1, 1, 1], [[0, 2], [1]]).subs(E, eps).charpoly(lam).as_expr(), lam)
         real = sp.real_roots(poly)
         assert len(real) < poly.degree() and all(r < 0 for r in real)
+
+
+@given(
+    st.fractions(min_value=-100, max_value=100, max_denominator=10**6),
+    st.fractions(min_value=-100, max_value=100, max_denominator=10**6),
+    st.sampled_from([2, 3, 5, 6]),
+)
+def test_the_checkers_sign_of_a_quadratic_irrational_is_exact(a, b, d) -> None:
+    from tests.certificate_check import _Quadratic
+
+    x = sp.Rational(a.numerator, a.denominator) + sp.Rational(b.numerator, b.denominator) * sp.sqrt(d)
+    expected = 0 if a == b == 0 else int(sp.sign(sp.N(x, 200)))  # a + b sqrt(d) is 0 only when a = b = 0
+    assert _Quadratic(x).sign() == expected
