@@ -79,7 +79,7 @@ def test_no_point_left_unexplored_is_decided_by_a_single_run(system) -> None:
 @pytest.mark.xfail(
     reason="five unit balls (at 20 impulses): below the boundary of the repeating impacts (S1,S3)(S2,S4), a root "
     "of eps^2 - (22 - 8*sqrt(5)) eps + 1, the period's eigenvectors lie in Q(sqrt(5))(eps), where the map's "
-    "boundary cone is not built, and widening a point's cone is too slow there; verify solve proves most of "
+    "boundary cone is not built, and widening a point's cone is too slow there; verify solve proves some of "
     "these points never exit",
     strict=True,
 )
