@@ -49,14 +49,12 @@ import sympy as sp
 
 from verify.core.algebraic import RealAlgebraic, X
 from verify.core.backends.symbolic import EPS, Piece, RootCache, Split, SymbolicBackend
-from verify.core.cones.lp import pivot_budget
-from verify.core.cones.period import MAX_PIVOTS, certificate_of, close, linear_step
+from verify.core.cones.period import linear_step
 from verify.core.numeric import certified_sign
 from verify.core.rule import solve
 from verify.core.system import System
 from verify.core.termination import MAX_PERIOD
-from verify.errors import Undecided
-from verify.maps.widen import at_point
+from verify.maps.widen import at_point, closed_cone
 
 LAM = sp.Symbol("lam")
 #: the slab's half-width, as a share of the most that keeps v_mid +- delta z in the pattern's signs
@@ -311,25 +309,10 @@ class _Search:
                     continue
                 if value is not None:
                     gens = [[sp.radsimp(sp.expand(x.subs(EPS, value))) for x in g] for g in gens]
-                cert = _closed(system, b, p, gens)
+                cert = closed_cone(system, b, p, gens)
                 if cert is not None:
                     return start, cert
         return None
-
-
-def _closed(system: System, b: Sequence[Any], p: int, gens: list[list[Any]]) -> dict[str, Any] | None:
-    """The certificate of the cone of the rates b and ``gens`` (SymPy) closed under p impulses on the system's
-    piece, or None; :class:`Split` when a sign changes inside the piece."""
-    K = system.backend
-    try:
-        extra = [[K.convert(sp.sympify(x)) for x in g] for g in gens]
-        with pivot_budget(MAX_PIVOTS):
-            found = close(system, p, [list(b)], extra, 2)
-    except Undecided as exc:
-        if hasattr(exc, "polys"):
-            raise
-        return None
-    return certificate_of(system, p, found, b) if found is not None else None
 
 
 def closed_below(

@@ -178,7 +178,7 @@ def _widest(
             run = solve(system, velocity, max_iterations=k, trace=False, certify=False)
             if run.stop != "max_iterations" or run.iterations != k:
                 return None
-            found = _certified(system, run.exit_velocity, p, gens)
+            found = closed_cone(system, list(system.rates(run.exit_velocity)), p, gens)
         except Split as split:
             cuts = [c for c in piece.cut([x for poly in split.polys for x in cache.roots(poly)]) if c.contains(at)]
             if not cuts or cuts[0].is_point or str(cuts[0]) == str(piece):
@@ -188,16 +188,15 @@ def _widest(
         return (piece, run, found) if found is not None else None
 
 
-def _certified(system: System, v: Sequence[Any], p: int, gens: Sequence[Sequence[Any]]) -> dict[str, Any] | None:
-    """The certificate of the cone of the rates of v (elements of the parameter's arithmetic) and ``gens``
-    (constants) when p impulses map it into itself on all of the system's piece, else None (a
-    :class:`Split` asks to cut the piece)."""
+def closed_cone(system: System, b: Sequence[Any], p: int, gens: Sequence[Sequence[Any]]) -> dict[str, Any] | None:
+    """The certificate of the cone of the rates b (elements of the system's backend) and ``gens`` (rationals or
+    SymPy numbers and expressions in eps, converted by the backend) when p impulses map it into itself on all
+    of the system's piece, else None (a :class:`Split` asks to cut the piece)."""
     K = system.backend
-    b = list(system.rates(v))
-    extra = [[K.convert(x) for x in g] for g in gens]
+    extra = [[K.convert(x if isinstance(x, Fraction) else sp.sympify(x)) for x in g] for g in gens]
     try:
         with pivot_budget(MAX_PIVOTS):
-            found = close(system, p, [b], extra, 2)
+            found = close(system, p, [list(b)], extra, 2)
     except Undecided as exc:
         if hasattr(exc, "polys"):
             raise
