@@ -45,6 +45,7 @@ from verify.core.system import System
 from verify.errors import BadNumber, InvalidInput, InvalidSystem
 from verify.maps import DEFAULT_LINES, DEFAULT_WIDEN, MAX_LINES
 from verify.maps.line import Part, Watch, line_parts, parts_json, piece_json
+from verify.maps.plane import PlaneMap, plane_json, plane_parts
 
 _NAME = re.compile(r"[A-Za-z_][A-Za-z_0-9]*")
 
@@ -84,15 +85,21 @@ class EpsMap:
     grid: dict[str, list[Fraction]] = field(default_factory=dict)  # empty for one parameter
     lines: list[Line] = field(default_factory=list)
     stopped: str = ""  #: why the map stopped before it was complete (a budget, Ctrl-C), else ""
+    plane: PlaneMap | None = None  #: two parameters mapped as cells (``cells=True``), else None
 
     @property
     def layout(self) -> str:
+        if self.plane is not None:
+            return "cells"
         return "interval" if len(self.parameters) == 1 else "grid of lines"
 
-    def at(self, point: Mapping[str, Any]) -> tuple[Part, list[Fraction] | None]:
-        """The part holding ``point`` (a value per parameter, on a line of the map) and, when that part
-        exits, the exact exit velocity there."""
+    def at(self, point: Mapping[str, Any]) -> tuple[Any, list[Fraction] | None]:
+        """The part holding ``point`` (a value per parameter: on a line of the map, or anywhere in the box of a
+        map of cells, whose part is then a :class:`~verify.maps.plane.CellPart`) and, when that part exits,
+        the exact exit velocity there."""
         values = {name: _rational(point.get(name), name, "a point of the map") for name in self.parameters}
+        if self.plane is not None:
+            return self.plane.at(*(values[n] for n in self.plane.names))
         for line in self.lines:
             if all(values[n] == v for n, v in line.fixed.items()):
                 part = line.locate(values[line.free])
@@ -184,6 +191,7 @@ def eps_map(
     max_impulses: int = 40,
     watch: Watch | None = None,
     widen: int = DEFAULT_WIDEN,
+    cells: bool = False,
 ) -> EpsMap:
     """The rule on ``system`` from ``velocity`` for every value of the parameters of ``restitution``.
 
@@ -195,7 +203,8 @@ def eps_map(
     never to exit, is unexplored. ``watch`` (:class:`~verify.maps.line.Watch`) gives budgets and progress
     shared by every line; a map stopped by one (or by Ctrl-C) says why in ``stopped``. ``widen`` is the number
     of rational points of each unexplored interval at which a single run's cone is widened
-    (:func:`~verify.maps.line.widened`).
+    (:func:`~verify.maps.line.widened`). With ``cells`` and two parameters, the map is the box cut into exact
+    cells instead of a grid of lines (:mod:`verify.maps.plane`): every rational point of the box is mapped.
 
     >>> m = eps_map(System([[1, 0], [0, 1]], [[-1, 1]], [1]), ["1", "0"], ["e"], {"e": ("1/2", "1")})
     >>> line = m.lines[0]
@@ -223,6 +232,12 @@ def eps_map(
             raise InvalidSystem(
                 f"a map needs a system of rational numbers: {where} = {format_exact(x)} is not rational"
             )
+    if cells:
+        if len(names) != 2:
+            raise InvalidInput(f"a map of cells takes two parameters; the CORs use {len(names)} ({', '.join(names)})")
+        out = EpsMap(system, v, cors, intervals, max_impulses)
+        out.plane = _plane(out, names, watch)
+        return out
     grid = {n: _grid(lo, hi, lines) for n, (lo, hi) in intervals.items()} if len(names) > 1 else {}
     cache = RootCache()
     out = EpsMap(system, v, cors, intervals, max_impulses, grid)
@@ -233,6 +248,29 @@ def eps_map(
             out.lines.append(_line(out, free, fixed, cache, watch=watch, widen=widen))
     out.stopped = watch.stopped if watch is not None else ""
     return out
+
+
+def _plane(m: EpsMap, names: list[str], watch: Watch | None) -> PlaneMap:
+    """The map of cells of two parameters; the CORs are checked in [0, 1] on every cell (their signs cut
+    the box as the rule's do)."""
+    src = m.system.source
+    first, second = names
+
+    def build(K: Any) -> System:
+        try:
+            system = System(src["mass_matrix"], src["normals"], m.restitution, src["time_terms"], backend=K,
+                            names=m.system.names, coordinates=m.system.coordinates)  # fmt: skip
+        except BadNumber as exc:
+            raise InvalidSystem(f"a map needs a system of rational numbers: {exc}") from None
+        for i, (c, shown) in enumerate(zip(system.restitution, m.restitution)):
+            if K.sign(c) < 0 or K.sign(K.one - c) < 0:
+                x, y = K.sample
+                raise InvalidSystem(f"restitution[{i}] = {shown} is outside [0, 1] at {first} = {x}, {second} = {y}")
+        return system
+
+    (a, b), (c, d) = m.parameters[first], m.parameters[second]
+    progress = watch.progress if watch is not None else None
+    return plane_parts(build, m.velocity, (a, b, c, d), (first, second), m.max_impulses, progress=progress)
 
 
 def _source_numbers(system: System) -> list[tuple[str, Any]]:
@@ -294,6 +332,7 @@ def eps_map_json(m: EpsMap) -> dict[str, Any]:
         "grid": {n: [format_exact(x) for x in values] for n, values in m.grid.items()},
         "max_impulses": m.max_impulses,
         **({"stopped": m.stopped} if m.stopped else {}),
+        **({"cells": plane_json(m.plane)} if m.plane is not None else {}),
         "lines": [
             {
                 "free": line.free,
@@ -315,10 +354,11 @@ def case_map(
     max_impulses: int = 40,
     watch: Watch | None = None,
     widen: int = DEFAULT_WIDEN,
+    cells: bool = False,
 ) -> EpsMap:
     """:func:`eps_map` of a case in a case file (``docs/records.md``) whose ``restitution`` strings name
     parameters (``["e1", "e2"]``); ``case_id`` picks the case (needed when the file has several);
-    ``watch`` and ``widen`` as for :func:`eps_map`.
+    ``watch``, ``widen`` and ``cells`` as for :func:`eps_map`.
 
     >>> import json, os, tempfile
     >>> path = os.path.join(tempfile.mkdtemp(), "case.json")
@@ -351,6 +391,6 @@ def case_map(
     case = case_from_record({**record, "restitution": ["1"] * len(cors)}, where)  # the geometry, validated
     try:
         return eps_map(case.system, record["velocity"], cors, parameters, lines=lines, max_impulses=max_impulses,
-                       watch=watch, widen=widen)  # fmt: skip
+                       watch=watch, widen=widen, cells=cells)  # fmt: skip
     except InvalidInput as exc:
         raise type(exc)(f"{where}: {exc}") from None

@@ -7,6 +7,7 @@ Newton's cradle: 3 balls (masses 1, 1, 1), eps = 1 for every contact
 
 from __future__ import annotations
 
+from collections import Counter
 from collections.abc import Sequence
 from fractions import Fraction
 from typing import Any
@@ -874,6 +875,51 @@ def boundary_lines(parts: Sequence[Any], name: str) -> list[str]:
     return out
 
 
+def plane_lines(m: Any) -> list[str]:
+    """A map of cells (:class:`verify.maps.plane.PlaneMap`) in words: the curves, the area of each behaviour
+    (exact bounds) and one row per cell.
+
+    >>> import sympy as sp
+    >>> from fractions import Fraction
+    >>> from verify.maps.plane import plane_parts
+    >>> from verify.models.corner import corner_system
+    >>> build = lambda K: corner_system("1/2", sp.Symbol("e1"), sp.Symbol("e2"), backend=K)
+    >>> box = (Fraction(0), Fraction(1), Fraction(0), Fraction(1))
+    >>> m = plane_parts(build, ["1", "-1/10", "0"], box, ("e1", "e2"), 4)
+    >>> print("\\n".join(plane_lines(m)[:3]))
+    <BLANKLINE>
+    The box cut into 47 exact cells (10 open regions, 24 arcs, 13 points) by 8 curves:
+      e1 = 0; e1 - 1 = 0; e2 = 0; e2 - 1 = 0; e1 - 2*e2/5 + 2/13 = 0; ...
+    """
+    from verify.maps.plane import describe_area
+
+    dims = Counter(p.cell.dim for p in m.parts)
+    curves = "; ".join(f"{m.P.show(f, m.names)} = 0" for f in m.curves)
+    counts = f"{dims[2]} open regions, {dims[1]} arcs, {dims[0]} points"
+    out = ["", f"The box cut into {len(m.parts)} exact cells ({counts}) by {len(m.curves)} curves:", f"  {curves}", "",
+           "Area of each behaviour (exact bounds):"]  # fmt: skip
+    kinds: dict[tuple, list[Any]] = {}
+    for p in m.parts:
+        kinds.setdefault((p.stop, p.iterations, tuple(p.impact_sets)), []).append(p)
+    for (stop, n, sets), parts in kinds.items():
+        low = sum((p.cell.area[0] for p in parts), Fraction(0))
+        high = min(sum((p.cell.area[1] for p in parts), Fraction(0)), _box_area(m))
+        shown = " ".join("(" + ",".join(str(j) for j in J) + ")" for J in sets)
+        what = f"{stop} after {n} impulses {shown}" if stop != "not_run" else f"not run ({parts[0].reason})"
+        out.append(f"  {what}: {len(parts)} cells, area {describe_area((low, high))}")
+    out += ["", "Cells (x, then y; root k: the k-th real root in y in the box, counted from below):"]
+    for p in m.parts:
+        shown = " ".join("(" + ",".join(str(j) for j in J) + ")" for J in p.impact_sets)
+        what = f"{p.stop} after {p.iterations}: {shown}" if p.stop != "not_run" else f"not run: {p.reason}"
+        out.append(f"  {p.cell.describe(m.P, m.names)}: {what}")
+    return out
+
+
+def _box_area(m: Any) -> Fraction:
+    a, b, c, d = m.box
+    return (b - a) * (d - c)
+
+
 def eps_map_text(m: Any, *, exact_in: str = "eps_map_json(m)") -> str:
     """A map of :func:`verify.maps.general.eps_map` in words and tables, one table per line;
     ``exact_in`` says where the exact endpoints are (the command line passes ``"--json"``).
@@ -899,6 +945,8 @@ def eps_map_text(m: Any, *, exact_in: str = "eps_map_json(m)") -> str:
         "12 digits",
         *_stopped_line(m.stopped),
     ]
+    if m.plane is not None:
+        return "\n".join(lines + plane_lines(m.plane)) + "\n"
     if m.layout != "interval":
         grid = "; ".join(f"{n}: {', '.join(format_exact(x) for x in xs)}" for n, xs in m.grid.items())
         lines.append(

@@ -1,0 +1,148 @@
+"""The map of two CORs as exact cells (verify.maps.plane, verify.maps.cells): every rational point of the box
+answered by its cell as a single exact run answers it, the cells' areas adding up to the box."""
+
+from __future__ import annotations
+
+import random
+from fractions import Fraction
+
+import pytest
+import sympy as sp
+
+from verify.core.backends.plane import FLINT_POLYS, Frac, PlaneBackend, polys
+from verify.core.rule import solve
+from verify.maps.cells import decompose
+from verify.maps.plane import PlaneMap, plane_parts
+from verify.models.corner import corner_system
+
+BOX = (Fraction(0), Fraction(1), Fraction(0), Fraction(1))
+NAMES = ("e1", "e2")
+VELOCITY = ["1", "-1/10", "0"]  # docs/examples/corner-map.json
+
+
+def _corner(K):
+    return corner_system("1/2", sp.Symbol("e1"), sp.Symbol("e2"), backend=K)
+
+
+@pytest.fixture(scope="module")
+def corner_map() -> PlaneMap:
+    return plane_parts(_corner, VELOCITY, BOX, NAMES, 40)
+
+
+def _on_curves(m: PlaneMap, rng: random.Random, count: int) -> list[tuple[Fraction, Fraction]]:
+    """Rational points on the map's curves inside the box: a curve of degree 1 in one parameter is solved
+    for it at a rational value of the other."""
+    P = m.P
+    points: list[tuple[Fraction, Fraction]] = []
+    curves = list(m.curves)
+    while len(points) < count:
+        f = rng.choice(curves)
+        t = P.terms(f)
+        free = Fraction(rng.randint(0, 997), 997)
+        if P.degree_y(f) == 1:  # f = A(x) y + B(x)
+            A = sum((c * free**i for (i, j), c in t.items() if j == 1), Fraction(0))
+            B = sum((c * free**i for (i, j), c in t.items() if j == 0), Fraction(0))
+            point = (free, -B / A) if A else None
+        elif max(i for i, _ in t) == 1:  # f = A(y) x + B(y)
+            A = sum((c * free**j for (i, j), c in t.items() if i == 1), Fraction(0))
+            B = sum((c * free**j for (i, j), c in t.items() if i == 0), Fraction(0))
+            point = (-B / A, free) if A else None
+        else:
+            point = None
+        if point is not None and 0 <= point[0] <= 1 and 0 <= point[1] <= 1:
+            points.append(point)
+    return points
+
+
+def test_every_point_answered_as_a_single_run(corner_map: PlaneMap) -> None:
+    """300 rational points (270 drawn in the box, 30 on the curves between cells): the cell's stop, impact sets
+    and exit velocity are those of verify solve's exact run there."""
+    rng = random.Random(37)
+    points = [(Fraction(rng.randint(0, 10**6), 10**6), Fraction(rng.randint(0, 10**6), 10**6)) for _ in range(270)]
+    boundary = _on_curves(corner_map, rng, 30)
+    assert any(corner_map.locate(*p).cell.dim < 2 for p in boundary)
+    for x, y in points + boundary:
+        part, velocity = corner_map.at(x, y)
+        run = solve(corner_system("1/2", x, y), VELOCITY, max_iterations=40)
+        assert (part.stop, part.impact_sets) == (run.stop, list(run.impact_sets)), (x, y)
+        assert velocity == list(run.exit_velocity), (x, y)
+        assert all(type(v) is Fraction for v in velocity)
+
+
+def test_the_cells_fill_the_box(corner_map: PlaneMap) -> None:
+    """The exact area bounds of the cells hold the box's area 1, and each cell's sample point is in its cell."""
+    low = sum(p.cell.area[0] for p in corner_map.parts)
+    high = sum(p.cell.area[1] for p in corner_map.parts)
+    assert low <= 1 <= high and high - low < Fraction(1, 20)
+    for part in corner_map.parts:
+        if part.cell.sample is not None and isinstance(part.cell.sample[1], Fraction):
+            assert corner_map.locate(*part.cell.sample) is part
+    assert corner_map.area("exit")[1] == 1 and corner_map.area("max_iterations") == (0, 0)
+
+
+def test_the_line_through_the_map_is_the_one_parameter_map(corner_map: PlaneMap) -> None:
+    """On the line e2 = 1/2 the cells cut e1 where the one-parameter map does (3/65 and 20/117)."""
+    cuts = []
+    for k in range(1, 400):
+        a, b = (
+            corner_map.locate(Fraction(k - 1, 400), Fraction(1, 2)),
+            corner_map.locate(Fraction(k, 400), Fraction(1, 2)),
+        )
+        if a.impact_sets != b.impact_sets:
+            cuts.append(Fraction(k, 400))
+    assert [c for c in cuts] == [Fraction(19, 400), Fraction(69, 400)]  # 3/65 = 0.0461..., 20/117 = 0.1709...
+    part, _ = corner_map.at(Fraction(20, 117), Fraction(1, 2))
+    assert part.iterations == 1  # the closed end, as [3/65, 20/117] in verify/maps/line.py's example
+
+
+@pytest.mark.skipif(not FLINT_POLYS, reason="python-flint is not installed (the fast extra)")
+def test_sympy_polynomials_give_the_same_map() -> None:
+    flint_map = plane_parts(_corner, VELOCITY, BOX, NAMES, 40, arithmetic="flint")
+    sympy_map = plane_parts(_corner, VELOCITY, BOX, NAMES, 40, arithmetic="sympy")
+    shown = [[(str(p.cell.describe(m.P, NAMES)), p.stop, p.impact_sets, [str(v) for v in p.exit_velocity])
+              for p in m.parts] for m in (flint_map, sympy_map)]  # fmt: skip
+    assert shown[0] == shown[1]
+
+
+def test_no_float_enters_the_plane_backend() -> None:
+    """Elements refuse float(); signs at an algebraic sample point are exact."""
+    P = polys()
+    K = PlaneBackend(P, (Fraction(1, 2), Fraction(1, 3)), known=set())
+    with pytest.raises(TypeError):
+        float(K.parameters[0])
+    cells = decompose(P, [P.from_expr(sp.Symbol("x") ** 2 + sp.Symbol("y") ** 2 - 1)], BOX)
+    arc = next(c for c in cells if c.dim == 1 and c.y_lo.poly is not None)
+    K = PlaneBackend(P, arc.sample, known={P.key(arc.y_lo.poly)})
+    x, y = K.parameters
+    assert K.sign(x * x + y * y - K.one) == 0
+    assert isinstance(x * y, Frac)
+
+
+def test_case_map_of_cells_answers_any_point() -> None:
+    """``case_map(..., cells=True)``: the corner of docs/examples/corner-map.json, at a point off every grid line."""
+    from verify.maps.general import case_map
+
+    m = case_map("docs/examples/corner-map.json", cells=True, max_impulses=12)
+    assert m.layout == "cells" and not m.lines
+    part, velocity = m.at({"eps1": "1/7", "eps2": "3/11"})
+    run = solve(corner_system("1/2", Fraction(1, 7), Fraction(3, 11)), VELOCITY, max_iterations=12)
+    assert (part.stop, part.impact_sets, velocity) == (run.stop, list(run.impact_sets), list(run.exit_velocity))
+
+
+def test_cells_from_the_command_line(tmp_path, capsys) -> None:
+    """``verify map --cells``: JSON with every cell; one parameter, or a figure, is refused with exit code 2."""
+    import json
+
+    from verify.cli import main
+
+    assert main(["map", "docs/examples/corner-map.json", "--cells", "--json", "--max-impulses", "8"]) == 0
+    out = json.loads(capsys.readouterr().out)
+    assert out["layout"] == "cells" and len(out["cells"]["cells"]) > 10
+    assert {c["stop"] for c in out["cells"]["cells"]} <= {"exit", "not_run"}
+    one = tmp_path / "one.json"
+    one.write_text(json.dumps({"cases": [{"id": "a", "mass_matrix": [["1", "0"], ["0", "1"]], "normals": [["-1", "1"]],
+                                          "restitution": ["e"], "velocity": ["1", "0"]}]}))  # fmt: skip
+    assert main(["map", str(one), "--cells"]) == 2
+    assert "two parameters" in capsys.readouterr().err
+    assert main(["map", "docs/examples/corner-map.json", "--cells", "--figure", str(tmp_path / "m.png")]) == 2
+    assert not (tmp_path / "m.png").exists()

@@ -1,0 +1,337 @@
+"""Two parameters: rational functions of (x, y) whose signs are read on one cell of the plane.
+
+The elements are rational functions of two parameters with rational coefficients, held as a pair of
+polynomials (numerator, denominator) with no common factor and a denominator of leading coefficient 1,
+so that equal functions have equal pairs. The polynomials are python-flint's ``fmpq_mpoly`` when the
+``fast`` extra is installed, else SymPy's ``Poly`` over QQ (:class:`Polys`: the same operations, the
+same results).
+
+A :class:`PlaneBackend` works on one *cell* of a decomposition of the plane (:mod:`verify.maps.cells`):
+a connected set on which every polynomial of a known set ``known`` (irreducible, canonical) has one sign.
+``sign(f)`` factors the numerator and denominator of ``f``; when every factor is known, the sign is the
+same on the whole cell and is read at the cell's sample point (rational, or a rational x with an
+algebraic y); otherwise it raises :class:`NewCurves` with the unknown factors, and the driver
+(:mod:`verify.maps.plane`) cuts the plane with their zero sets and runs again.
+
+>>> P = polys()
+>>> K = PlaneBackend(P, (Fraction(1, 2), Fraction(1, 3)), known=set())
+>>> x, y = K.parameters
+>>> K.sign(K.one + x * y)
+1
+>>> K.sign(x - y)
+Traceback (most recent call last):
+...
+verify.core.backends.plane.NewCurves: the sign of x - y is read on a cell that no curve x - y = 0 bounds
+"""
+
+from __future__ import annotations
+
+from collections.abc import Sequence
+from fractions import Fraction
+from typing import Any
+
+import sympy as sp
+
+from verify.core.algebraic import RealAlgebraic
+from verify.core.backends.base import Backend
+from verify.core.backends.ratfunc import FLINT, flint
+from verify.errors import BadNumber, Undecided
+
+#: whether python-flint's polynomials in two variables are there (the ``fast`` extra)
+FLINT_POLYS = FLINT
+
+X, Y = sp.symbols("x y")
+
+
+def _q(c: Any) -> Fraction:
+    if hasattr(c, "p") and hasattr(c, "q"):
+        return Fraction(int(c.p), int(c.q))
+    return Fraction(c)
+
+
+class Polys:
+    """Polynomials in (x, y) over the rationals: flint's ``fmpq_mpoly`` (``name="flint"``) or SymPy's
+    ``Poly`` (``name="sympy"``). Each method takes and returns this arithmetic's polynomials.
+
+    >>> P = polys("sympy")
+    >>> f = P.from_expr(X**2 + Y**2 - 1)
+    >>> P.show(P.discriminant(f)), P.in_y(f, Fraction(0))
+    ('-4*x**2 + 4', (Fraction(-1, 1), Fraction(0, 1), Fraction(1, 1)))
+    """
+
+    def __init__(self, name: str):
+        self.name = name
+        if name == "flint":
+            self.ctx = flint.fmpq_mpoly_ctx.get(("x", "y"))
+            self.x, self.y = self.ctx.gens()
+            self.zero, self.one = self.ctx.from_dict({}), self.ctx.from_dict({(0, 0): 1})
+        else:
+            self.x, self.y = sp.Poly(X, X, Y, domain="QQ"), sp.Poly(Y, X, Y, domain="QQ")
+            self.zero, self.one = sp.Poly(0, X, Y, domain="QQ"), sp.Poly(1, X, Y, domain="QQ")
+
+    def from_dict(self, terms: dict[tuple[int, int], Fraction]) -> Any:
+        if self.name == "flint":
+            return self.ctx.from_dict({k: flint.fmpq(v.numerator, v.denominator) for k, v in terms.items() if v})
+        coeffs = {k: sp.Rational(v.numerator, v.denominator) for k, v in terms.items() if v}
+        return sp.Poly.from_dict(coeffs or {(0, 0): 0}, X, Y, domain="QQ")
+
+    def terms(self, p: Any) -> dict[tuple[int, int], Fraction]:
+        """The coefficients of p by exponents (i, j) of x^i y^j."""
+        if self.name == "flint":
+            return {(int(k[0]), int(k[1])): _q(v) for k, v in p.to_dict().items()}
+        return {(int(k[0]), int(k[1])): _q(v) for k, v in p.as_dict().items() if v}
+
+    def from_expr(self, e: Any) -> Any:
+        """A SymPy polynomial expression in x and y (rational coefficients)."""
+        poly = sp.Poly(sp.sympify(e), X, Y, domain="QQ")
+        return self.from_dict({k: _q(v) for k, v in poly.as_dict().items()})
+
+    def expr(self, p: Any, names: tuple[str, str] = ("x", "y")) -> Any:
+        a, b = sp.Symbol(names[0]), sp.Symbol(names[1])
+        return sp.Add(*[sp.Rational(c.numerator, c.denominator) * a**i * b**j for (i, j), c in self.terms(p).items()])
+
+    def show(self, p: Any, names: tuple[str, str] = ("x", "y")) -> str:
+        return str(self.expr(p, names))
+
+    def key(self, p: Any) -> tuple:
+        return tuple(sorted(self.terms(p).items()))
+
+    def is_zero(self, p: Any) -> bool:
+        return bool(p.is_zero()) if self.name == "flint" else bool(p.is_zero)
+
+    def is_one(self, p: Any) -> bool:
+        return self.terms(p) == {(0, 0): Fraction(1)}
+
+    def is_constant(self, p: Any) -> bool:
+        return all(k == (0, 0) for k in self.terms(p))
+
+    def degree_y(self, p: Any) -> int:
+        return max((j for _, j in self.terms(p)), default=0)
+
+    def leading(self, p: Any) -> Fraction:
+        """The leading coefficient (the term of highest degree, ties by the larger power of x)."""
+        t = self.terms(p)
+        return t[max(t, key=lambda k: (k[0] + k[1], k[0]))]
+
+    def monic(self, p: Any) -> Any:
+        c = self.leading(p)
+        return p if c == 1 else self.scaled(p, 1 / c)
+
+    def scaled(self, p: Any, c: Fraction) -> Any:
+        return self.from_dict({k: v * c for k, v in self.terms(p).items()})
+
+    def gcd(self, p: Any, q: Any) -> Any:
+        return self.monic(p.gcd(q)) if self.name == "flint" else self.monic(sp.gcd(p, q))
+
+    def quo(self, p: Any, q: Any) -> Any:
+        """p / q, exact."""
+        return p // q if self.name == "flint" else sp.exquo(p, q)
+
+    def factors(self, p: Any) -> list[Any]:
+        """The distinct irreducible factors of p of positive degree, each made monic (:meth:`monic`)."""
+        found = [f for f, _ in (p.factor() if self.name == "flint" else p.factor_list())[1]]
+        return [self.monic(f) for f in found if not self.is_constant(f)]
+
+    def resultant(self, p: Any, q: Any) -> Any:
+        """The resultant of p and q in y (a polynomial in x)."""
+        if self.name == "flint":
+            return p.resultant(q, "y")
+        return sp.Poly(sp.resultant(p.as_expr(), q.as_expr(), Y), X, Y, domain="QQ")
+
+    def discriminant(self, p: Any) -> Any:
+        """The discriminant of p in y (a polynomial in x)."""
+        if self.name == "flint":
+            return p.discriminant("y")
+        return sp.Poly(sp.discriminant(p.as_expr(), Y), X, Y, domain="QQ")
+
+    def derivative_x(self, p: Any) -> Any:
+        return p.derivative("x") if self.name == "flint" else p.diff(X)
+
+    def in_x(self, p: Any) -> tuple[Fraction, ...]:
+        """A polynomial in x only, as its coefficients (lowest degree first)."""
+        t = self.terms(p)
+        n = max((i for i, _ in t), default=0)
+        return tuple(sum((c for (i, j), c in t.items() if i == k), Fraction(0)) for k in range(n + 1))
+
+    def leading_in_y(self, p: Any) -> tuple[Fraction, ...]:
+        """The coefficient of the highest power of y, a polynomial in x (coefficients, lowest degree first)."""
+        t = self.terms(p)
+        top = self.degree_y(p)
+        n = max((i for i, j in t if j == top), default=0)
+        return tuple(t.get((k, top), Fraction(0)) for k in range(n + 1))
+
+    def in_y(self, p: Any, x: Fraction) -> tuple[Fraction, ...]:
+        """p(x, y) at a rational x: its coefficients in y, lowest degree first."""
+        t = self.terms(p)
+        out = [Fraction(0)] * (self.degree_y(p) + 1)
+        for (i, j), c in t.items():
+            out[j] += c * x**i
+        return tuple(out)
+
+    def value(self, p: Any, x: Fraction, y: Fraction) -> Fraction:
+        """p at the rational point (x, y)."""
+        return sum((c * x**i * y**j for (i, j), c in self.terms(p).items()), Fraction(0))
+
+    def at_y(self, p: Any, y: Fraction) -> tuple[Fraction, ...]:
+        """p(x, y) at a rational y: its coefficients in x, lowest degree first."""
+        t = self.terms(p)
+        out = [Fraction(0)] * (max((i for i, _ in t), default=0) + 1)
+        for (i, j), c in t.items():
+            out[i] += c * y**j
+        return tuple(out)
+
+
+_POLYS: dict[str, Polys] = {}
+
+
+def polys(name: str | None = None) -> Polys:
+    """The polynomial arithmetic ``name`` (``"flint"`` or ``"sympy"``; default flint when installed)."""
+    name = name or ("flint" if flint is not None else "sympy")
+    if name == "flint" and flint is None:  # pragma: no cover
+        raise ImportError("python-flint is not installed (the fast extra)")
+    if name not in _POLYS:
+        _POLYS[name] = Polys(name)
+    return _POLYS[name]
+
+
+class Frac:
+    """A rational function n / d of (x, y): no common factor, d of leading coefficient 1."""
+
+    __slots__ = ("P", "d", "n")
+
+    def __init__(self, P: Polys, n: Any, d: Any, reduce: bool = True):
+        if reduce:
+            if P.is_zero(d):
+                raise ZeroDivisionError("division by the zero function")
+            if P.is_zero(n):
+                d = P.one
+            elif not P.is_constant(d):
+                g = P.gcd(n, d)
+                if not P.is_constant(g):
+                    n, d = P.quo(n, g), P.quo(d, g)
+            c = P.leading(d)
+            if c != 1:
+                n, d = P.scaled(n, 1 / c), P.scaled(d, 1 / c)
+        self.P, self.n, self.d = P, n, d
+
+    def __add__(self, o: Frac) -> Frac:
+        if self.d == o.d:
+            return Frac(self.P, self.n + o.n, self.d)
+        return Frac(self.P, self.n * o.d + o.n * self.d, self.d * o.d)
+
+    def __sub__(self, o: Frac) -> Frac:
+        return self + (-o)
+
+    def __neg__(self) -> Frac:
+        return Frac(self.P, -self.n, self.d, reduce=False)
+
+    def __mul__(self, o: Frac) -> Frac:
+        return Frac(self.P, self.n * o.n, self.d * o.d)
+
+    def __truediv__(self, o: Frac) -> Frac:
+        if self.P.is_zero(o.n):
+            raise ZeroDivisionError("division by the zero function")
+        return Frac(self.P, self.n * o.d, self.d * o.n)
+
+    def __eq__(self, o: object) -> bool:
+        return isinstance(o, Frac) and self.n == o.n and self.d == o.d
+
+    def __hash__(self) -> int:
+        return hash((self.P.key(self.n), self.P.key(self.d)))
+
+    def __float__(self) -> float:
+        raise TypeError("a rational function of the parameters has no float value")
+
+    def expr(self, names: tuple[str, str] = ("x", "y")) -> Any:
+        return self.P.expr(self.n, names) / self.P.expr(self.d, names)
+
+
+class NewCurves(Undecided):
+    """A sign asked on a cell depends on curves the decomposition does not know yet: ``polys`` (irreducible
+    factors, canonical) must cut the plane first."""
+
+    def __init__(self, polys: list[Any], message: str):
+        super().__init__(message)
+        self.polys = polys
+
+
+#: a sample point: a rational x and a rational or real algebraic y
+Sample = tuple[Fraction, "Fraction | RealAlgebraic"]
+
+
+class PlaneBackend(Backend):
+    """Rational functions of two parameters on one cell (see the module): ``parameters`` are the two as
+    elements; ``known`` the keys (:meth:`Polys.key`) of the polynomials with one sign on the cell."""
+
+    name = "plane"
+    is_exact = True
+    is_rigorous = True
+
+    def __init__(self, P: Polys, sample: Sample, known: set[tuple], names: tuple[str, str] = ("x", "y")):
+        self.P, self.sample, self.known, self.names = P, sample, known, names
+        self.zero, self.one = Frac(P, P.zero, P.one), Frac(P, P.one, P.one)
+        self.parameters = (Frac(P, P.x, P.one), Frac(P, P.y, P.one))
+        self._signs: dict[Frac, int] = {}
+        self._factors: dict[tuple, list[Any]] = {}
+
+    def convert(self, value: Any) -> Frac:
+        if isinstance(value, Fraction):
+            return Frac(self.P, self.P.from_dict({(0, 0): value}), self.P.one)
+        e = sp.sympify(value)
+        a, b = sp.Symbol(self.names[0]), sp.Symbol(self.names[1])
+        if e.free_symbols - {a, b}:
+            raise BadNumber(f"{value}: a map of two parameters knows only {a} and {b}")
+        n, d = sp.fraction(sp.cancel(sp.together(e.subs({a: X, b: Y}, simultaneous=True))))
+        try:
+            return Frac(self.P, self.P.from_expr(n), self.P.from_expr(d))
+        except sp.PolynomialError:
+            raise BadNumber(f"{value}: a map needs rational functions of the parameters") from None
+
+    def factors_of(self, p: Any) -> list[Any]:
+        key = self.P.key(p)
+        if key not in self._factors:
+            self._factors[key] = self.P.factors(p)
+        return self._factors[key]
+
+    def value_sign(self, p: Any) -> int:
+        """The sign of the polynomial p at the sample point, exactly."""
+        x, y = self.sample
+        coeffs = self.P.in_y(p, x)
+        if isinstance(y, Fraction):
+            total = Fraction(0)
+            for c in reversed(coeffs):
+                total = total * y + c
+            return (total > 0) - (total < 0)
+        return y.sign_of(coeffs)
+
+    def sign(self, f: Frac) -> int:
+        found = self._signs.get(f)
+        if found is not None:
+            return found
+        if self.P.is_zero(f.n):
+            return 0
+        new = [g for p in (f.n, f.d) for g in self.factors_of(p) if self.P.key(g) not in self.known]
+        if new:
+            shown = ", ".join(f"{self.P.show(g, self.names)} = 0" for g in new)
+            what = self.P.show(f.n, self.names) if self.P.is_one(f.d) else f.expr(self.names)
+            raise NewCurves(new, f"the sign of {what} is read on a cell that no curve {shown} bounds")
+        s = self.value_sign(f.n) * self.value_sign(f.d)
+        self._signs[f] = s
+        return s
+
+    def to_number(self, x: Frac) -> Any:
+        return x.expr(self.names)
+
+    def to_exact(self, x: Frac) -> str:
+        return str(sp.factor(x.expr(self.names)))
+
+    def to_decimal(self, x: Frac, digits: int = 30) -> str:
+        return self.to_exact(x)
+
+    def describe(self) -> str:
+        return f"plane ({self.names[0]}, {self.names[1]} on one cell), exact"
+
+
+def sample_of(values: Sequence[Any]) -> Sample:
+    """A sample point from two numbers (the second may be a RealAlgebraic)."""
+    return Fraction(values[0]), values[1]

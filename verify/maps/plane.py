@@ -1,0 +1,240 @@
+"""Two parameters over a box: the rule run once for every point of the plane, as exact cells.
+
+The system is built on the plane backend (:mod:`verify.core.backends.plane`), whose two parameters are
+read on one cell of a decomposition of the box (:mod:`verify.maps.cells`). Whenever the rule asks a sign
+of a rational function whose factors the decomposition does not know, the run stops
+(:class:`~verify.core.backends.plane.NewCurves`); once every cell has run, the new curves join the set,
+the box is decomposed again and every cell runs again, until no run asks for a new curve. Then on each
+cell every sign the rule asked is the same at every point, so the run at its sample point is the run of
+the whole cell: the same impact sets and stop, and an exit velocity that is one rational function of the
+two parameters. Each cell ends
+
+- with an exit after k impulses;
+- at the bound on impulses: unexplored, with its reason (the area of such cells is bounded exactly);
+- on a vertical line of irrational x (measure 0, no rational point): not run, said so.
+
+>>> from verify.models.corner import corner_system
+>>> build = lambda K: corner_system("1/2", sp.Symbol("e1"), sp.Symbol("e2"), backend=K)
+>>> m = plane_parts(build, ["1", "-1/10", "0"], (Fraction(0), Fraction(1), Fraction(0), Fraction(1)), ("e1", "e2"), 40)
+>>> part, v = m.at(Fraction(1, 10), Fraction(1, 2))
+>>> part.stop, part.iterations, [str(x) for x in v]
+('exit', 1, ['-94/725', '11/1450', '0'])
+"""
+
+from __future__ import annotations
+
+import time
+from collections.abc import Callable, Sequence
+from dataclasses import dataclass, field
+from fractions import Fraction
+from typing import Any
+
+import sympy as sp
+
+from verify.core.algebraic import RealAlgebraic
+from verify.core.backends.plane import Frac, NewCurves, PlaneBackend, Polys, polys
+from verify.core.backends.symbolic import RootCache
+from verify.core.format import format_decimal, format_exact
+from verify.core.rule import solve
+from verify.core.system import System
+from verify.errors import InvalidInput
+from verify.maps.cells import Box, Cell, critical_x, decompose, sections
+
+#: the most rounds of new curves a map makes before it gives up (each round decomposes the box again)
+MAX_ROUNDS = 64
+
+
+@dataclass
+class CellPart:
+    """One cell and what the rule does on all of it."""
+
+    cell: Cell
+    stop: str  # "exit", "max_iterations" (unexplored) or "not_run" (a line of irrational x)
+    iterations: int
+    impact_sets: list[tuple[int, ...]]
+    exit_velocity: list[Any]  # SymPy expressions in the two parameters (the last velocity when not "exit")
+    reason: str = ""
+    velocity: list[Frac] = field(default_factory=list, repr=False)  # the exit velocity as rational functions
+
+
+@dataclass
+class PlaneMap:
+    """The cells of a box of two parameters (``names``) and what the rule does on each."""
+
+    P: Polys
+    names: tuple[str, str]
+    box: Box
+    max_impulses: int
+    curves: list[Any]
+    parts: list[CellPart]
+    columns: list[tuple[RealAlgebraic, RealAlgebraic, list[CellPart]]] = field(default_factory=list)
+    rounds: int = 0
+    seconds: float = 0.0
+
+    def locate(self, x: Fraction, y: Fraction) -> CellPart:
+        """The cell that holds the rational point (x, y) of the box."""
+        a, b, c, d = self.box
+        if not (a <= x <= b and c <= y <= d):
+            raise InvalidInput(f"({format_exact(x)}, {format_exact(y)}) is outside the box of the map")
+        rx = RealAlgebraic.rational(x)
+        parts = next(
+            (cells for lo, hi, cells in self.columns
+             if (lo.cmp(hi) == 0 and lo.cmp(rx) == 0) or (lo.cmp(hi) != 0 and lo.cmp(rx) < 0 < hi.cmp(rx))),
+            None,
+        )  # fmt: skip
+        if parts is None:  # pragma: no cover - the columns cover [a, b]
+            raise AssertionError(f"no column holds x = {x}")
+        ys = [RealAlgebraic.rational(c), *(r for r, _ in sections(self.P, self.curves, x, self.box, RootCache())),
+              RealAlgebraic.rational(d)]  # fmt: skip
+        ry = RealAlgebraic.rational(y)
+        for k, r in enumerate(ys):
+            side = ry.cmp(r)
+            if side == 0:
+                return parts[2 * k]
+            if side < 0:
+                return parts[2 * k - 1]
+        raise AssertionError(f"no cell holds y = {y}")  # pragma: no cover
+
+    def at(self, x: Any, y: Any) -> tuple[CellPart, list[Fraction] | None]:
+        """The cell of the rational point (x, y) and, when the cell exits, the exact exit velocity there."""
+        x, y = Fraction(x), Fraction(y)
+        part = self.locate(x, y)
+        if part.stop != "exit":
+            return part, None
+        return part, [self.P.value(f.n, x, y) / self.P.value(f.d, x, y) for f in part.velocity]
+
+    def area(self, stop: str) -> tuple[Fraction, Fraction]:
+        """Bounds of the total area of the cells that end with ``stop`` (exact rationals): the sums of their
+        cells' bounds, the upper one no more than the box's area less the lower bounds of the other cells."""
+        a, b, c, d = self.box
+        low = sum((p.cell.area[0] for p in self.parts if p.stop == stop), Fraction(0))
+        high = sum((p.cell.area[1] for p in self.parts if p.stop == stop), Fraction(0))
+        others = sum((p.cell.area[0] for p in self.parts if p.stop != stop), Fraction(0))
+        return low, min(high, (b - a) * (d - c) - others)
+
+
+def plane_parts(
+    build: Callable[[PlaneBackend], System],
+    velocity: Sequence[Any],
+    box: Box,
+    names: tuple[str, str],
+    max_impulses: int,
+    *,
+    arithmetic: str | None = None,
+    progress: Callable[[str], None] | None = None,
+) -> PlaneMap:
+    """The map of the box: ``build(K)`` is the system on the plane backend ``K`` (its CORs written in the
+    two parameters ``names``), ``velocity`` the exact entrance velocity (see the module's example)."""
+    P = polys(arithmetic)
+    cache = RootCache()
+    curves: list[Any] = []
+    keys: set[tuple] = set()
+    started = time.monotonic()
+    for rounds in range(1, MAX_ROUNDS + 1):
+        cells = decompose(P, curves, box, cache)
+        new: dict[tuple, Any] = {}
+        parts: list[CellPart] = []
+        for cell in cells:
+            part = _run_cell(build, velocity, cell, (P, keys, names), max_impulses, new=new)
+            if part is not None:
+                parts.append(part)
+        if progress is not None:
+            progress(f"map: round {rounds}, {len(curves)} curves, {len(cells)} cells, {len(new)} new curves, "
+                     f"{round(time.monotonic() - started)} s")  # fmt: skip
+        if not new:
+            m = PlaneMap(P, names, box, max_impulses, curves, parts, rounds=rounds,
+                         seconds=time.monotonic() - started)  # fmt: skip
+            m.columns = _columns(parts)
+            return m
+        for key, f in new.items():
+            keys.add(key)
+            curves.append(f)
+    raise RuntimeError(f"the map asked for new curves in each of {MAX_ROUNDS} rounds")
+
+
+def _run_cell(
+    build: Callable[[PlaneBackend], System],
+    velocity: Sequence[Any],
+    cell: Cell,
+    known: tuple[Polys, set[tuple], tuple[str, str]],
+    max_impulses: int,
+    *,
+    new: dict[tuple, Any],
+) -> CellPart | None:
+    """The part of one cell, or None when its run asked for new curves (added to ``new``); ``known`` is the
+    polynomials' arithmetic, the keys of the curves known and the parameters' names."""
+    P, keys, names = known
+    if cell.sample is None:
+        return CellPart(
+            cell, "not_run", 0, [], [], reason="a line of irrational abscissa: no rational point, measure 0"
+        )
+    K = PlaneBackend(P, cell.sample, keys, names)
+    try:
+        r = solve(build(K), velocity, max_iterations=max_impulses, trace=False, certify=False)
+    except NewCurves as found:
+        for f in found.polys:
+            new.setdefault(P.key(f), f)
+        return None
+    v = [K.to_number(x) for x in r.exit_velocity]
+    reason = f"still impacting after {r.iterations} impulses" if r.stop == "max_iterations" else ""
+    return CellPart(cell, r.stop, r.iterations, list(r.impact_sets), v, reason, list(r.exit_velocity))
+
+
+def _columns(parts: list[CellPart]) -> list[tuple[RealAlgebraic, RealAlgebraic, list[CellPart]]]:
+    out: list[tuple[RealAlgebraic, RealAlgebraic, list[CellPart]]] = []
+    for part in parts:
+        c = part.cell
+        if out and out[-1][0] is c.x_lo and out[-1][1] is c.x_hi:
+            out[-1][2].append(part)
+        else:
+            out.append((c.x_lo, c.x_hi, [part]))
+    return out
+
+
+def plane_json(m: PlaneMap) -> dict[str, Any]:
+    """A map of cells in its JSON shape (``docs/json-outputs.md``): the curves that cut the box, the area of
+    each stop (exact bounds) and every cell with its exact description, sample point, area bounds and run.
+
+    >>> from verify.models.corner import corner_system
+    >>> build = lambda K: corner_system("1/2", sp.Symbol("e1"), sp.Symbol("e2"), backend=K)
+    >>> box = (Fraction(0), Fraction(1), Fraction(0), Fraction(1))
+    >>> out = plane_json(plane_parts(build, ["1", "-1/10", "0"], box, ("e1", "e2"), 4))
+    >>> out["curves"][:2], out["cells"][0]["x"], out["cells"][0]["y"], out["cells"][0]["stop"]
+    (['e1', 'e1 - 1'], '0', 'e2 = 0', 'exit')
+    """
+    stops = sorted({p.stop for p in m.parts})
+    return {
+        "parameters": list(m.names),
+        "curves": [m.P.show(f, m.names) for f in m.curves],
+        "area": {stop: [format_exact(v) for v in m.area(stop)] for stop in stops},
+        "cells": [
+            {
+                "dimension": p.cell.dim,
+                "x": str(p.cell.x_lo) if p.cell.on_line else f"({p.cell.x_lo}, {p.cell.x_hi})",
+                "y": (
+                    p.cell.y_lo.describe(m.P, m.names)
+                    if p.cell.y_lo == p.cell.y_hi
+                    else f"({p.cell.y_lo.value_text(m.P, m.names)}, {p.cell.y_hi.value_text(m.P, m.names)})"
+                ),
+                "sample": None if p.cell.sample is None else [str(v) for v in p.cell.sample],
+                "area": [format_exact(v) for v in p.cell.area],
+                "stop": p.stop,
+                "iterations": p.iterations,
+                "impact_sets": [list(J) for J in p.impact_sets],
+                "exit_velocity": [str(sp.factor(v)) for v in p.exit_velocity] if p.stop == "exit" else [],
+                "reason": p.reason,
+            }
+            for p in m.parts
+        ],
+    }
+
+
+def describe_area(bounds: tuple[Fraction, Fraction]) -> str:
+    """Area bounds as text."""
+    lo, hi = bounds
+    if lo == hi:
+        return format_exact(lo)
+    return f"between {format_decimal(lo, 6)} and {format_decimal(hi, 6)}"
+
+
+__all__ = ["MAX_ROUNDS", "CellPart", "PlaneMap", "critical_x", "describe_area", "plane_json", "plane_parts"]
