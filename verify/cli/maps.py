@@ -239,10 +239,6 @@ def cmd_map(args: argparse.Namespace) -> int:
     from verify.records.results import dumps
     from verify.views.text import eps_map_text
 
-    if args.cells and args.figure:
-        raise UsageError(
-            f"{PROG} map: --figure does not draw a map of --cells yet (its text and --json hold every cell)"
-        )
     watch, status = map_watch(args, "map:")
     try:
         m = case_map(args.case, args.case_id, _parameters(args), lines=args.lines, max_impulses=args.max_impulses,
@@ -251,10 +247,10 @@ def cmd_map(args: argparse.Namespace) -> int:
         status.close()
     sys.stdout.write(dumps(eps_map_json(m)) if args.json else eps_map_text(m, exact_in="--json"))
     if args.figure:
-        from verify.views.figures import eps_map_figure
+        from verify.views.figures import eps_map_figure, plane_figure
 
         with writing(args.figure, "--figure"):
-            eps_map_figure(m, args.figure)
+            (plane_figure if m.plane is not None else eps_map_figure)(m, args.figure)
         print(f"figure written to {args.figure}", file=sys.stderr)
     return INTERRUPTED if watch.interrupted else 0
 

@@ -37,6 +37,7 @@ from typing import Any
 
 from verify.core.algebraic import RealAlgebraic
 from verify.core.backends.plane import Polys
+from verify.core.backends.ratfunc import FLINT, flint
 from verify.core.backends.symbolic import RootCache
 
 Box = tuple[Fraction, Fraction, Fraction, Fraction]  # a, b, c, d: [a, b] x [c, d]
@@ -78,6 +79,22 @@ class Cell:
     area: tuple[Fraction, Fraction]
     dim: int
 
+    def contains(self, P: Polys, x: Fraction, y: Fraction, box: Box, cache: RootCache) -> bool:
+        """Whether the rational point (x, y) lies in the cell, exactly."""
+        if self.sample is None:  # an irrational x: no rational point
+            return False
+        rx = RealAlgebraic.rational(x)
+        if self.on_line:
+            if self.x_lo.cmp(rx) != 0:
+                return False
+        elif not self.x_lo.cmp(rx) < 0 < self.x_hi.cmp(rx):
+            return False
+        ry = RealAlgebraic.rational(y)
+        low = bound_at(P, self.y_lo, x, box, cache).cmp(ry)
+        if self.y_lo == self.y_hi:
+            return low == 0
+        return low < 0 < bound_at(P, self.y_hi, x, box, cache).cmp(ry)
+
     @property
     def on_line(self) -> bool:
         """Whether the cell lies on one vertical line x = x_lo."""
@@ -87,7 +104,9 @@ class Cell:
         x, y = names
         xs = f"{x} = {self.x_lo}" if self.on_line else f"{self.x_lo} < {x} < {self.x_hi}"
         if self.sample is None:
-            return f"{xs}, every {y} of the box (an irrational {x}: no rational point)"
+            where = (self.y_lo.describe(P, names) if self.y_lo == self.y_hi
+                     else f"{self.y_lo.value_text(P, names)} < {y} < {self.y_hi.value_text(P, names)}")  # fmt: skip
+            return f"{xs}, {where} (an irrational {x}: no rational point)"
         if self.y_lo == self.y_hi:
             return f"{xs}, {self.y_lo.describe(P, names)}"
         return f"{xs}, {self.y_lo.value_text(P, names)} < {y} < {self.y_hi.value_text(P, names)}"
@@ -162,7 +181,19 @@ def sections(
     return distinct
 
 
-def _column(
+def bound_at(P: Polys, bound: Bound, x: Fraction, box: Box, cache: RootCache) -> RealAlgebraic:
+    """The y of a side at the rational x (where the side is defined: inside its cell's x)."""
+    if bound.value is not None:
+        return RealAlgebraic.rational(bound.value)
+    _, _, c, d = box
+    return _roots(cache, P.in_y(bound.poly, x), c, d, open_=True)[bound.index]
+
+
+def _y(r: RealAlgebraic) -> Fraction | RealAlgebraic:
+    return r.rational_value() if r.is_rational else r
+
+
+def _lift(
     P: Polys,
     polys: Sequence[Any],
     box: Box,
@@ -170,22 +201,88 @@ def _column(
     ends: tuple[RealAlgebraic, RealAlgebraic],
     *,
     x: Fraction,
+    sides: tuple[Bound, Bound],
+    closed: bool,
 ) -> list[Cell]:
-    """The cells over one x-interval (or one rational line, x_lo = x_hi), lifted at the rational x."""
-    _, _, c, d = box
+    """The cells over one x-interval (or one rational line, x_lo = x_hi) between two sides, lifted at the
+    rational x: the sections of ``polys`` strictly between the sides and the sectors between them; the
+    sides themselves too when ``closed``."""
     x_lo, x_hi = ends
     line = x_lo.cmp(x_hi) == 0
-    ys = sections(P, polys, x, box, cache)
-    bottom, top = (RealAlgebraic.rational(c), Bound(value=c)), (RealAlgebraic.rational(d), Bound(value=d))
-    points = [bottom, *ys, top]
+    below, above = (bound_at(P, side, x, box, cache) for side in sides)
+    ys = [(r, b) for r, b in sections(P, polys, x, box, cache) if below.cmp(r) < 0 < above.cmp(r)]
+    points = [(below, sides[0]), *ys, (above, sides[1])]
     zero = (Fraction(0), Fraction(0))
     out = []
     for k, (r, bound) in enumerate(points):
-        out.append(Cell(x_lo, x_hi, bound, bound, (x, r if not r.is_rational else r.rational_value()), zero,
-                        0 if line else 1))  # fmt: skip
+        if closed or 0 < k < len(points) - 1:
+            out.append(Cell(x_lo, x_hi, bound, bound, (x, _y(r)), zero, 0 if line else 1))
         if k + 1 < len(points):
             s = points[k + 1][0]
             out.append(Cell(x_lo, x_hi, bound, points[k + 1][1], (x, r.between(s)), zero, 1 if line else 2))
+    return out
+
+
+def refine(P: Polys, cell: Cell, polys: Sequence[Any], box: Box, cache: RootCache | None = None) -> list[Cell]:
+    """The cell cut by the zero sets of ``polys`` (irreducible) into cells on which each of them has one sign,
+    and its own sides keep theirs (a point, or a cell of irrational x, comes back whole). The parts' areas
+    are not set (:func:`set_areas`: once the cells are final).
+
+    >>> from verify.core.backends.plane import polys, X, Y
+    >>> P = polys()
+    >>> box = (Fraction(0), Fraction(1), Fraction(0), Fraction(1))
+    >>> square = next(c for c in decompose(P, [], box) if c.dim == 2)
+    >>> [c.dim for c in refine(P, square, [P.from_expr(X - Y)], box)]
+    [2, 1, 2]
+    """
+    cache = cache or RootCache()
+    if cell.dim == 0 or cell.sample is None:
+        return [cell]
+    zero = (Fraction(0), Fraction(0))
+    if cell.on_line:  # a vertical segment at a rational x
+        return _lift(P, polys, box, cache, (cell.x_lo, cell.x_hi), x=cell.sample[0], sides=(cell.y_lo, cell.y_hi),
+                     closed=False)  # fmt: skip
+    if cell.y_lo == cell.y_hi:  # an arc: cut where a curve meets it
+        side = cell.y_lo
+        meets = [P.at_y(f, side.value) if side.value is not None else P.in_x(P.resultant(f, side.poly)) for f in polys]
+        xs = [r for coeffs in meets for r in _roots(cache, coeffs, box[0], box[1], open_=False)
+              if cell.x_lo.cmp(r) < 0 < cell.x_hi.cmp(r)]  # fmt: skip
+        ends = _distinct([cell.x_lo, *xs, cell.x_hi])
+        out = []
+        for i in range(len(ends) - 1):
+            u, v = ends[i], ends[i + 1]
+            x = u.between(v)
+            out.append(Cell(u, v, side, side, (x, _y(bound_at(P, side, x, box, cache))), zero, 1))
+            if i + 2 < len(ends):
+                sample = (
+                    (v.rational_value(), _y(bound_at(P, side, v.rational_value(), box, cache)))
+                    if v.is_rational
+                    else None
+                )
+                out.append(Cell(v, v, side, side, sample, zero, 0))
+        return out
+    curves = [*polys, *(s.poly for s in (cell.y_lo, cell.y_hi) if s.poly is not None)]
+    xs = [r for r in critical_x(P, curves, box, cache) if cell.x_lo.cmp(r) < 0 < cell.x_hi.cmp(r)]
+    ends = [cell.x_lo, *xs, cell.x_hi]
+    out = []
+    for i in range(len(ends) - 1):
+        u, v = ends[i], ends[i + 1]
+        strip = _lift(P, polys, box, cache, (u, v), x=u.between(v), sides=(cell.y_lo, cell.y_hi), closed=False)
+        out += strip
+        if i + 2 < len(ends):
+            if v.is_rational:
+                out += _lift(P, polys, box, cache, (v, v), x=v.rational_value(), sides=(cell.y_lo, cell.y_hi),
+                             closed=False)  # fmt: skip
+            else:
+                out.append(Cell(v, v, cell.y_lo, cell.y_hi, None, zero, 1))
+    return out
+
+
+def _distinct(xs: list[RealAlgebraic]) -> list[RealAlgebraic]:
+    out: list[RealAlgebraic] = []
+    for r in sorted(xs):
+        if not out or out[-1].cmp(r) != 0:
+            out.append(r)
     return out
 
 
@@ -194,47 +291,97 @@ def decompose(P: Polys, polys: Sequence[Any], box: Box, cache: RootCache | None 
     module), each with its area bounds, in order of x then y."""
     cache = cache or RootCache()
     xs = critical_x(P, polys, box, cache)
+    edges = (Bound(value=box[2]), Bound(value=box[3]))
     cells: list[Cell] = []
     for i, x0 in enumerate(xs):
         if x0.is_rational:
-            cells += _column(P, polys, box, cache, (x0, x0), x=x0.rational_value())
+            cells += _lift(P, polys, box, cache, (x0, x0), x=x0.rational_value(), sides=edges, closed=True)
         else:
-            _, _, c, d = box
-            cells.append(Cell(x0, x0, Bound(value=c), Bound(value=d), None, (Fraction(0), Fraction(0)), 1))
+            zero = (Fraction(0), Fraction(0))
+            cells += [Cell(x0, x0, edges[0], edges[0], None, zero, 0), Cell(x0, x0, edges[0], edges[1], None, zero, 1),
+                      Cell(x0, x0, edges[1], edges[1], None, zero, 0)]  # fmt: skip
         if i + 1 < len(xs):
-            strip = _column(P, polys, box, cache, (x0, xs[i + 1]), x=x0.between(xs[i + 1]))
-            _areas(P, box, cache, strip)
-            cells += strip
+            cells += _lift(P, polys, box, cache, (x0, xs[i + 1]), x=x0.between(xs[i + 1]), sides=edges, closed=True)
+    set_areas(P, cells, box, cache)
     return cells
 
 
 def _value_bounds(P: Polys, bound: Bound, x: Fraction, box: Box, cache: RootCache) -> tuple[Fraction, Fraction]:
-    """Rational bounds of a side of a cell at the rational x."""
+    """Rational bounds, at most 2^-14 of the box's height apart, of a side of a cell at the rational x."""
     if bound.value is not None:
         return bound.value, bound.value
     _, _, c, d = box
-    r = _roots(cache, P.in_y(bound.poly, x), c, d, open_=True)[bound.index]
-    r = RealAlgebraic(r.poly, r.lo, r.hi)
-    while r.hi - r.lo > (d - c) / 2**20:
-        r.refine()
-    return r.lo, r.hi
+    return narrowed(bound_at(P, bound, x, box, cache), (d - c) / 2**14)
 
 
-def _areas(P: Polys, box: Box, cache: RootCache, strip: list[Cell]) -> None:
-    """Set the area bounds of a strip's open cells: every side is monotone in x inside the strip (the
+def narrowed(r: RealAlgebraic, width: Fraction) -> tuple[Fraction, Fraction]:
+    """Rationals at most ``width`` apart around r, by exact bisection of its isolating interval (on python-flint's
+    rationals where installed; r itself is left as it is).
+
+    >>> from verify.core.algebraic import poly_from_coeffs
+    >>> lo, hi = narrowed(RealAlgebraic.roots_in(poly_from_coeffs([1, 0, -2]))[1], Fraction(1, 10**6))
+    >>> lo < Fraction(14142136, 10**7) < hi, hi - lo <= Fraction(1, 10**6)
+    (True, True)
+    """
+    if r.is_rational:
+        return r.lo, r.lo
+    coeffs = [Fraction(int(c.p), int(c.q)) if hasattr(c, "p") else Fraction(c) for c in reversed(r.poly.all_coeffs())]
+    if FLINT:
+        f = flint.fmpq_poly([flint.fmpq(q.numerator, q.denominator) for q in coeffs])
+        a, b = flint.fmpq(r.lo.numerator, r.lo.denominator), flint.fmpq(r.hi.numerator, r.hi.denominator)
+        w = flint.fmpq(width.numerator, width.denominator)
+        at = f
+    else:
+        a, b, w = r.lo, r.hi, width
+
+        def at(t: Any) -> Any:
+            total = Fraction(0)
+            for q in reversed(coeffs):
+                total = total * t + q
+            return total
+
+    left = at(a)
+    if left == 0 or at(b) == 0:
+        x = a if left == 0 else b
+        return _fraction(x), _fraction(x)
+    while b - a > w:
+        m = (a + b) / 2
+        value = at(m)
+        if value == 0:
+            return _fraction(m), _fraction(m)
+        if (value > 0) == (left > 0):
+            a = m
+        else:
+            b = m
+    return _fraction(a), _fraction(b)
+
+
+def _fraction(q: Any) -> Fraction:
+    return Fraction(int(q.p), int(q.q)) if hasattr(q, "p") else Fraction(q)
+
+
+def set_areas(P: Polys, cells: Sequence[Cell], box: Box, cache: RootCache | None = None) -> None:
+    """Set the area bounds of the open cells among ``cells``: every side is monotone in x inside a cell (the
     curves' turning x are critical), so between two rational x a side lies between its values there; the
-    two end pieces, next to the strip's algebraic ends, count from 0 to their whole height."""
+    two end pieces, next to the cell's algebraic ends, count from 0 to their whole height."""
+    cache = cache or RootCache()
     _, _, c, d = box
-    lo, hi = strip[0].x_lo, strip[0].x_hi
-    inner_lo, inner_hi, outer_lo, outer_hi = _inside(lo, hi)
-    step = (inner_hi - inner_lo) / AREA_STEPS
-    ts = [inner_lo + k * step for k in range(AREA_STEPS + 1)]
-    ends = (inner_lo - outer_lo) + (outer_hi - inner_hi)  # an upper bound of the end pieces' widths
-    for cell in strip:
+    values: dict[tuple, tuple[Fraction, Fraction]] = {}
+
+    def at(bound: Bound, t: Fraction) -> tuple[Fraction, Fraction]:
+        key = (bound.value, None if bound.poly is None else P.key(bound.poly), bound.index, t)
+        if key not in values:
+            values[key] = _value_bounds(P, bound, t, box, cache)
+        return values[key]
+
+    for cell in cells:
         if cell.dim != 2:
             continue
-        low = [_value_bounds(P, cell.y_lo, t, box, cache) for t in ts]
-        up = [_value_bounds(P, cell.y_hi, t, box, cache) for t in ts]
+        inner_lo, inner_hi, outer_lo, outer_hi = inside(cell.x_lo, cell.x_hi)
+        step = (inner_hi - inner_lo) / AREA_STEPS
+        ts = [inner_lo + k * step for k in range(AREA_STEPS + 1)]
+        ends = (inner_lo - outer_lo) + (outer_hi - inner_hi)  # an upper bound of the end pieces' widths
+        low, up = [at(cell.y_lo, t) for t in ts], [at(cell.y_hi, t) for t in ts]
         area_lo = area_hi = Fraction(0)
         for k in range(AREA_STEPS):
             top_min, top_max = min(up[k][0], up[k + 1][0]), max(up[k][1], up[k + 1][1])
@@ -244,7 +391,7 @@ def _areas(P: Polys, box: Box, cache: RootCache, strip: list[Cell]) -> None:
         cell.area = (area_lo, area_hi + ends * (d - c))
 
 
-def _inside(lo: RealAlgebraic, hi: RealAlgebraic) -> tuple[Fraction, Fraction, Fraction, Fraction]:
+def inside(lo: RealAlgebraic, hi: RealAlgebraic) -> tuple[Fraction, Fraction, Fraction, Fraction]:
     """Two rationals strictly inside (lo, hi), with the pieces outside them a little more than 1/4096 of the
     interval, and a rational at most lo and one at least hi (the isolating intervals are refined on copies)."""
     a, b = RealAlgebraic(lo.poly, lo.lo, lo.hi), RealAlgebraic(hi.poly, hi.lo, hi.hi)

@@ -2,16 +2,16 @@
 
 The system is built on the plane backend (:mod:`verify.core.backends.plane`), whose two parameters are
 read on one cell of a decomposition of the box (:mod:`verify.maps.cells`). Whenever the rule asks a sign
-of a rational function whose factors the decomposition does not know, the run stops
-(:class:`~verify.core.backends.plane.NewCurves`); once every cell has run, the new curves join the set,
-the box is decomposed again and every cell runs again, until no run asks for a new curve. Then on each
-cell every sign the rule asked is the same at every point, so the run at its sample point is the run of
-the whole cell: the same impact sets and stop, and an exit velocity that is one rational function of the
-two parameters. Each cell ends
+of a rational function whose factors are not yet known to keep one sign on the cell, the run stops
+(:class:`~verify.core.backends.plane.NewCurves`), that cell alone is cut by the new curves
+(:func:`~verify.maps.cells.refine`: a cylindrical decomposition of the cell) and each part runs again,
+until no run asks for a new curve. Then on each cell every sign the rule asked is the same at every point,
+so the run at its sample point is the run of the whole cell: the same impact sets and stop, and an exit
+velocity that is one rational function of the two parameters. Each cell ends
 
 - with an exit after k impulses;
 - at the bound on impulses: unexplored, with its reason (the area of such cells is bounded exactly);
-- on a vertical line of irrational x (measure 0, no rational point): not run, said so.
+- at an irrational x (a vertical segment or a point: measure 0, no rational point): not run, said so.
 
 >>> from verify.models.corner import corner_system
 >>> build = lambda K: corner_system("1/2", sp.Symbol("e1"), sp.Symbol("e2"), backend=K)
@@ -31,17 +31,13 @@ from typing import Any
 
 import sympy as sp
 
-from verify.core.algebraic import RealAlgebraic
 from verify.core.backends.plane import Frac, NewCurves, PlaneBackend, Polys, polys
 from verify.core.backends.symbolic import RootCache
 from verify.core.format import format_decimal, format_exact
 from verify.core.rule import solve
 from verify.core.system import System
 from verify.errors import InvalidInput
-from verify.maps.cells import Box, Cell, critical_x, decompose, sections
-
-#: the most rounds of new curves a map makes before it gives up (each round decomposes the box again)
-MAX_ROUNDS = 64
+from verify.maps.cells import Box, Cell, critical_x, decompose, refine, set_areas
 
 
 @dataclass
@@ -67,8 +63,6 @@ class PlaneMap:
     max_impulses: int
     curves: list[Any]
     parts: list[CellPart]
-    columns: list[tuple[RealAlgebraic, RealAlgebraic, list[CellPart]]] = field(default_factory=list)
-    rounds: int = 0
     seconds: float = 0.0
 
     def locate(self, x: Fraction, y: Fraction) -> CellPart:
@@ -76,24 +70,11 @@ class PlaneMap:
         a, b, c, d = self.box
         if not (a <= x <= b and c <= y <= d):
             raise InvalidInput(f"({format_exact(x)}, {format_exact(y)}) is outside the box of the map")
-        rx = RealAlgebraic.rational(x)
-        parts = next(
-            (cells for lo, hi, cells in self.columns
-             if (lo.cmp(hi) == 0 and lo.cmp(rx) == 0) or (lo.cmp(hi) != 0 and lo.cmp(rx) < 0 < hi.cmp(rx))),
-            None,
-        )  # fmt: skip
-        if parts is None:  # pragma: no cover - the columns cover [a, b]
-            raise AssertionError(f"no column holds x = {x}")
-        ys = [RealAlgebraic.rational(c), *(r for r, _ in sections(self.P, self.curves, x, self.box, RootCache())),
-              RealAlgebraic.rational(d)]  # fmt: skip
-        ry = RealAlgebraic.rational(y)
-        for k, r in enumerate(ys):
-            side = ry.cmp(r)
-            if side == 0:
-                return parts[2 * k]
-            if side < 0:
-                return parts[2 * k - 1]
-        raise AssertionError(f"no cell holds y = {y}")  # pragma: no cover
+        cache = RootCache()
+        for part in self.parts:
+            if part.cell.contains(self.P, x, y, self.box, cache):
+                return part
+        raise AssertionError(f"no cell holds ({x}, {y})")  # pragma: no cover - the cells cover the box
 
     def at(self, x: Any, y: Any) -> tuple[CellPart, list[Fraction] | None]:
         """The cell of the rational point (x, y) and, when the cell exits, the exact exit velocity there."""
@@ -127,68 +108,47 @@ def plane_parts(
     two parameters ``names``), ``velocity`` the exact entrance velocity (see the module's example)."""
     P = polys(arithmetic)
     cache = RootCache()
-    curves: list[Any] = []
-    keys: set[tuple] = set()
-    started = time.monotonic()
-    for rounds in range(1, MAX_ROUNDS + 1):
-        cells = decompose(P, curves, box, cache)
-        new: dict[tuple, Any] = {}
-        parts: list[CellPart] = []
-        for cell in cells:
-            part = _run_cell(build, velocity, cell, (P, keys, names), max_impulses, new=new)
-            if part is not None:
-                parts.append(part)
-        if progress is not None:
-            progress(f"map: round {rounds}, {len(curves)} curves, {len(cells)} cells, {len(new)} new curves, "
-                     f"{round(time.monotonic() - started)} s")  # fmt: skip
-        if not new:
-            m = PlaneMap(P, names, box, max_impulses, curves, parts, rounds=rounds,
-                         seconds=time.monotonic() - started)  # fmt: skip
-            m.columns = _columns(parts)
-            return m
-        for key, f in new.items():
-            keys.add(key)
-            curves.append(f)
-    raise RuntimeError(f"the map asked for new curves in each of {MAX_ROUNDS} rounds")
+    curves: dict[tuple, Any] = {}
+    started = shown = time.monotonic()
+    work: list[tuple[Cell, frozenset[tuple]]] = [(c, frozenset()) for c in reversed(decompose(P, [], box, cache))]
+    parts: list[CellPart] = []
+    while work:
+        cell, known = work.pop()
+        try:
+            parts.append(_run_cell(build, velocity, cell, (P, known, names), max_impulses))
+        except NewCurves as found:
+            new = {P.key(f): f for f in found.polys}
+            curves.update(new)
+            children = refine(P, cell, list(new.values()), box, cache)
+            known = known | frozenset(new)
+            work += [(child, known) for child in reversed(children)]
+        if progress is not None and time.monotonic() >= shown + 1:
+            shown = time.monotonic()
+            progress(f"map: {len(parts)} cells done, {len(work)} to run, {len(curves)} curves, "
+                     f"{round(shown - started)} s")  # fmt: skip
+    set_areas(P, [p.cell for p in parts], box, cache)
+    parts.sort(key=lambda p: (p.cell.x_lo, p.cell.x_hi.cmp(p.cell.x_lo) != 0, p.cell.sample is None))
+    return PlaneMap(P, names, box, max_impulses, list(curves.values()), parts, seconds=time.monotonic() - started)
 
 
 def _run_cell(
     build: Callable[[PlaneBackend], System],
     velocity: Sequence[Any],
     cell: Cell,
-    known: tuple[Polys, set[tuple], tuple[str, str]],
+    known: tuple[Polys, frozenset[tuple], tuple[str, str]],
     max_impulses: int,
-    *,
-    new: dict[tuple, Any],
-) -> CellPart | None:
-    """The part of one cell, or None when its run asked for new curves (added to ``new``); ``known`` is the
-    polynomials' arithmetic, the keys of the curves known and the parameters' names."""
+) -> CellPart:
+    """The part of one cell (raises :class:`NewCurves` when its run asks a sign the cell does not decide);
+    ``known`` is the polynomials' arithmetic, the keys of the curves with one sign on it and the parameters."""
     P, keys, names = known
     if cell.sample is None:
-        return CellPart(
-            cell, "not_run", 0, [], [], reason="a line of irrational abscissa: no rational point, measure 0"
-        )
-    K = PlaneBackend(P, cell.sample, keys, names)
-    try:
-        r = solve(build(K), velocity, max_iterations=max_impulses, trace=False, certify=False)
-    except NewCurves as found:
-        for f in found.polys:
-            new.setdefault(P.key(f), f)
-        return None
+        return CellPart(cell, "not_run", 0, [], [], reason="an irrational abscissa: no rational point, measure 0")
+    K = PlaneBackend(P, cell.sample, set(keys), names, point=cell.dim == 0)
+    # no proofs of never-exits yet: a cone search asks signs of high degree, each a new curve that cuts the cell
+    r = solve(build(K), velocity, max_iterations=max_impulses, trace=False, certify=False)
     v = [K.to_number(x) for x in r.exit_velocity]
     reason = f"still impacting after {r.iterations} impulses" if r.stop == "max_iterations" else ""
     return CellPart(cell, r.stop, r.iterations, list(r.impact_sets), v, reason, list(r.exit_velocity))
-
-
-def _columns(parts: list[CellPart]) -> list[tuple[RealAlgebraic, RealAlgebraic, list[CellPart]]]:
-    out: list[tuple[RealAlgebraic, RealAlgebraic, list[CellPart]]] = []
-    for part in parts:
-        c = part.cell
-        if out and out[-1][0] is c.x_lo and out[-1][1] is c.x_hi:
-            out[-1][2].append(part)
-        else:
-            out.append((c.x_lo, c.x_hi, [part]))
-    return out
 
 
 def plane_json(m: PlaneMap) -> dict[str, Any]:
@@ -237,4 +197,4 @@ def describe_area(bounds: tuple[Fraction, Fraction]) -> str:
     return f"between {format_decimal(lo, 6)} and {format_decimal(hi, 6)}"
 
 
-__all__ = ["MAX_ROUNDS", "CellPart", "PlaneMap", "critical_x", "describe_area", "plane_json", "plane_parts"]
+__all__ = ["CellPart", "PlaneMap", "critical_x", "describe_area", "plane_json", "plane_parts"]

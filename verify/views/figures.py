@@ -6,6 +6,7 @@ stripped), so regenerating gives the same bytes.
 
 from __future__ import annotations
 
+from fractions import Fraction
 from pathlib import Path
 from typing import Any
 
@@ -606,3 +607,105 @@ def _part_on_axes(ax: Any, part: Any, a: float, b: float, *, lw: float, band: An
             ax.hlines(part.iterations, a, b, color="C0", lw=lw)
     else:
         ax.axvspan(a, b, lw=0, **band(part))
+
+
+#: rational x per open cell where its sides are computed for the drawing
+DRAW_STEPS = 48
+
+
+def _named_sequence(sets: list[tuple[int, ...]], names: list[str]) -> str:
+    return "".join("(" + ",".join(names[j] for j in J) + ")" for J in sets)
+
+
+def plane_legend(m: Any) -> list[tuple[tuple, str]]:
+    """``(behaviour, label)`` for each behaviour drawn, the largest area first; a behaviour is (stop,
+    impulses, impact sets).
+
+    >>> from verify.maps.general import case_map
+    >>> m = case_map("docs/examples/corner-map.json", cells=True, max_impulses=4)
+    >>> [label for _, label in plane_legend(m)]
+    ['exit after 2: (S1,S2)(S2), area 0.758-0.767', 'exit after 1: (S1,S2), area 0.155-0.169',
+     'exit after 2: (S1,S2)(S1), area 0.0733-0.0782']
+    """
+    plane, names = m.plane, list(m.system.names)
+    kinds: dict[tuple, list[Any]] = {}
+    for p in plane.parts:
+        if p.stop != "not_run":
+            kinds.setdefault((p.stop, p.iterations, tuple(p.impact_sets)), []).append(p)
+    total = plane.area("exit")[1] + 1  # an upper bound of any area, for the order only
+    out = []
+    for key, parts in sorted(kinds.items(), key=lambda kv: total - sum(p.cell.area[0] for p in kv[1])):
+        low = sum((p.cell.area[0] for p in parts), Fraction(0))
+        high = min(sum((p.cell.area[1] for p in parts), Fraction(0)), _box_area(plane))
+        stop, n, sets = key
+        what = (f"exit after {n}: {_named_sequence(list(sets), names)}" if stop == "exit"
+                else f"unexplored: still impacting after {n} impulses")  # fmt: skip
+        out.append((key, f"{what}, area {_x(low):.3g}-{_x(high):.3g}"))
+    return out
+
+
+def _box_area(plane: Any) -> Fraction:
+    a, b, c, d = plane.box
+    return (b - a) * (d - c)
+
+
+def _xs(cell: Any) -> list[Fraction]:
+    """Rational x inside an open cell, from near its left end to near its right end."""
+    from verify.maps.cells import inside
+
+    lo, hi, _, _ = inside(cell.x_lo, cell.x_hi)
+    return [lo + (hi - lo) * k / DRAW_STEPS for k in range(DRAW_STEPS + 1)]
+
+
+def plane_plot(m: Any) -> Any:
+    """The matplotlib figure of a map of two parameters as cells (``verify map --cells --figure FILE``), not
+    saved: each open cell filled with the colour of its behaviour (stop and impact sequence; the legend names
+    each, with its area bounds), the unexplored cells grey and hatched; the curves between cells drawn from
+    their exact description (each side's y computed exactly at rational x, rounded for the drawing only),
+    the cells that are points as dots."""
+    plt = _pyplot()
+    from matplotlib.patches import Patch
+
+    from verify.core.backends.symbolic import RootCache
+    from verify.maps.cells import bound_at
+
+    plane, (xname, yname) = m.plane, m.plane.names
+    cache = RootCache()
+    legend = plane_legend(m)
+    colours = {key: plt.get_cmap("tab10")(k % 10) for k, (key, _) in enumerate(legend)}
+    fig, ax = plt.subplots(figsize=(6.2, 5.0), constrained_layout=True)
+    for part in plane.parts:
+        cell = part.cell
+        if part.stop == "not_run":
+            continue
+        key = (part.stop, part.iterations, tuple(part.impact_sets))
+        colour = colours[key]
+        if cell.dim == 2:
+            xs = _xs(cell)
+            low = [_x(bound_at(plane.P, cell.y_lo, x, plane.box, cache)) for x in xs]
+            high = [_x(bound_at(plane.P, cell.y_hi, x, plane.box, cache)) for x in xs]
+            style = {"hatch": "xx", "facecolor": "0.8"} if part.stop == "max_iterations" else {"color": colour}
+            ax.fill_between([_x(x) for x in xs], low, high, lw=0, **style)
+        elif cell.dim == 1 and not cell.on_line:
+            xs = _xs(cell)
+            ax.plot([_x(x) for x in xs], [_x(bound_at(plane.P, cell.y_lo, x, plane.box, cache)) for x in xs],
+                    color="black", lw=0.8)  # fmt: skip
+    for part in plane.parts:  # the points last, above the curves
+        if part.cell.dim == 0 and part.cell.sample is not None:
+            ax.plot([_x(part.cell.sample[0])], [_x(part.cell.sample[1])], "o", color="black", ms=2)
+    a, b, c, d = plane.box
+    ax.set_xlim(_x(a), _x(b))
+    ax.set_ylim(_x(c), _x(d))
+    ax.set_xlabel(xname)
+    ax.set_ylabel(yname)
+    cors = ", ".join(f"{n} = {c}" for n, c in zip(m.system.names, m.restitution))
+    ax.set_title(f"{len(plane.parts)} exact cells; CORs {cors}", fontsize=9)
+    handles = [Patch(color=colours[key], label=label) if key[0] == "exit"
+               else Patch(facecolor="0.8", hatch="xx", label=label) for key, label in legend]  # fmt: skip
+    ax.legend(handles=handles, fontsize=7, loc="upper center", bbox_to_anchor=(0.5, -0.12), ncol=1)
+    return fig
+
+
+def plane_figure(m: Any, path: str | Path) -> Path:
+    """:func:`plane_plot` written to ``path`` (PNG) whole or not at all."""
+    return _save(plane_plot(m), path)

@@ -14,7 +14,7 @@ algebraic y); otherwise it raises :class:`NewCurves` with the unknown factors, a
 (:mod:`verify.maps.plane`) cuts the plane with their zero sets and runs again.
 
 >>> P = polys()
->>> K = PlaneBackend(P, (Fraction(1, 2), Fraction(1, 3)), known=set())
+>>> K = PlaneBackend(P, (Fraction(1, 2), Fraction(1, 3)), known={P.key(P.from_expr(X * Y + 1))})
 >>> x, y = K.parameters
 >>> K.sign(K.one + x * y)
 1
@@ -55,8 +55,8 @@ class Polys:
 
     >>> P = polys("sympy")
     >>> f = P.from_expr(X**2 + Y**2 - 1)
-    >>> P.show(P.discriminant(f)), P.in_y(f, Fraction(0))
-    ('-4*x**2 + 4', (Fraction(-1, 1), Fraction(0, 1), Fraction(1, 1)))
+    >>> P.in_x(P.discriminant(f)), P.in_y(f, Fraction(0))
+    ((Fraction(4, 1), Fraction(0, 1), Fraction(-4, 1)), (Fraction(-1, 1), Fraction(0, 1), Fraction(1, 1)))
     """
 
     def __init__(self, name: str):
@@ -93,32 +93,34 @@ class Polys:
     def show(self, p: Any, names: tuple[str, str] = ("x", "y")) -> str:
         return str(self.expr(p, names))
 
-    def key(self, p: Any) -> tuple:
-        return tuple(sorted(self.terms(p).items()))
+    def key(self, p: Any) -> Any:
+        """A hashable key, equal for equal polynomials."""
+        return str(p) if self.name == "flint" else tuple(sorted(self.terms(p).items()))
 
     def is_zero(self, p: Any) -> bool:
         return bool(p.is_zero()) if self.name == "flint" else bool(p.is_zero)
 
     def is_one(self, p: Any) -> bool:
-        return self.terms(p) == {(0, 0): Fraction(1)}
+        return bool(p.is_one()) if self.name == "flint" else bool(p.is_one)
 
     def is_constant(self, p: Any) -> bool:
-        return all(k == (0, 0) for k in self.terms(p))
+        return bool(p.is_constant()) if self.name == "flint" else p.total_degree() <= 0
 
     def degree_y(self, p: Any) -> int:
-        return max((j for _, j in self.terms(p)), default=0)
+        return max(int(p.degrees()[1]), 0) if self.name == "flint" else max(p.degree(Y), 0)
 
     def leading(self, p: Any) -> Fraction:
-        """The leading coefficient (the term of highest degree, ties by the larger power of x)."""
-        t = self.terms(p)
-        return t[max(t, key=lambda k: (k[0] + k[1], k[0]))]
+        """The leading coefficient in the lexicographic order of x then y."""
+        return _q(p.leading_coefficient() if self.name == "flint" else p.LC())
 
     def monic(self, p: Any) -> Any:
         c = self.leading(p)
         return p if c == 1 else self.scaled(p, 1 / c)
 
     def scaled(self, p: Any, c: Fraction) -> Any:
-        return self.from_dict({k: v * c for k, v in self.terms(p).items()})
+        if self.name == "flint":
+            return p * flint.fmpq(c.numerator, c.denominator)
+        return p * sp.Rational(c.numerator, c.denominator)
 
     def gcd(self, p: Any, q: Any) -> Any:
         return self.monic(p.gcd(q)) if self.name == "flint" else self.monic(sp.gcd(p, q))
@@ -261,14 +263,17 @@ Sample = tuple[Fraction, "Fraction | RealAlgebraic"]
 
 class PlaneBackend(Backend):
     """Rational functions of two parameters on one cell (see the module): ``parameters`` are the two as
-    elements; ``known`` the keys (:meth:`Polys.key`) of the polynomials with one sign on the cell."""
+    elements; ``known`` the keys (:meth:`Polys.key`) of the polynomials with one sign on the cell; on a cell
+    that is a ``point``, every sign is read at the sample."""
 
     name = "plane"
     is_exact = True
     is_rigorous = True
 
-    def __init__(self, P: Polys, sample: Sample, known: set[tuple], names: tuple[str, str] = ("x", "y")):
-        self.P, self.sample, self.known, self.names = P, sample, known, names
+    def __init__(
+        self, P: Polys, sample: Sample, known: set[tuple], names: tuple[str, str] = ("x", "y"), *, point: bool = False
+    ):
+        self.P, self.sample, self.known, self.names, self.point = P, sample, known, names, point
         self.zero, self.one = Frac(P, P.zero, P.one), Frac(P, P.one, P.one)
         self.parameters = (Frac(P, P.x, P.one), Frac(P, P.y, P.one))
         self._signs: dict[Frac, int] = {}
@@ -310,7 +315,9 @@ class PlaneBackend(Backend):
             return found
         if self.P.is_zero(f.n):
             return 0
-        new = [g for p in (f.n, f.d) for g in self.factors_of(p) if self.P.key(g) not in self.known]
+        new = (
+            [] if self.point else [g for p in (f.n, f.d) for g in self.factors_of(p) if self.P.key(g) not in self.known]
+        )
         if new:
             shown = ", ".join(f"{self.P.show(g, self.names)} = 0" for g in new)
             what = self.P.show(f.n, self.names) if self.P.is_one(f.d) else f.expr(self.names)
