@@ -149,3 +149,20 @@ def test_cells_from_the_command_line(tmp_path, capsys) -> None:
         main(["map", "docs/examples/corner-map.json", "--cells", "--max-impulses", "8", "--figure", str(figure)]) == 0
     )
     assert figure.read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
+
+
+def test_a_budget_leaves_the_rest_unexplored() -> None:
+    """A size budget of 5 cells: the map stops, says why, and the cells not run are unexplored with that reason;
+    their areas and the others' still hold the box."""
+    from verify.maps.line import Watch
+
+    watch = Watch(max_parts=5)
+    m = plane_parts(_corner, VELOCITY, BOX, NAMES, 40, watch=watch)
+    assert m.stopped == "the size budget of 5 parts was reached" and watch.parts == 5
+    done = [p for p in m.parts if not p.reason.startswith("not explored")]
+    left = [p for p in m.parts if p.reason == f"not explored: {m.stopped}"]
+    assert len(done) == 5 and left and all(p.stop == "max_iterations" for p in left)
+    low, high = sum(p.cell.area[0] for p in m.parts), sum(p.cell.area[1] for p in m.parts)
+    assert low <= 1 <= high
+    part, velocity = m.at(Fraction(1, 2), Fraction(1, 2))
+    assert velocity is None or part in done

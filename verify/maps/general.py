@@ -237,6 +237,7 @@ def eps_map(
             raise InvalidInput(f"a map of cells takes two parameters; the CORs use {len(names)} ({', '.join(names)})")
         out = EpsMap(system, v, cors, intervals, max_impulses)
         out.plane = _plane(out, names, watch)
+        out.stopped = out.plane.stopped
         return out
     grid = {n: _grid(lo, hi, lines) for n, (lo, hi) in intervals.items()} if len(names) > 1 else {}
     cache = RootCache()
@@ -269,8 +270,7 @@ def _plane(m: EpsMap, names: list[str], watch: Watch | None) -> PlaneMap:
         return system
 
     (a, b), (c, d) = m.parameters[first], m.parameters[second]
-    progress = watch.progress if watch is not None else None
-    return plane_parts(build, m.velocity, (a, b, c, d), (first, second), m.max_impulses, progress=progress)
+    return plane_parts(build, m.velocity, (a, b, c, d), (first, second), m.max_impulses, watch=watch)
 
 
 def _source_numbers(system: System) -> list[tuple[str, Any]]:

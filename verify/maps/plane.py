@@ -38,6 +38,7 @@ from verify.core.rule import solve
 from verify.core.system import System
 from verify.errors import InvalidInput
 from verify.maps.cells import Box, Cell, critical_x, decompose, refine, set_areas
+from verify.maps.line import Watch
 
 
 @dataclass
@@ -64,6 +65,7 @@ class PlaneMap:
     curves: list[Any]
     parts: list[CellPart]
     seconds: float = 0.0
+    stopped: str = ""  #: why the map stopped before it was complete (a budget, Ctrl-C), else ""
 
     def locate(self, x: Fraction, y: Fraction) -> CellPart:
         """The cell that holds the rational point (x, y) of the box."""
@@ -102,33 +104,49 @@ def plane_parts(
     max_impulses: int,
     *,
     arithmetic: str | None = None,
-    progress: Callable[[str], None] | None = None,
+    watch: Watch | None = None,
 ) -> PlaneMap:
     """The map of the box: ``build(K)`` is the system on the plane backend ``K`` (its CORs written in the
-    two parameters ``names``), ``velocity`` the exact entrance velocity (see the module's example)."""
+    two parameters ``names``), ``velocity`` the exact entrance velocity (see the module's example). ``watch``
+    (:class:`~verify.maps.line.Watch`) gives a wall-clock and a size budget (cells run) and the progress; when
+    the map stops early (a budget, or Ctrl-C with a watch), the cells not run are unexplored, with the reason,
+    and ``stopped`` says why."""
     P = polys(arithmetic)
     cache = RootCache()
     curves: dict[tuple, Any] = {}
     started = shown = time.monotonic()
     work: list[tuple[Cell, frozenset[tuple]]] = [(c, frozenset()) for c in reversed(decompose(P, [], box, cache))]
     parts: list[CellPart] = []
-    while work:
-        cell, known = work.pop()
-        try:
-            parts.append(_run_cell(build, velocity, cell, (P, known, names), max_impulses))
-        except NewCurves as found:
-            new = {P.key(f): f for f in found.polys}
-            curves.update(new)
-            children = refine(P, cell, list(new.values()), box, cache)
-            known = known | frozenset(new)
-            work += [(child, known) for child in reversed(children)]
-        if progress is not None and time.monotonic() >= shown + 1:
-            shown = time.monotonic()
-            progress(f"map: {len(parts)} cells done, {len(work)} to run, {len(curves)} curves, "
-                     f"{round(shown - started)} s")  # fmt: skip
+    try:
+        while work and not (watch is not None and watch.check()):
+            cell, known = work.pop()
+            try:
+                part = _run_cell(build, velocity, cell, (P, known, names), max_impulses)
+            except NewCurves as found:
+                new = {P.key(f): f for f in found.polys}
+                curves.update(new)
+                children = refine(P, cell, list(new.values()), box, cache)
+                known = known | frozenset(new)
+                work += [(child, known) for child in reversed(children)]
+                continue
+            parts.append(part)
+            if watch is not None:
+                watch.parts, watch.deepest = watch.parts + 1, max(watch.deepest, part.iterations)
+                if watch.progress is not None and time.monotonic() >= shown + 1:
+                    shown = time.monotonic()
+                    watch.progress(f"map: {len(parts)} cells done, {len(work)} to run, {len(curves)} curves, "
+                                   f"deepest impulse {watch.deepest}, {round(shown - started)} s")  # fmt: skip
+    except KeyboardInterrupt:
+        if watch is None:
+            raise
+        watch.stopped, watch.interrupted = "interrupted (Ctrl-C)", True
+    stopped = watch.stopped if watch is not None else ""
+    for cell, _ in work:  # what the map did not reach: unexplored
+        parts.append(CellPart(cell, "max_iterations", 0, [], [], reason=f"not explored: {stopped}"))
     set_areas(P, [p.cell for p in parts], box, cache)
     parts.sort(key=lambda p: (p.cell.x_lo, p.cell.x_hi.cmp(p.cell.x_lo) != 0, p.cell.sample is None))
-    return PlaneMap(P, names, box, max_impulses, list(curves.values()), parts, seconds=time.monotonic() - started)
+    return PlaneMap(P, names, box, max_impulses, list(curves.values()), parts, seconds=time.monotonic() - started,
+                    stopped=stopped)  # fmt: skip
 
 
 def _run_cell(

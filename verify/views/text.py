@@ -900,17 +900,19 @@ def plane_lines(m: Any) -> list[str]:
            "Area of each behaviour (exact bounds):"]  # fmt: skip
     kinds: dict[tuple, list[Any]] = {}
     for p in m.parts:
-        kinds.setdefault((p.stop, p.iterations, tuple(p.impact_sets)), []).append(p)
-    for (stop, n, sets), parts in kinds.items():
+        kinds.setdefault((p.stop, p.iterations, tuple(p.impact_sets), p.reason), []).append(p)
+    for (stop, n, sets, _), parts in kinds.items():
         low = sum((p.cell.area[0] for p in parts), Fraction(0))
         high = min(sum((p.cell.area[1] for p in parts), Fraction(0)), _box_area(m))
         shown = " ".join("(" + ",".join(str(j) for j in J) + ")" for J in sets)
-        what = f"{stop} after {n} impulses {shown}" if stop != "not_run" else f"not run ({parts[0].reason})"
+        unrun = f"unexplored ({parts[0].reason})" if stop == "max_iterations" else f"not run ({parts[0].reason})"
+        what = f"{stop} after {n} impulses {shown}" if stop == "exit" else unrun
         out.append(f"  {what}: {len(parts)} cells, area {describe_area((low, high))}")
     out += ["", "Cells (x, then y; root k: the k-th real root in y in the box, counted from below):"]
     for p in m.parts:
         shown = " ".join("(" + ",".join(str(j) for j in J) + ")" for J in p.impact_sets)
-        what = f"{p.stop} after {p.iterations}: {shown}" if p.stop != "not_run" else f"not run: {p.reason}"
+        what = (f"{p.stop} after {p.iterations}: {shown}" if p.stop == "exit"
+                else f"unexplored: {p.reason}" if p.stop == "max_iterations" else f"not run: {p.reason}")  # fmt: skip
         out.append(f"  {p.cell.describe(m.P, m.names)}: {what}")
     return out
 
