@@ -166,3 +166,27 @@ def test_a_budget_leaves_the_rest_unexplored() -> None:
     assert low <= 1 <= high
     part, velocity = m.at(Fraction(1, 2), Fraction(1, 2))
     assert velocity is None or part in done
+
+
+def test_four_balls_each_drawn_point_as_a_single_run() -> None:
+    """Four balls of masses 2, 1, 1, 2 with CORs (e_out, e_mid, e_out) (docs/examples/balls-2112-cors.json) at 8
+    impulses: at 60 drawn rational points, a cell that exits gives verify solve's impact sets and exit
+    velocity, and where a cell is unexplored the single run does not exit within the cap either."""
+    from verify.core.system import System
+    from verify.maps.general import case_map
+
+    m = case_map("docs/examples/balls-2112-cors.json", cells=True, max_impulses=8)
+    rng = random.Random(2112)
+    masses = [["2", "0", "0", "0"], ["0", "1", "0", "0"], ["0", "0", "1", "0"], ["0", "0", "0", "2"]]
+    normals = [["-1", "1", "0", "0"], ["0", "-1", "1", "0"], ["0", "0", "-1", "1"]]
+    stops = set()
+    for _ in range(60):
+        x, y = Fraction(rng.randint(0, 1000), 1000), Fraction(rng.randint(0, 1000), 1000)
+        part, velocity = m.at({"e_out": x, "e_mid": y})
+        run = solve(System(masses, normals, [x, y, x]), ["1", "0", "0", "0"], max_iterations=8)
+        stops.add(part.stop)
+        if part.stop == "exit":
+            assert (part.impact_sets, velocity) == (list(run.impact_sets), list(run.exit_velocity)), (x, y)
+        else:
+            assert part.stop == "max_iterations" and run.stop in ("max_iterations", "non_terminating"), (x, y)
+    assert stops == {"exit", "max_iterations"}
