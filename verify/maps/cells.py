@@ -30,15 +30,60 @@ points and arcs). The cells are disjoint and their union is the box.
 
 from __future__ import annotations
 
+import math
 from collections.abc import Sequence
 from dataclasses import dataclass
 from fractions import Fraction
 from typing import Any
 
-from verify.core.algebraic import RealAlgebraic
+import sympy as sp
+
+from verify.core.algebraic import RealAlgebraic, X
 from verify.core.backends.plane import Polys
 from verify.core.backends.ratfunc import FLINT, flint
 from verify.core.backends.symbolic import RootCache
+
+
+class Roots(RootCache):
+    """The real roots of univariate polynomials, computed once each: with python-flint, each irreducible factor's
+    real roots come from FLINT's certified root isolation (``arb_fmpz_poly_complex_roots``: each ball holds
+    exactly one root, real roots with an imaginary part of exactly 0), its ball's exact ends as the isolating
+    interval; else SymPy's, as :class:`~verify.core.backends.symbolic.RootCache` does.
+
+    >>> [str(r) for r in Roots().roots_of((Fraction(-2), Fraction(0), Fraction(1)))]
+    ['-sqrt(2)', 'sqrt(2)']
+    """
+
+    def __init__(self) -> None:
+        super().__init__()
+        self._flint: dict[tuple, list[RealAlgebraic]] = {}
+
+    def roots_of(self, coeffs: tuple) -> list[RealAlgebraic]:
+        if not FLINT or len(coeffs) < 2:
+            return super().roots_of(coeffs)
+        if coeffs not in self._flint:
+            self._flint[coeffs] = _flint_roots(coeffs)
+        return self._flint[coeffs]
+
+
+def _flint_roots(coeffs: Sequence[Fraction]) -> list[RealAlgebraic]:
+    scale = math.lcm(*(Fraction(c).denominator for c in coeffs))
+    f = flint.fmpz_poly([int(Fraction(c) * scale) for c in coeffs])
+    out = []
+    for g, _ in f.factor()[1]:
+        ints = [int(g[i]) for i in range(g.degree() + 1)]
+        if g.degree() == 1:
+            out.append(RealAlgebraic.rational(Fraction(-ints[0], ints[1])))
+            continue
+        poly = sp.Poly(ints[::-1], X, domain="QQ").monic()
+        for c, _m in g.complex_roots():
+            if not c.imag.is_zero():
+                continue
+            (mm, me), (rm, re) = c.real.mid().man_exp(), c.real.rad().man_exp()
+            mid, rad = Fraction(int(mm)) * Fraction(2) ** int(me), Fraction(int(rm)) * Fraction(2) ** int(re)
+            out.append(RealAlgebraic(poly, mid - rad, mid + rad))
+    return sorted(out)
+
 
 Box = tuple[Fraction, Fraction, Fraction, Fraction]  # a, b, c, d: [a, b] x [c, d]
 #: how many rational points of a strip bound the areas of its cells (the bounds tighten with it)
@@ -235,7 +280,7 @@ def refine(P: Polys, cell: Cell, polys: Sequence[Any], box: Box, cache: RootCach
     >>> [c.dim for c in refine(P, square, [P.from_expr(X - Y)], box)]
     [2, 1, 2]
     """
-    cache = cache or RootCache()
+    cache = cache or Roots()
     if cell.dim == 0 or cell.sample is None:
         return [cell]
     zero = (Fraction(0), Fraction(0))
@@ -289,7 +334,7 @@ def _distinct(xs: list[RealAlgebraic]) -> list[RealAlgebraic]:
 def decompose(P: Polys, polys: Sequence[Any], box: Box, cache: RootCache | None = None) -> list[Cell]:
     """The cells of ``box`` on which every polynomial of ``polys`` (irreducible) has one sign (see the
     module), each with its area bounds, in order of x then y."""
-    cache = cache or RootCache()
+    cache = cache or Roots()
     xs = critical_x(P, polys, box, cache)
     edges = (Bound(value=box[2]), Bound(value=box[3]))
     cells: list[Cell] = []
@@ -364,7 +409,7 @@ def set_areas(P: Polys, cells: Sequence[Cell], box: Box, cache: RootCache | None
     """Set the area bounds of the open cells among ``cells``: every side is monotone in x inside a cell (the
     curves' turning x are critical), so between two rational x a side lies between its values there; the
     two end pieces, next to the cell's algebraic ends, count from 0 to their whole height."""
-    cache = cache or RootCache()
+    cache = cache or Roots()
     _, _, c, d = box
     values: dict[tuple, tuple[Fraction, Fraction]] = {}
 

@@ -32,12 +32,11 @@ from typing import Any
 import sympy as sp
 
 from verify.core.backends.plane import Frac, NewCurves, PlaneBackend, Polys, polys
-from verify.core.backends.symbolic import RootCache
 from verify.core.format import format_decimal, format_exact
 from verify.core.rule import solve
 from verify.core.system import System
 from verify.errors import InvalidInput
-from verify.maps.cells import Box, Cell, critical_x, decompose, refine, set_areas
+from verify.maps.cells import Box, Cell, Roots, critical_x, decompose, refine, set_areas
 from verify.maps.line import Watch
 
 
@@ -72,7 +71,7 @@ class PlaneMap:
         a, b, c, d = self.box
         if not (a <= x <= b and c <= y <= d):
             raise InvalidInput(f"({format_exact(x)}, {format_exact(y)}) is outside the box of the map")
-        cache = RootCache()
+        cache = Roots()
         for part in self.parts:
             if part.cell.contains(self.P, x, y, self.box, cache):
                 return part
@@ -112,7 +111,7 @@ def plane_parts(
     the map stops early (a budget, or Ctrl-C with a watch), the cells not run are unexplored, with the reason,
     and ``stopped`` says why."""
     P = polys(arithmetic)
-    cache = RootCache()
+    cache = Roots()
     curves: dict[tuple, Any] = {}
     started = shown = time.monotonic()
     work: list[tuple[Cell, frozenset[tuple]]] = [(c, frozenset()) for c in reversed(decompose(P, [], box, cache))]

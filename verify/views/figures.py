@@ -666,11 +666,10 @@ def plane_plot(m: Any) -> Any:
     plt = _pyplot()
     from matplotlib.patches import Patch
 
-    from verify.core.backends.symbolic import RootCache
-    from verify.maps.cells import bound_at
+    from verify.maps.cells import Roots, bound_at
 
     plane, (xname, yname) = m.plane, m.plane.names
-    cache = RootCache()
+    cache = Roots()
     legend = plane_legend(m)
     colours = {key: plt.get_cmap("tab10")(k % 10) for k, (key, _) in enumerate(legend)}
     fig, ax = plt.subplots(figsize=(6.2, 5.0), constrained_layout=True)

@@ -875,6 +875,10 @@ def boundary_lines(parts: Sequence[Any], name: str) -> list[str]:
     return out
 
 
+#: the most curves a map of cells lists in its text (all of them are in its JSON)
+SHOWN_CURVES = 12
+
+
 def plane_lines(m: Any) -> list[str]:
     """A map of cells (:class:`verify.maps.plane.PlaneMap`) in words: the curves, the area of each behaviour
     (exact bounds) and one row per cell.
@@ -894,7 +898,11 @@ def plane_lines(m: Any) -> list[str]:
     from verify.maps.plane import describe_area
 
     dims = Counter(p.cell.dim for p in m.parts)
-    curves = "; ".join(f"{m.P.show(f, m.names)} = 0" for f in m.curves)
+    curves = (
+        "; ".join(f"{m.P.show(f, m.names)} = 0" for f in m.curves)
+        if len(m.curves) <= SHOWN_CURVES
+        else f"(more than {SHOWN_CURVES}: each in the JSON, --json)"
+    )
     counts = f"{dims[2]} open regions, {dims[1]} arcs, {dims[0]} points"
     out = ["", f"The box cut into {len(m.parts)} exact cells ({counts}) by {len(m.curves)} curves:", f"  {curves}", "",
            "Area of each behaviour (exact bounds):"]  # fmt: skip
