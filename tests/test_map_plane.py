@@ -190,3 +190,26 @@ def test_four_balls_each_drawn_point_as_a_single_run() -> None:
         else:
             assert part.stop == "max_iterations" and run.stop in ("max_iterations", "non_terminating"), (x, y)
     assert stops == {"exit", "max_iterations"}
+
+
+def test_a_cell_run_past_the_deadline_stops() -> None:
+    """The wall-clock budget is checked at every sign of a cell's run, not only between cells: past its deadline a
+    sign raises OutOfTime, and the map leaves that cell unexplored with the budget's reason."""
+    from verify.core.backends.plane import OutOfTime
+    from verify.maps.line import Watch
+
+    K = PlaneBackend(polys(), (Fraction(1, 2), Fraction(1, 3)), known=set(), deadline=0.0)
+    with pytest.raises(OutOfTime):
+        K.sign(K.parameters[0])
+
+    class LateWatch(Watch):  # lets the first cell start, then says the budget ran out (as after a long run)
+        calls = 0
+
+        def check(self) -> bool:
+            self.calls += 1
+            return self.calls > 1 and super().check()
+
+    watch = LateWatch(seconds=1e-9)
+    m = plane_parts(_corner, VELOCITY, BOX, NAMES, 40, watch=watch)
+    assert m.stopped.startswith("the wall-clock budget") and watch.calls == 2
+    assert {p.reason for p in m.parts} == {f"not explored: {m.stopped}"}

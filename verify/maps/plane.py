@@ -31,7 +31,7 @@ from typing import Any
 
 import sympy as sp
 
-from verify.core.backends.plane import Frac, NewCurves, PlaneBackend, Polys, polys
+from verify.core.backends.plane import Frac, NewCurves, OutOfTime, PlaneBackend, Polys, polys
 from verify.core.format import format_decimal, format_exact
 from verify.core.rule import solve
 from verify.core.system import System
@@ -114,13 +114,18 @@ def plane_parts(
     cache = Roots()
     curves: dict[tuple, Any] = {}
     started = shown = time.monotonic()
+    deadline = watch.started + watch.seconds if watch is not None and watch.seconds is not None else None
     work: list[tuple[Cell, frozenset[tuple]]] = [(c, frozenset()) for c in reversed(decompose(P, [], box, cache))]
     parts: list[CellPart] = []
     try:
         while work and not (watch is not None and watch.check()):
             cell, known = work.pop()
             try:
-                part = _run_cell(build, velocity, cell, (P, known, names), max_impulses)
+                part = _run_cell(build, velocity, cell, (P, known, names), max_impulses, deadline=deadline)
+            except OutOfTime:
+                work.append((cell, known))
+                watch.check()  # type: ignore[union-attr]
+                break
             except NewCurves as found:
                 new = {P.key(f): f for f in found.polys}
                 curves.update(new)
@@ -154,13 +159,15 @@ def _run_cell(
     cell: Cell,
     known: tuple[Polys, frozenset[tuple], tuple[str, str]],
     max_impulses: int,
+    *,
+    deadline: float | None = None,
 ) -> CellPart:
     """The part of one cell (raises :class:`NewCurves` when its run asks a sign the cell does not decide);
     ``known`` is the polynomials' arithmetic, the keys of the curves with one sign on it and the parameters."""
     P, keys, names = known
     if cell.sample is None:
         return CellPart(cell, "not_run", 0, [], [], reason="an irrational abscissa: no rational point, measure 0")
-    K = PlaneBackend(P, cell.sample, set(keys), names, point=cell.dim == 0)
+    K = PlaneBackend(P, cell.sample, set(keys), names, point=cell.dim == 0, deadline=deadline)
     # no proofs of never-exits yet: a cone search asks signs of high degree, each a new curve that cuts the cell
     r = solve(build(K), velocity, max_iterations=max_impulses, trace=False, certify=False)
     v = [K.to_number(x) for x in r.exit_velocity]

@@ -26,6 +26,7 @@ verify.core.backends.plane.NewCurves: the sign of x - y is read on a cell that n
 
 from __future__ import annotations
 
+import time
 from collections.abc import Sequence
 from fractions import Fraction
 from typing import Any
@@ -61,6 +62,7 @@ class Polys:
 
     def __init__(self, name: str):
         self.name = name
+        self._shown: dict[tuple, str] = {}
         if name == "flint":
             self.ctx = flint.fmpq_mpoly_ctx.get(("x", "y"))
             self.x, self.y = self.ctx.gens()
@@ -91,7 +93,12 @@ class Polys:
         return sp.Add(*[sp.Rational(c.numerator, c.denominator) * a**i * b**j for (i, j), c in self.terms(p).items()])
 
     def show(self, p: Any, names: tuple[str, str] = ("x", "y")) -> str:
-        return str(self.expr(p, names))
+        """p as SymPy prints it, in the parameters' ``names`` (once per polynomial: a map names its curves in
+        every cell they bound)."""
+        key = (self.key(p), names)
+        if key not in self._shown:
+            self._shown[key] = str(self.expr(p, names))
+        return self._shown[key]
 
     def key(self, p: Any) -> Any:
         """A hashable key, equal for equal polynomials."""
@@ -164,8 +171,12 @@ class Polys:
 
     def in_y(self, p: Any, x: Fraction) -> tuple[Fraction, ...]:
         """p(x, y) at a rational x: its coefficients in y, lowest degree first."""
-        t = self.terms(p)
         out = [Fraction(0)] * (self.degree_y(p) + 1)
+        if self.name == "flint":  # substituted by flint, then read off
+            for (_, j), c in p.subs({"x": flint.fmpq(x.numerator, x.denominator)}).to_dict().items():
+                out[int(j)] = _q(c)
+            return tuple(out)
+        t = self.terms(p)
         for (i, j), c in t.items():
             out[j] += c * x**i
         return tuple(out)
@@ -250,11 +261,19 @@ class Frac:
 
 class NewCurves(Undecided):
     """A sign asked on a cell depends on curves the decomposition does not know yet: ``polys`` (irreducible
-    factors, canonical) must cut the plane first."""
+    factors, canonical) must cut the plane first. The message is written only when shown (a map raises
+    thousands of these)."""
 
-    def __init__(self, polys: list[Any], message: str):
-        super().__init__(message)
-        self.polys = polys
+    def __init__(self, polys: list[Any], message: Any):
+        super().__init__("")
+        self.polys, self._message = polys, message
+
+    def __str__(self) -> str:
+        return str(self._message()) if callable(self._message) else str(self._message)
+
+
+class OutOfTime(Exception):
+    """The wall-clock deadline of a map passed during a cell's run (the cell is then left unexplored)."""
 
 
 #: a sample point: a rational x and a rational or real algebraic y
@@ -271,9 +290,17 @@ class PlaneBackend(Backend):
     is_rigorous = True
 
     def __init__(
-        self, P: Polys, sample: Sample, known: set[tuple], names: tuple[str, str] = ("x", "y"), *, point: bool = False
+        self,
+        P: Polys,
+        sample: Sample,
+        known: set[tuple],
+        names: tuple[str, str] = ("x", "y"),
+        *,
+        point: bool = False,
+        deadline: float | None = None,
     ):
         self.P, self.sample, self.known, self.names, self.point = P, sample, known, names, point
+        self.deadline = deadline  #: a time.monotonic() after which a sign raises OutOfTime
         self.zero, self.one = Frac(P, P.zero, P.one), Frac(P, P.one, P.one)
         self.parameters = (Frac(P, P.x, P.one), Frac(P, P.y, P.one))
         self._signs: dict[Frac, int] = {}
@@ -318,10 +345,16 @@ class PlaneBackend(Backend):
         new = (
             [] if self.point else [g for p in (f.n, f.d) for g in self.factors_of(p) if self.P.key(g) not in self.known]
         )
+        if self.deadline is not None and time.monotonic() > self.deadline:
+            raise OutOfTime("the map's wall-clock budget ran out during a cell's run")
         if new:
-            shown = ", ".join(f"{self.P.show(g, self.names)} = 0" for g in new)
-            what = self.P.show(f.n, self.names) if self.P.is_one(f.d) else f.expr(self.names)
-            raise NewCurves(new, f"the sign of {what} is read on a cell that no curve {shown} bounds")
+
+            def message() -> str:
+                shown = ", ".join(f"{self.P.show(g, self.names)} = 0" for g in new)
+                what = self.P.show(f.n, self.names) if self.P.is_one(f.d) else f.expr(self.names)
+                return f"the sign of {what} is read on a cell that no curve {shown} bounds"
+
+            raise NewCurves(new, message)
         s = self.value_sign(f.n) * self.value_sign(f.d)
         self._signs[f] = s
         return s
