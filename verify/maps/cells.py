@@ -42,6 +42,7 @@ from verify.core.algebraic import RealAlgebraic, X
 from verify.core.backends.plane import Polys
 from verify.core.backends.ratfunc import FLINT, flint
 from verify.core.backends.symbolic import RootCache
+from verify.core.format import format_decimal
 
 
 class Roots(RootCache):
@@ -145,9 +146,16 @@ class Cell:
         """Whether the cell lies on one vertical line x = x_lo."""
         return self.x_lo.cmp(self.x_hi) == 0
 
-    def describe(self, P: Polys, names: tuple[str, str]) -> str:
+    def describe(self, P: Polys, names: tuple[str, str], *, digits: int | None = None) -> str:
+        """The cell in words: its x (an exact number, or between two; with ``digits``, an irrational x as that
+        many decimal digits, as the text of a map shows it: SymPy's exact form of a root of high degree is slow
+        to write), then its y."""
         x, y = names
-        xs = f"{x} = {self.x_lo}" if self.on_line else f"{self.x_lo} < {x} < {self.x_hi}"
+
+        def shown(r: RealAlgebraic) -> str:
+            return str(r) if digits is None or r.is_rational else format_decimal(r, digits)
+
+        xs = f"{x} = {shown(self.x_lo)}" if self.on_line else f"{shown(self.x_lo)} < {x} < {shown(self.x_hi)}"
         if self.sample is None:
             where = (self.y_lo.describe(P, names) if self.y_lo == self.y_hi
                      else f"{self.y_lo.value_text(P, names)} < {y} < {self.y_hi.value_text(P, names)}")  # fmt: skip

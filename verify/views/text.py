@@ -917,12 +917,16 @@ def plane_lines(m: Any) -> list[str]:
         unrun = f"unexplored ({parts[0].reason})" if stop == "max_iterations" else f"not run ({parts[0].reason})"
         what = f"{stop} after {n} impulses {shown}" if stop == "exit" else unrun
         out.append(f"  {what}: {len(parts)} cells, area {describe_area((low, high))}")
-    out += ["", "Cells (x, then y; root k: the k-th real root in y in the box, counted from below):"]
+    out += [
+        "",
+        "Cells (x, then y; root k: the k-th real root in y in the box, counted from below; an irrational x "
+        "to 12 digits, exact in the JSON):",
+    ]
     for p in m.parts:
         shown = " ".join("(" + ",".join(str(j) for j in J) + ")" for J in p.impact_sets)
         what = (f"{p.stop} after {p.iterations}: {shown}" if p.stop == "exit"
                 else f"unexplored: {p.reason}" if p.stop == "max_iterations" else f"not run: {p.reason}")  # fmt: skip
-        out.append(f"  {p.cell.describe(m.P, m.names)}: {what}")
+        out.append(f"  {p.cell.describe(m.P, m.names, digits=12)}: {what}")
     return out
 
 
