@@ -9,6 +9,7 @@ from fractions import Fraction
 import pytest
 import sympy as sp
 
+from verify.core.algebraic import RealAlgebraic
 from verify.core.backends.plane import FLINT_POLYS, Frac, PlaneBackend, polys
 from verify.core.rule import solve
 from verify.maps.cells import decompose
@@ -81,18 +82,21 @@ def test_the_cells_fill_the_box(corner_map: PlaneMap) -> None:
 
 
 def test_the_line_through_the_map_is_the_one_parameter_map(corner_map: PlaneMap) -> None:
-    """On the line e2 = 1/2 the cells cut e1 where the one-parameter map does (3/65 and 20/117)."""
-    cuts = []
-    for k in range(1, 400):
-        a, b = (
-            corner_map.locate(Fraction(k - 1, 400), Fraction(1, 2)),
-            corner_map.locate(Fraction(k, 400), Fraction(1, 2)),
-        )
-        if a.impact_sets != b.impact_sets:
-            cuts.append(Fraction(k, 400))
-    assert [c for c in cuts] == [Fraction(19, 400), Fraction(69, 400)]  # 3/65 = 0.0461..., 20/117 = 0.1709...
-    part, _ = corner_map.at(Fraction(20, 117), Fraction(1, 2))
-    assert part.iterations == 1  # the closed end, as [3/65, 20/117] in verify/maps/line.py's example
+    """On the line e2 = 1/2 the cells behave as the one-parameter map of that line (verify.maps.line) does: the
+    same impact sets at 401 rational e1, and the same part at each end of its pieces."""
+    from verify.core.backends.symbolic import EPS, Piece
+    from verify.maps.line import line_parts
+
+    parts = line_parts(lambda K: corner_system("1/2", EPS, "1/2", backend=K), VELOCITY, Piece.closed(0, 1), 40)
+    assert len(parts) > 1  # the line crosses cells of different behaviours
+    for k in range(401):
+        e1 = Fraction(k, 400)
+        line = next(p for p in parts if p.piece.contains(RealAlgebraic.rational(e1)))
+        assert corner_map.locate(e1, Fraction(1, 2)).impact_sets == line.impact_sets, e1
+    for part in parts:
+        for end in (part.piece.lower, part.piece.upper):
+            if end.is_rational and part.piece.contains(end):
+                assert corner_map.locate(end.rational_value(), Fraction(1, 2)).impact_sets == part.impact_sets
 
 
 @pytest.mark.skipif(not FLINT_POLYS, reason="python-flint is not installed (the fast extra)")

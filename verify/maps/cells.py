@@ -40,7 +40,7 @@ import sympy as sp
 
 from verify.core.algebraic import RealAlgebraic, X
 from verify.core.backends.plane import Polys
-from verify.core.backends.ratfunc import FLINT, flint
+from verify.core.backends.ratfunc import FLINT, as_fraction, flint
 from verify.core.backends.symbolic import RootCache
 from verify.core.format import format_decimal
 
@@ -206,12 +206,7 @@ def critical_x(P: Polys, polys: Sequence[Any], box: Box, cache: RootCache) -> li
     found = [RealAlgebraic.rational(a), RealAlgebraic.rational(b)]
     for coeffs in dict.fromkeys(_trim(p) for p in projected):
         found += _roots(cache, coeffs, a, b, open_=True)
-    found.sort()
-    out: list[RealAlgebraic] = []
-    for r in found:
-        if not out or out[-1].cmp(r) != 0:
-            out.append(r)
-    return out
+    return _distinct(found)
 
 
 def sections(
@@ -378,7 +373,7 @@ def narrowed(r: RealAlgebraic, width: Fraction) -> tuple[Fraction, Fraction]:
     """
     if r.is_rational:
         return r.lo, r.lo
-    coeffs = [Fraction(int(c.p), int(c.q)) if hasattr(c, "p") else Fraction(c) for c in reversed(r.poly.all_coeffs())]
+    coeffs = [as_fraction(c) for c in reversed(r.poly.all_coeffs())]
     if FLINT:
         f = flint.fmpq_poly([flint.fmpq(q.numerator, q.denominator) for q in coeffs])
         a, b = flint.fmpq(r.lo.numerator, r.lo.denominator), flint.fmpq(r.hi.numerator, r.hi.denominator)
@@ -396,21 +391,17 @@ def narrowed(r: RealAlgebraic, width: Fraction) -> tuple[Fraction, Fraction]:
     left = at(a)
     if left == 0 or at(b) == 0:
         x = a if left == 0 else b
-        return _fraction(x), _fraction(x)
+        return as_fraction(x), as_fraction(x)
     while b - a > w:
         m = (a + b) / 2
         value = at(m)
         if value == 0:
-            return _fraction(m), _fraction(m)
+            return as_fraction(m), as_fraction(m)
         if (value > 0) == (left > 0):
             a = m
         else:
             b = m
-    return _fraction(a), _fraction(b)
-
-
-def _fraction(q: Any) -> Fraction:
-    return Fraction(int(q.p), int(q.q)) if hasattr(q, "p") else Fraction(q)
+    return as_fraction(a), as_fraction(b)
 
 
 def set_areas(P: Polys, cells: Sequence[Cell], box: Box, cache: RootCache | None = None) -> None:

@@ -36,7 +36,7 @@ from verify.core.format import format_decimal, format_exact
 from verify.core.rule import solve
 from verify.core.system import System
 from verify.errors import InvalidInput
-from verify.maps.cells import Box, Cell, Roots, critical_x, decompose, refine, set_areas
+from verify.maps.cells import Box, Cell, Roots, decompose, refine, set_areas
 from verify.maps.line import Watch
 
 
@@ -84,6 +84,16 @@ class PlaneMap:
         if part.stop != "exit":
             return part, None
         return part, [self.P.value(f.n, x, y) / self.P.value(f.d, x, y) for f in part.velocity]
+
+    @property
+    def box_area(self) -> Fraction:
+        a, b, c, d = self.box
+        return (b - a) * (d - c)
+
+    def bounds_of(self, parts: Sequence[CellPart]) -> tuple[Fraction, Fraction]:
+        """Bounds of the total area of ``parts``: the sums of their cells' bounds, the upper one at most the box's."""
+        low = sum((p.cell.area[0] for p in parts), Fraction(0))
+        return low, min(sum((p.cell.area[1] for p in parts), Fraction(0)), self.box_area)
 
     def area(self, stop: str) -> tuple[Fraction, Fraction]:
         """Bounds of the total area of the cells that end with ``stop`` (exact rationals): the sums of their
@@ -221,4 +231,4 @@ def describe_area(bounds: tuple[Fraction, Fraction]) -> str:
     return f"between {format_decimal(lo, 6)} and {format_decimal(hi, 6)}"
 
 
-__all__ = ["CellPart", "PlaneMap", "critical_x", "describe_area", "plane_json", "plane_parts"]
+__all__ = ["CellPart", "PlaneMap", "describe_area", "plane_json", "plane_parts"]

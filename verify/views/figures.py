@@ -635,18 +635,12 @@ def plane_legend(m: Any) -> list[tuple[tuple, str]]:
     total = plane.area("exit")[1] + 1  # an upper bound of any area, for the order only
     out = []
     for key, parts in sorted(kinds.items(), key=lambda kv: total - sum(p.cell.area[0] for p in kv[1])):
-        low = sum((p.cell.area[0] for p in parts), Fraction(0))
-        high = min(sum((p.cell.area[1] for p in parts), Fraction(0)), _box_area(plane))
+        low, high = plane.bounds_of(parts)
         stop, n, sets = key
         what = (f"exit after {n}: {_named_sequence(list(sets), names)}" if stop == "exit"
                 else f"unexplored: still impacting after {n} impulses")  # fmt: skip
         out.append((key, f"{what}, area {_x(low):.3g}-{_x(high):.3g}"))
     return out
-
-
-def _box_area(plane: Any) -> Fraction:
-    a, b, c, d = plane.box
-    return (b - a) * (d - c)
 
 
 def _xs(cell: Any) -> list[Fraction]:

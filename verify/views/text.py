@@ -911,8 +911,7 @@ def plane_lines(m: Any) -> list[str]:
         key = (p.stop, p.iterations, tuple(p.impact_sets), "") if p.stop == "exit" else (p.stop, 0, (), p.reason)
         kinds.setdefault(key, []).append(p)
     for (stop, n, sets, _), parts in kinds.items():
-        low = sum((p.cell.area[0] for p in parts), Fraction(0))
-        high = min(sum((p.cell.area[1] for p in parts), Fraction(0)), _box_area(m))
+        low, high = m.bounds_of(parts)
         shown = " ".join("(" + ",".join(str(j) for j in J) + ")" for J in sets)
         unrun = f"unexplored ({parts[0].reason})" if stop == "max_iterations" else f"not run ({parts[0].reason})"
         what = f"{stop} after {n} impulses {shown}" if stop == "exit" else unrun
@@ -928,11 +927,6 @@ def plane_lines(m: Any) -> list[str]:
                 else f"unexplored: {p.reason}" if p.stop == "max_iterations" else f"not run: {p.reason}")  # fmt: skip
         out.append(f"  {p.cell.describe(m.P, m.names, digits=12)}: {what}")
     return out
-
-
-def _box_area(m: Any) -> Fraction:
-    a, b, c, d = m.box
-    return (b - a) * (d - c)
 
 
 def eps_map_text(m: Any, *, exact_in: str = "eps_map_json(m)") -> str:

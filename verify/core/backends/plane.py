@@ -27,7 +27,6 @@ verify.core.backends.plane.NewCurves: the sign of x - y is read on a cell that n
 from __future__ import annotations
 
 import time
-from collections.abc import Sequence
 from fractions import Fraction
 from typing import Any
 
@@ -35,19 +34,13 @@ import sympy as sp
 
 from verify.core.algebraic import RealAlgebraic
 from verify.core.backends.base import Backend
-from verify.core.backends.ratfunc import FLINT, flint
+from verify.core.backends.ratfunc import FLINT, as_fraction, flint
 from verify.errors import BadNumber, Undecided
 
 #: whether python-flint's polynomials in two variables are there (the ``fast`` extra)
 FLINT_POLYS = FLINT
 
 X, Y = sp.symbols("x y")
-
-
-def _q(c: Any) -> Fraction:
-    if hasattr(c, "p") and hasattr(c, "q"):
-        return Fraction(int(c.p), int(c.q))
-    return Fraction(c)
 
 
 class Polys:
@@ -80,13 +73,13 @@ class Polys:
     def terms(self, p: Any) -> dict[tuple[int, int], Fraction]:
         """The coefficients of p by exponents (i, j) of x^i y^j."""
         if self.name == "flint":
-            return {(int(k[0]), int(k[1])): _q(v) for k, v in p.to_dict().items()}
-        return {(int(k[0]), int(k[1])): _q(v) for k, v in p.as_dict().items() if v}
+            return {(int(k[0]), int(k[1])): as_fraction(v) for k, v in p.to_dict().items()}
+        return {(int(k[0]), int(k[1])): as_fraction(v) for k, v in p.as_dict().items() if v}
 
     def from_expr(self, e: Any) -> Any:
         """A SymPy polynomial expression in x and y (rational coefficients)."""
         poly = sp.Poly(sp.sympify(e), X, Y, domain="QQ")
-        return self.from_dict({k: _q(v) for k, v in poly.as_dict().items()})
+        return self.from_dict({k: as_fraction(v) for k, v in poly.as_dict().items()})
 
     def expr(self, p: Any, names: tuple[str, str] = ("x", "y")) -> Any:
         a, b = sp.Symbol(names[0]), sp.Symbol(names[1])
@@ -118,7 +111,7 @@ class Polys:
 
     def leading(self, p: Any) -> Fraction:
         """The leading coefficient in the lexicographic order of x then y."""
-        return _q(p.leading_coefficient() if self.name == "flint" else p.LC())
+        return as_fraction(p.leading_coefficient() if self.name == "flint" else p.LC())
 
     def monic(self, p: Any) -> Any:
         c = self.leading(p)
@@ -174,7 +167,7 @@ class Polys:
         out = [Fraction(0)] * (self.degree_y(p) + 1)
         if self.name == "flint":  # substituted by flint, then read off
             for (_, j), c in p.subs({"x": flint.fmpq(x.numerator, x.denominator)}).to_dict().items():
-                out[int(j)] = _q(c)
+                out[int(j)] = as_fraction(c)
             return tuple(out)
         t = self.terms(p)
         for (i, j), c in t.items():
@@ -328,13 +321,7 @@ class PlaneBackend(Backend):
     def value_sign(self, p: Any) -> int:
         """The sign of the polynomial p at the sample point, exactly."""
         x, y = self.sample
-        coeffs = self.P.in_y(p, x)
-        if isinstance(y, Fraction):
-            total = Fraction(0)
-            for c in reversed(coeffs):
-                total = total * y + c
-            return (total > 0) - (total < 0)
-        return y.sign_of(coeffs)
+        return (y if isinstance(y, RealAlgebraic) else RealAlgebraic.rational(y)).sign_of(self.P.in_y(p, x))
 
     def sign(self, f: Frac) -> int:
         found = self._signs.get(f)
@@ -370,8 +357,3 @@ class PlaneBackend(Backend):
 
     def describe(self) -> str:
         return f"plane ({self.names[0]}, {self.names[1]} on one cell), exact"
-
-
-def sample_of(values: Sequence[Any]) -> Sample:
-    """A sample point from two numbers (the second may be a RealAlgebraic)."""
-    return Fraction(values[0]), values[1]

@@ -40,7 +40,7 @@ EPS = sp.Symbol("eps")
 Coefficients = tuple[Fraction | int, ...]
 
 
-def _fraction(q: Any) -> Fraction:
+def as_fraction(q: Any) -> Fraction:
     """A flint ``fmpq`` or a SymPy rational as a Fraction."""
     if hasattr(q, "p"):
         return Fraction(int(q.p), int(q.q))
@@ -214,7 +214,7 @@ class FlintArithmetic:
     def coefficients(self, x: RatFunc) -> tuple[Coefficients, Coefficients]:
         """The numerator's and the denominator's coefficients, lowest degree first (the denominator
         monic; a scalar may move between them in the other arithmetic: compare functions, not these)."""
-        return tuple(map(_fraction, x.n.coeffs())), tuple(map(_fraction, x.d.coeffs()))
+        return tuple(map(as_fraction, x.n.coeffs())), tuple(map(as_fraction, x.d.coeffs()))
 
     def keys(self, x: RatFunc) -> tuple[Coefficients, Coefficients]:
         """The numerator and the denominator as integer coefficients, lowest degree first: a multiple of
@@ -229,7 +229,7 @@ class FlintArithmetic:
     def at(self, x: RatFunc, q: Fraction) -> Fraction:
         """x at the rational q (the denominator non-zero there)."""
         t = flint.fmpq(q.numerator, q.denominator)
-        return _fraction(x.n(t) / x.d(t))
+        return as_fraction(x.n(t) / x.d(t))
 
     def expr(self, x: RatFunc) -> Any:
         """x as a SymPy expression in :data:`EPS`."""
@@ -263,7 +263,7 @@ class SympyArithmetic:
         """The numerator's and the denominator's coefficients, lowest degree first."""
         out = []
         for p in (x.numer, x.denom):
-            terms = {m[0]: _fraction(c) for m, c in p.items()}
+            terms = {m[0]: as_fraction(c) for m, c in p.items()}
             out.append(tuple(terms.get(k, Fraction(0)) for k in range(max(terms, default=-1) + 1)))
         return out[0], out[1]
 
@@ -278,7 +278,7 @@ class SympyArithmetic:
     def at(self, x: Any, q: Fraction) -> Fraction:
         """x at the rational q (the denominator non-zero there)."""
         value = x.numer(q) / x.denom(q)
-        return _fraction(sp.Rational(value))
+        return as_fraction(sp.Rational(value))
 
     def expr(self, x: Any) -> Any:
         """x as a SymPy expression in :data:`EPS`."""
