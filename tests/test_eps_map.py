@@ -124,13 +124,19 @@ def test_bad_map_input_is_one_line_and_exit_2(capsys, extra, message) -> None:
     assert code == 2 and out == "" and err.count("\n") == 1 and message in err, err
 
 
-def test_a_system_with_irrational_numbers_is_refused(tmp_path, capsys) -> None:
+def test_a_system_with_algebraic_numbers_is_mapped_and_others_are_refused(tmp_path, capsys) -> None:
+    """Issue 37, item 5: a normal of -sqrt(3)/3 is mapped over Q(sqrt(3)); a number that is not algebraic is
+    refused with exit code 2, naming it."""
     case = json.loads(CORNER.read_text())
     case["cases"][0]["normals"][0][0] = "-sqrt(3)/3"
     path = tmp_path / "c.json"
     path.write_text(json.dumps(case))
-    code, _, err = run_cli(capsys, ["map", str(path)])
-    assert code == 2 and "a map needs a system of rational numbers" in err, err
+    code, out, _ = run_cli(capsys, ["map", str(path), "--lines", "2", "--max-impulses", "4", "--json"])
+    assert code == 0 and "sqrt(3)" in out
+    case["cases"][0]["normals"][0][0] = "-tan(3/10)"
+    path.write_text(json.dumps(case))
+    code, out, err = run_cli(capsys, ["map", str(path)])
+    assert code == 2 and out == "" and "cases[0].normals[0][0] = -tan(3/10) is not an algebraic number" in err, err
 
 
 def test_the_json_and_the_text_name_the_contacts_and_the_parameter() -> None:
@@ -176,20 +182,23 @@ def test_the_text_says_where_the_exact_endpoints_are_for_its_caller(capsys) -> N
     assert code == 0 and "exact endpoints (in --json)" in out
 
 
-def test_an_irrational_velocity_is_named_as_the_velocity_not_as_a_parameter(tmp_path, capsys) -> None:
-    """Item 18: ``velocity[0] = sqrt(2)`` was refused as if the parameters were irrational."""
+def test_a_velocity_that_is_not_algebraic_is_named_as_the_velocity_not_as_a_parameter(tmp_path, capsys) -> None:
+    """Item 18: ``velocity[0] = sqrt(2)`` was refused as if the parameters were irrational (it is mapped now, over
+    Q(sqrt(2)): issue 37); a velocity that is not algebraic is refused as the velocity."""
     system = System([[1, 0], [0, 1]], [[-1, 1]], [1])
+    (part,) = eps_map(system, ["sqrt(2)", "0"], ["e"]).lines[0].parts
+    assert part.stop == "exit" and "sqrt(2)" in str(part.exit_velocity[0])
     with pytest.raises(InvalidInput) as info:
-        eps_map(system, ["sqrt(2)", "0"], ["e"])
+        eps_map(system, ["pi", "0"], ["e"])
     message = str(info.value)
-    assert message.startswith("velocity[0] = sqrt(2) is not rational: the velocity") and "parameters" not in message
+    assert message == "a map needs algebraic numbers: velocity[0] = pi is not algebraic"
     case = json.loads(CORNER.read_text())
-    case["cases"][0]["velocity"][1] = "-sqrt(2)/10"
+    case["cases"][0]["velocity"][1] = "-pi/10"
     path = tmp_path / "c.json"
     path.write_text(json.dumps(case))
     code, out, err = run_cli(capsys, ["map", str(path)])
     assert code == 2 and out == "" and err.count("\n") == 1, err
-    assert "cases[0]: velocity[1] = -sqrt(2)/10 is not rational: the velocity (and every number of the system)" in err
+    assert "cases[0].velocity[1] = -pi/10 is not an algebraic number" in err
 
 
 # -- item 20 of issue 34: the figure's legend, `verify map --figure`, contacts named by the case -----------------

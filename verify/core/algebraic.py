@@ -104,7 +104,7 @@ def _sign(x: Any) -> int:
     return int(x > 0) - int(x < 0)
 
 
-def _count_roots(p: sp.Poly, lo: Fraction, hi: Fraction) -> int:
+def count_roots(p: sp.Poly, lo: Fraction, hi: Fraction) -> int:
     """Real roots of p in the closed interval [lo, hi], exactly (Sturm)."""
     return int(p.count_roots(sp.Rational(lo.numerator, lo.denominator), sp.Rational(hi.numerator, hi.denominator)))
 
@@ -200,7 +200,7 @@ class RealAlgebraic:
         if self.poly != other.poly:
             return False
         lo, hi = max(self.lo, other.lo), min(self.hi, other.hi)
-        return lo <= hi and _count_roots(self.poly, lo, hi) == 1
+        return lo <= hi and count_roots(self.poly, lo, hi) == 1
 
     def cmp(self, other: RealAlgebraic) -> int:
         """-1, 0 or 1, exactly."""

@@ -681,6 +681,12 @@ def exact_backend_for_velocity(system: System, velocity: Sequence[Any]) -> tuple
     try:
         return system, system.velocity(values)
     except InvalidInput:  # not in this field (BadNumber): build the field of every input
+        for i, x in enumerate(values):
+            if type(x) is not Fraction and getattr(x, "is_algebraic", None) is not True:
+                raise BadNumber(
+                    f"velocity[{i}] = {x} is not an algebraic number, so the exact backend cannot hold it: "
+                    'pass backend="interval" (certified) or backend="mp"'
+                ) from None
         system = on_exact_field(system, values)
         return system, system.velocity(values)
 

@@ -8,14 +8,17 @@ run on the symbolic backend and cut exactly where a sign changes (:mod:`verify.m
 - **One parameter**: the exact map of its interval. Every value belongs to one part, with exact
   algebraic ends; a part exits with a fixed impact sequence and an exit velocity that is a rational
   function of the parameter, or is proved never to exit (with a certificate), or is unexplored.
-- **Two or more parameters**: a full cell decomposition of the box (regions cut by algebraic
-  curves) is not built. The map is made on an **exact grid of lines**: for each parameter, the lines
+- **Two or more parameters**: by default an **exact grid of lines**: for each parameter, the lines
   on which it runs over its interval while every other parameter takes one of ``lines`` equally
   spaced rational values (both ends included). Each line is an exact one-parameter map, so every
-  point of every line is decided exactly; points off the lines are not covered.
+  point of every line is decided exactly; points off the lines are not covered. With ``cells=True``
+  and two parameters, the box is cut into exact cells instead (:mod:`verify.maps.plane`), and every
+  point of it is mapped.
 
-The system's numbers and the velocity must be rational (the symbolic backend works over the
-rational functions of one parameter).
+The system's numbers and the velocity are rationals, or algebraic numbers (``sqrt(3)/3``): a map along
+lines then runs over the real number field they generate (:mod:`verify.core.backends.fieldfunc`), with the
+same outputs; its ends are still real algebraic numbers, roots of polynomials with rational coefficients.
+A map of cells takes rational systems only.
 
 >>> from verify.models.corner import corner_system
 >>> m = eps_map(corner_system("1/2", "1", "1"), ["1", "-1/10", "0"], ["e1", "e2"], lines=3)
@@ -38,9 +41,10 @@ from typing import Any
 import sympy as sp
 
 from verify.core.algebraic import RealAlgebraic
+from verify.core.backends import NumberFieldBackend, exact_for
 from verify.core.backends.symbolic import EPS, Piece, RootCache, Split, SymbolicBackend
 from verify.core.format import format_exact
-from verify.core.parse import CONSTANTS, FUNCTIONS, parse_number, to_number
+from verify.core.parse import CONSTANTS, FUNCTIONS, Number, parse_number, to_number
 from verify.core.system import System
 from verify.errors import BadNumber, InvalidInput, InvalidSystem
 from verify.maps import DEFAULT_LINES, DEFAULT_WIDEN, MAX_LINES
@@ -78,7 +82,7 @@ class EpsMap:
     """A map: the system, its CORs in the parameters, the parameters' intervals and the exact lines."""
 
     system: System
-    velocity: list[Fraction]
+    velocity: list[Number]  # rationals, or algebraic numbers (then the map runs over their number field)
     restitution: list[Any]  # SymPy expressions in the parameters
     parameters: dict[str, tuple[Fraction, Fraction]]
     max_impulses: int
@@ -93,7 +97,7 @@ class EpsMap:
             return "cells"
         return "interval" if len(self.parameters) == 1 else "grid of lines"
 
-    def at(self, point: Mapping[str, Any]) -> tuple[Any, list[Fraction] | None]:
+    def at(self, point: Mapping[str, Any]) -> tuple[Any, list[Number] | None]:
         """The part holding ``point`` (a value per parameter: on a line of the map, or anywhere in the box of a
         map of cells, whose part is then a :class:`~verify.maps.plane.CellPart`) and, when that part exits,
         the exact exit velocity there."""
@@ -107,7 +111,7 @@ class EpsMap:
                     return part, None
                 x = sp.Rational(values[line.free].numerator, values[line.free].denominator)
                 at = [sp.sympify(v).subs(sp.Symbol(part.parameter), x) for v in part.exit_velocity]
-                return part, [_rational(v, f"exit velocity[{i}]", "the exit velocity") for i, v in enumerate(at)]
+                return part, [to_number(sp.radsimp(sp.expand(v))) for v in at]
         shown = ", ".join(f"{n} = {format_exact(v)}" for n, v in values.items())
         raise InvalidInput(f"({shown}) is on no line of the map: take one coordinate from the grid {self.grid}")
 
@@ -119,12 +123,8 @@ def _rational(value: Any, where: str, what: str) -> Fraction:
         raise InvalidInput(f"{where}: no value given")
     x = to_number(value, where=where)
     if not isinstance(x, Fraction):
-        raise InvalidInput(f"{where} = {value} is not rational: {what} must be rational for a map{_WHY_RATIONAL}")
+        raise InvalidInput(f"{where} = {value} is not rational: {what} must be rational for a map")
     return x
-
-
-#: why a map takes rational numbers only
-_WHY_RATIONAL = " (the symbolic backend works over the rational functions of one parameter)"
 
 
 def parameter_names(restitution: Sequence[Any]) -> list[str]:
@@ -225,22 +225,27 @@ def eps_map(
     intervals = _intervals(names, parameters)
     if isinstance(velocity, str) or len(velocity) != system.n:
         raise InvalidInput(f"velocity: expected {system.n} numbers")
-    what = "the velocity (and every number of the system)"
-    v = [_rational(x, f"velocity[{i}]", what) for i, x in enumerate(velocity)]
-    for where, x in _source_numbers(system):
-        if not isinstance(x, Fraction):
-            raise InvalidSystem(
-                f"a map needs a system of rational numbers: {where} = {format_exact(x)} is not rational"
-            )
+    v = [to_number(x, where=f"velocity[{i}]") for i, x in enumerate(velocity)]
+    numbers = [*_source_numbers(system), *((f"velocity[{i}]", x) for i, x in enumerate(v))]
+    for where, x in numbers:
+        if not isinstance(x, Fraction) and x.is_algebraic is not True:
+            raise InvalidSystem(f"a map needs algebraic numbers: {where} = {format_exact(x)} is not algebraic")
+    number_field = exact_for([x for _, x in numbers])
+    field_of = number_field if isinstance(number_field, NumberFieldBackend) else None
     if cells:
         if len(names) != 2:
             raise InvalidInput(f"a map of cells takes two parameters; the CORs use {len(names)} ({', '.join(names)})")
+        if field_of is not None:
+            raise InvalidSystem(
+                f"a map of cells needs a system of rational numbers; this one's lie in {field_of.label()}: map it "
+                "along lines instead (without cells), which run over that field"
+            )
         out = EpsMap(system, v, cors, intervals, max_impulses)
         out.plane = _plane(out, names, watch)
         out.stopped = out.plane.stopped
         return out
     grid = {n: _grid(lo, hi, lines) for n, (lo, hi) in intervals.items()} if len(names) > 1 else {}
-    cache = RootCache()
+    cache = RootCache(field_of)
     out = EpsMap(system, v, cors, intervals, max_impulses, grid)
     for free in names:
         others = [n for n in names if n != free]

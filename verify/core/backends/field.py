@@ -2,13 +2,20 @@
 
 from __future__ import annotations
 
+import functools
+from collections.abc import Sequence
 from fractions import Fraction
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 from verify.core.backends.base import Backend
 from verify.core.format import format_decimal
 from verify.core.parse import Number, to_number
 from verify.errors import BadNumber
+
+if TYPE_CHECKING:
+    import sympy as sp
+
+    from verify.core.algebraic import RealAlgebraic
 
 
 class NumberFieldBackend(Backend):
@@ -39,16 +46,17 @@ class NumberFieldBackend(Backend):
         from verify.core.algebraic import RealAlgebraic
 
         self.generators = tuple(generators)
-        self.field = sp.QQ.algebraic_field(*self.generators)
+        self.field = _Field(sp.QQ, *self.generators)
         self.theta = RealAlgebraic.from_number(self.field.ext.as_expr())
         self.zero = self.field.zero
         self.one = self.field.one
+        self._norms: dict[Any, Any] = {}
 
     def convert(self, value: Number) -> Any:
         import sympy as sp
 
-        if isinstance(value, Fraction):
-            return self.field.from_sympy(sp.Rational(value.numerator, value.denominator))
+        if isinstance(value, Fraction):  # from QQ: SymPy's from_sympy would search an isomorphism of fields
+            return self.field.convert_from(sp.QQ(value.numerator, value.denominator), sp.QQ)
         try:
             return self.field.from_sympy(value)
         except Exception as exc:  # CoercionFailed, NotAlgebraic: not in this field
@@ -77,6 +85,102 @@ class NumberFieldBackend(Backend):
 
     def describe(self) -> str:
         return f"exact (number field Q({', '.join(str(g) for g in self.generators)})), rigorous"
+
+    def label(self) -> str:
+        """The field's name for reports: ``Q(sqrt(2), sqrt(3))``."""
+        return f"Q({', '.join(str(g) for g in self.generators)})"
+
+    # Polynomials over the field, for maps of a parameter (:mod:`verify.core.backends.symbolic`): their real
+    # roots lie among those of their norm, a polynomial over the rationals, so a map cuts its pieces there.
+
+    def poly(self, coeffs: Sequence[Any], *gens: Any) -> sp.Poly:
+        """The polynomial over the field with these coefficients (field elements, lowest degree first) in
+        the symbol ``gens[0]`` (default x)."""
+        import sympy as sp
+
+        from verify.core.algebraic import X
+
+        return sp.Poly.from_list(list(reversed(coeffs)) or [self.zero], *(gens or (X,)), domain=self.field)
+
+    def norm(self, p: sp.Poly) -> sp.Poly:
+        """The norm of p (a polynomial over the field): the product of its conjugates, a polynomial over
+        the rationals in the same symbols whose zeros hold the zeros of p.
+
+        >>> import sympy as sp
+        >>> K = NumberFieldBackend([sp.sqrt(3)])
+        >>> x = sp.Symbol("x")
+        >>> K.norm(sp.Poly(3 * x - sp.sqrt(3), x, domain=K.field)).as_expr()
+        9*x**2 - 3
+        """
+        found = self._norms.get(p)
+        if found is None:
+            found = self._norms[p] = p.norm()
+        return found
+
+    def sign_at(self, p: sp.Poly, r: RealAlgebraic) -> int:
+        """The sign of p (a polynomial over the field, in one symbol) at the real algebraic number r, exactly.
+
+        r's isolating interval is refined until it holds no root of p's norm other than r; p has no root
+        there but perhaps r, and r is one when the square-free part of p changes sign across the interval.
+
+        >>> import sympy as sp
+        >>> from verify.core.algebraic import RealAlgebraic, poly_from_coeffs
+        >>> K = NumberFieldBackend([sp.sqrt(3)])
+        >>> r = RealAlgebraic.roots_in(poly_from_coeffs([3, 0, -1]))[1]  # sqrt(3)/3
+        >>> x = sp.Symbol("x")
+        >>> [K.sign_at(sp.Poly(e, x, domain=K.field), r) for e in (3 * x - sp.sqrt(3), x - 1, x**2 - sp.sqrt(3) * x)]
+        [0, -1, -1]
+        """
+        from verify.core.algebraic import count_roots
+
+        if p.is_zero:
+            return 0
+        if r.is_rational:
+            return self.sign(self.value(p, r.lo))
+        N = self.norm(p).sqf_part()
+        if r.sign_of(N) != 0:
+            while count_roots(N, r.lo, r.hi) > 0:
+                r.refine()
+            return self.sign(self.value(p, r.lo))
+        while count_roots(N, r.lo, r.hi) != 1 or not N.eval(_rational(r.lo)) or not N.eval(_rational(r.hi)):
+            r.refine()
+        s = p.sqf_part()
+        if self.sign(self.value(s, r.lo)) * self.sign(self.value(s, r.hi)) < 0:
+            return 0
+        return self.sign(self.value(p, r.lo))
+
+    def value(self, p: sp.Poly, q: Fraction) -> Any:
+        """p (one symbol, over the field) at the rational q: a field element."""
+        c = self.convert(Fraction(q))
+        total = self.zero
+        for a in p.rep.to_list():
+            total = total * c + a
+        return total
+
+
+@functools.cache
+def _field_class() -> Any:
+    from sympy.polys.domains.algebraicfield import AlgebraicField
+    from sympy.polys.polyerrors import DomainError
+
+    class Field(AlgebraicField):
+        """SymPy's ``AlgebraicField``, but it says that it has no ring without printing itself: SymPy asks
+        it in every gcd of polynomials over the field, and the printing took half of a map's time."""
+
+        def get_ring(self) -> Any:
+            raise DomainError("an algebraic field has no associated ring")
+
+    return Field
+
+
+def _Field(*args: Any) -> Any:
+    return _field_class()(*args)
+
+
+def _rational(q: Fraction) -> Any:
+    import sympy as sp
+
+    return sp.Rational(q.numerator, q.denominator)
 
 
 def algebraic_generators(values: Any) -> list[Any] | None:

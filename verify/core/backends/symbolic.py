@@ -31,16 +31,20 @@ import sympy as sp
 
 from verify.core.algebraic import RealAlgebraic, X
 from verify.core.backends.base import Backend
-from verify.core.backends.ratfunc import EPS, Coefficients, arithmetic
+from verify.core.backends.fieldfunc import FieldArithmetic
+from verify.core.backends.ratfunc import EPS, Coefficients, arithmetic, as_fraction
 from verify.errors import BadNumber, Undecided
 
 
 class Split(Undecided):
     """The sign of an element is not constant on the piece: cut at the roots of ``polys``."""
 
-    def __init__(self, polys: list[sp.Poly], message: str):
-        super().__init__(message)
-        self.polys = polys
+    def __init__(self, polys: list[sp.Poly], message: Any):
+        super().__init__("")
+        self.polys, self._message = polys, message
+
+    def __str__(self) -> str:  # written only when shown (a map raises many of these)
+        return str(self._message()) if callable(self._message) else str(self._message)
 
 
 @dataclass(frozen=True)
@@ -99,9 +103,12 @@ class Piece:
 
 
 class RootCache:
-    """Real roots of polynomials, computed once per polynomial and shared by every run."""
+    """Real roots of polynomials, computed once per polynomial and shared by every run of a map; and the
+    number field of the map's system (``field``, a :class:`~verify.core.backends.field.NumberFieldBackend`)
+    when its numbers are not all rational: the runs then compute over that field."""
 
-    def __init__(self) -> None:
+    def __init__(self, field: Any = None) -> None:
+        self.field = field
         self._roots: dict[Any, list[RealAlgebraic]] = {}
         self._polys: dict[Coefficients, sp.Poly] = {}
         self._by_key: dict[Coefficients, list[RealAlgebraic]] = {}
@@ -141,7 +148,8 @@ class SymbolicBackend(Backend):
     def __init__(self, piece: Piece, cache: RootCache | None = None, arithmetic_name: str | None = None):
         self.piece = piece
         self.cache = cache or RootCache()
-        self.arithmetic = arithmetic(arithmetic_name)
+        self.field = self.cache.field
+        self.arithmetic = FieldArithmetic.over(self.field) if self.field is not None else arithmetic(arithmetic_name)
         self.zero = self.arithmetic.zero
         self.one = self.arithmetic.one
         self.parameter = self.arithmetic.parameter
@@ -158,8 +166,17 @@ class SymbolicBackend(Backend):
             raise BadNumber(f"{value}: the symbolic backend needs rational functions of eps ({exc})") from None
 
     def _polys(self, x: Any) -> tuple[sp.Poly, sp.Poly]:
+        """The numerator and the denominator of x, over the rationals (over a number field: their norms,
+        whose real roots hold theirs)."""
         n, d = self.arithmetic.keys(x)
+        if self.field is not None:
+            return self._norm(n), self._norm(d)
         return self.cache.poly(n), self.cache.poly(d)
+
+    def _norm(self, coeffs: tuple[Any, ...]) -> sp.Poly:
+        return self.cache.poly(
+            tuple(as_fraction(c) for c in reversed(self.field.norm(self.field.poly(coeffs)).all_coeffs()))
+        )
 
     def _pieces_and_signs(self, x: Any) -> list[tuple[Piece, int]]:
         """The piece cut where the numerator or denominator of x vanishes, with the sign of x on each part
@@ -173,6 +190,8 @@ class SymbolicBackend(Backend):
         A = self.arithmetic
         if A.is_zero(x):
             return [(self.piece, 0)]
+        if self.field is not None:
+            return self._field_cut_and_signs(x)
         num, den = self.arithmetic.keys(x)
         if self.piece.is_point:
             r = self.piece.lower
@@ -190,9 +209,26 @@ class SymbolicBackend(Backend):
                 out.append((part, (value > 0) - (value < 0)))
         return out
 
+    def _field_cut_and_signs(self, x: Any) -> list[tuple[Piece, int]]:
+        """:meth:`_cut_and_signs` over a number field: the piece is cut at the real roots of the norms of the
+        numerator and the denominator, a sign at a rational is the field's, at a root of a norm
+        :meth:`~verify.core.backends.field.NumberFieldBackend.sign_at`'s."""
+        F = self.field
+        num, den = (F.poly(c) for c in self.arithmetic.keys(x))
+
+        def sign_at(r: RealAlgebraic) -> int:
+            return int(F.sign_at(num, r) * F.sign_at(den, r))
+
+        if self.piece.is_point:
+            return [(self.piece, sign_at(self.piece.lower))]
+        points = [r for p in self._polys(x) for r in self.cache.roots(p) if self.piece.contains(r)]
+        parts = self.piece.cut(points) if points else [self.piece]
+        return [(part, sign_at(part.lower) if part.is_point else F.sign(self.arithmetic.at(x, part.sample())))
+                for part in parts]  # fmt: skip
+
     def _split(self, x: Any, what: str) -> Split:
         polys = [p for p in self._polys(x) if p.degree() > 0]
-        return Split(polys, f"the {what} of {self.arithmetic.expr(x)} is not constant for eps in {self.piece}")
+        return Split(polys, lambda: f"the {what} of {self.arithmetic.expr(x)} is not constant for eps in {self.piece}")
 
     def sign(self, x: Any) -> int:
         signs = {s for _, s in self._pieces_and_signs(x)}
@@ -218,7 +254,7 @@ class SymbolicBackend(Backend):
         >>> K.at_sample(K.parameter / (K.one + K.parameter))
         Fraction(1, 3)
         """
-        if self.piece.is_point:
+        if self.piece.is_point or self.field is not None:  # over a number field the values are not rationals
             return None
         value: Fraction = self.arithmetic.at(x, self.piece.sample())
         return value

@@ -1,0 +1,143 @@
+"""Maps of systems whose numbers are algebraic (verify.core.backends.fieldfunc, NumberFieldBackend.sign_at): the
+paper's corner at alpha = pi/6 (docs/examples/paper-corner-map.json) mapped over eps1 with eps2 = 1/1000, each
+point answered as a single exact run answers it, and the field's arithmetic giving a rational system's map."""
+
+from __future__ import annotations
+
+import itertools
+import json
+import random
+from fractions import Fraction
+
+import mpmath
+import pytest
+import sympy as sp
+
+from verify.cli import main
+from verify.core.algebraic import RealAlgebraic, poly_from_coeffs
+from verify.core.backends import NumberFieldBackend
+from verify.core.backends.fieldfunc import FieldArithmetic
+from verify.core.backends.symbolic import EPS, Piece, RootCache, SymbolicBackend
+from verify.core.rule import solve
+from verify.maps.general import case_map
+from verify.maps.line import line_parts
+from verify.models.corner import corner_system
+
+CASE = "docs/examples/paper-corner-map.json"
+CAP = 12
+
+
+def _case() -> dict:
+    with open(CASE) as fh:
+        return json.load(fh)["cases"][0]
+
+
+@pytest.fixture(scope="module")
+def paper_map():
+    return case_map(CASE, max_impulses=CAP)
+
+
+def test_hundred_points_as_single_runs(paper_map) -> None:
+    """100 rational eps1 in [0, 1] (98 drawn, and both ends): a part that exits or never exits gives verify
+    solve's stop, impact sets and exit velocity there (equal in the number field); where the map leaves a part
+    unexplored, the single run does not exit within the cap either."""
+    case = _case()
+    slope = sp.sympify(case["normals"][0][0]) * -1
+    e2 = Fraction(case["restitution"][1])
+    rng = random.Random(3)
+    points = [Fraction(rng.randint(0, 10**6), 10**6) for _ in range(98)] + [Fraction(0), Fraction(1)]
+    stops = set()
+    for e1 in points:
+        part, velocity = paper_map.at({"eps1": e1})
+        run = solve(corner_system(slope, e1, e2), case["velocity"], max_iterations=CAP)
+        stops.add(part.stop)
+        if part.stop == "max_iterations":
+            assert run.stop != "exit", e1
+            continue
+        assert (part.stop, part.impact_sets) == (run.stop, list(run.impact_sets)), e1
+        if part.stop == "exit":
+            K = run.backend
+            assert [K.convert(v) for v in velocity] == list(run.exit_velocity), e1
+            assert all(isinstance(v, Fraction) or v.is_algebraic for v in velocity)
+    assert stops == {"exit", "non_terminating", "max_iterations"}
+
+
+def test_the_ends_are_algebraic_and_the_parts_cover_the_interval(paper_map) -> None:
+    """The parts' ends are real algebraic numbers over the rationals (irrational ones among them), in order,
+    each part starting where the one before ends."""
+    parts = paper_map.lines[0].parts
+    assert parts[0].piece.lower == RealAlgebraic.rational(Fraction(0))
+    assert parts[-1].piece.upper == RealAlgebraic.rational(Fraction(1))
+    assert any(not p.piece.upper.is_rational for p in parts)
+    for a, b in itertools.pairwise(parts):
+        assert a.piece.upper == b.piece.lower and a.piece.upper_closed != b.piece.lower_closed
+
+
+def test_the_field_gives_a_rational_system_its_map() -> None:
+    """The corner of slope 1/2 (rational) mapped with the arithmetic of Q(sqrt(2)) gives the rational map: the same
+    pieces, stops, impact sets and exit velocities."""
+
+    def corner(K):
+        return corner_system("1/2", EPS, "1/2", backend=K)
+
+    velocity = ["1", "-1/10", "0"]
+    plain = line_parts(corner, velocity, Piece.closed(0, 1), 20, RootCache())
+    field = line_parts(corner, velocity, Piece.closed(0, 1), 20, RootCache(NumberFieldBackend([sp.sqrt(2)])))
+    assert [str(p.piece) for p in plain] == [str(p.piece) for p in field]
+    for a, b in zip(plain, field):
+        assert (a.stop, a.iterations, a.impact_sets) == (b.stop, b.iterations, b.impact_sets)
+        assert all(sp.simplify(x - y) == 0 for x, y in zip(a.exit_velocity, b.exit_velocity))
+
+
+def test_signs_at_algebraic_points_against_high_precision() -> None:
+    """NumberFieldBackend.sign_at: polynomials over Q(sqrt(3)) at roots of rational quadratics, the sign exactly 0
+    where the point is a root (built so), else the sign of a 60-digit evaluation."""
+    F = NumberFieldBackend([sp.sqrt(3)])
+    x = sp.Symbol("x")
+    rng = random.Random(11)
+    zeros = 0
+    for _ in range(60):
+        a, b = rng.randint(-9, 9), rng.randint(1, 30)
+        roots = RealAlgebraic.roots_in(poly_from_coeffs([1, a, -b]))  # x^2 + a x - b: two real roots
+        r = rng.choice(roots)
+        q = sum(sp.Rational(rng.randint(-5, 5), rng.randint(1, 4)) * sp.sqrt(3) ** rng.randint(0, 1) * x**k
+                for k in range(rng.randint(1, 4)))  # fmt: skip
+        if rng.random() < 0.3:
+            q = sp.expand(q * (x**2 + a * x - b))
+            zeros += 1
+        if q == 0:
+            continue
+        got = F.sign_at(sp.Poly(q, x, domain=F.field), r)
+        value = sp.N(q.subs(x, r.expr), 60)
+        with mpmath.workdps(60):
+            expected = 0 if abs(value) < sp.Float(10) ** -40 else (1 if value > 0 else -1)
+        assert got == expected, (q, r)
+    assert zeros > 5
+
+
+def test_no_float_enters_the_field_arithmetic() -> None:
+    """Elements refuse float(); a run over the field on a symbolic backend keeps them exact."""
+    F = NumberFieldBackend([sp.sqrt(3)])
+    A = FieldArithmetic.over(F)
+    x = A.from_expr(sp.sqrt(3) * EPS / 3)
+    with pytest.raises(TypeError):
+        float(x)
+    K = SymbolicBackend(Piece.closed(Fraction(1, 2), Fraction(1, 2)), RootCache(F))
+    r = solve(corner_system("sqrt(3)/3", EPS, "1/2", backend=K), ["1", "2 - sqrt(3)", "0"], max_iterations=6)
+    assert all(type(v).__name__ == "FieldFunc" for v in r.exit_velocity)
+
+
+def test_the_command_line_maps_the_paper_corner(tmp_path, capsys) -> None:
+    """verify map on the paper's corner: JSON with algebraic ends; cells of an algebraic system are refused with
+    exit code 2 and the reason."""
+    assert main(["map", CASE, "--json", "--max-impulses", "6"]) == 0
+    out = json.loads(capsys.readouterr().out)
+    pieces = out["lines"][0]["pieces"]
+    assert "sqrt" in json.dumps(out["velocity"]) and any("CRootOf" in p["upper"] for p in pieces)
+    case = _case()
+    case["restitution"] = ["eps1", "eps2"]
+    path = tmp_path / "plane.json"
+    with open(path, "w") as fh:
+        json.dump({"cases": [case]}, fh)
+    assert main(["map", str(path), "--cells"]) == 2
+    assert "rational numbers" in capsys.readouterr().err
