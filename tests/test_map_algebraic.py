@@ -128,8 +128,8 @@ def test_no_float_enters_the_field_arithmetic() -> None:
 
 
 def test_the_command_line_maps_the_paper_corner(tmp_path, capsys) -> None:
-    """verify map on the paper's corner: JSON with algebraic ends; cells of an algebraic system are refused with
-    exit code 2 and the reason."""
+    """verify map on the paper's corner: JSON with algebraic ends; and its cells, at 2 impulses, with exit
+    velocities over the field."""
     assert main(["map", CASE, "--json", "--max-impulses", "6"]) == 0
     out = json.loads(capsys.readouterr().out)
     pieces = out["lines"][0]["pieces"]
@@ -139,5 +139,52 @@ def test_the_command_line_maps_the_paper_corner(tmp_path, capsys) -> None:
     path = tmp_path / "plane.json"
     with open(path, "w") as fh:
         json.dump({"cases": [case]}, fh)
-    assert main(["map", str(path), "--cells"]) == 2
-    assert "rational numbers" in capsys.readouterr().err
+    assert main(["map", str(path), "--cells", "--max-impulses", "2", "--json"]) == 0
+    cells = json.loads(capsys.readouterr().out)["cells"]
+    assert any("sqrt" in v for c in cells["cells"] for v in c["exit_velocity"])
+
+
+# -- two parameters over a number field: cells (verify.core.backends.tower) ----------------------------------------
+
+SQRT3_CORNER = {"mass_matrix": [["1", "0", "0"], ["0", "1", "0"], ["0", "0", "1"]],
+                "normals": [["-sqrt(3)/3", "1", "0"], ["-sqrt(3)/3", "-1", "0"]],
+                "restitution": ["e1", "e2"]}  # fmt: skip
+
+
+def _cells_against_single_runs(velocity: list[str], cap: int, seed: int) -> set[str]:
+    """The corner of slope sqrt(3)/3 over (e1, e2) in [0, 1]^2 as cells, from ``velocity``: 100 rational points (90
+    drawn, 10 on the curves between cells) give a single exact run's stop, impact sets and exit velocity where the
+    cell is decided, and a single run that does not exit within the cap where it is unexplored."""
+    from tests.test_map_plane import _on_curves
+    from verify.maps.general import eps_map
+
+    system = corner_system("sqrt(3)/3", "1", "1")
+    m = eps_map(system, velocity, ["e1", "e2"], max_impulses=cap, cells=True)
+    rng = random.Random(seed)
+    points = [(Fraction(rng.randint(0, 1000), 1000), Fraction(rng.randint(0, 1000), 1000)) for _ in range(90)]
+    points += _on_curves(m.plane, rng, 10)
+    stops = set()
+    for x, y in points:
+        part, at = m.at({"e1": x, "e2": y})
+        run = solve(corner_system("sqrt(3)/3", x, y), velocity, max_iterations=cap)
+        stops.add(part.stop)
+        if part.stop == "exit":
+            assert (part.impact_sets, run.stop) == (list(run.impact_sets), "exit"), (x, y)
+            assert [run.backend.convert(v) for v in at] == list(run.exit_velocity), (x, y)
+        else:
+            assert part.stop == "max_iterations" and run.stop != "exit", (x, y)
+    low = sum(p.cell.area[0] for p in m.plane.parts)
+    high = sum(p.cell.area[1] for p in m.plane.parts)
+    assert low <= 1 <= high
+    return stops
+
+
+def test_cells_of_an_algebraic_corner_as_single_runs() -> None:
+    """The corner of slope sqrt(3)/3 entered at (1, -1/10, 0): every cell exits within 4 impulses."""
+    assert _cells_against_single_runs(["1", "-1/10", "0"], 4, 41) == {"exit"}
+
+
+def test_cells_of_the_paper_corner_at_two_impulses_as_single_runs() -> None:
+    """The paper's corner (alpha = pi/6) entered in the direction phi = pi/12, (1, tan(pi/12), 0): at 2 impulses,
+    cells that exit and cells still impacting, each as single runs answer."""
+    assert _cells_against_single_runs(["1", "2 - sqrt(3)", "0"], 2, 42) == {"exit", "max_iterations"}

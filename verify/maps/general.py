@@ -18,7 +18,7 @@ run on the symbolic backend and cut exactly where a sign changes (:mod:`verify.m
 The system's numbers and the velocity are rationals, or algebraic numbers (``sqrt(3)/3``): a map along
 lines then runs over the real number field they generate (:mod:`verify.core.backends.fieldfunc`), with the
 same outputs; its ends are still real algebraic numbers, roots of polynomials with rational coefficients.
-A map of cells takes rational systems only.
+A map of cells of such a system runs over the same field (:mod:`verify.core.backends.tower`).
 
 >>> from verify.models.corner import corner_system
 >>> m = eps_map(corner_system("1/2", "1", "1"), ["1", "-1/10", "0"], ["e1", "e2"], lines=3)
@@ -235,13 +235,8 @@ def eps_map(
     if cells:
         if len(names) != 2:
             raise InvalidInput(f"a map of cells takes two parameters; the CORs use {len(names)} ({', '.join(names)})")
-        if field_of is not None:
-            raise InvalidSystem(
-                f"a map of cells needs a system of rational numbers; this one's lie in {field_of.label()}: map it "
-                "along lines instead (without cells), which run over that field"
-            )
         out = EpsMap(system, v, cors, intervals, max_impulses)
-        out.plane = _plane(out, names, watch)
+        out.plane = _plane(out, names, watch, field_of)
         out.stopped = out.plane.stopped
         return out
     grid = {n: _grid(lo, hi, lines) for n, (lo, hi) in intervals.items()} if len(names) > 1 else {}
@@ -256,7 +251,7 @@ def eps_map(
     return out
 
 
-def _plane(m: EpsMap, names: list[str], watch: Watch | None) -> PlaneMap:
+def _plane(m: EpsMap, names: list[str], watch: Watch | None, number_field: Any) -> PlaneMap:
     """The map of cells of two parameters; the CORs are checked in [0, 1] on every cell (their signs cut
     the box as the rule's do)."""
     src = m.system.source
@@ -275,7 +270,8 @@ def _plane(m: EpsMap, names: list[str], watch: Watch | None) -> PlaneMap:
         return system
 
     (a, b), (c, d) = m.parameters[first], m.parameters[second]
-    return plane_parts(build, m.velocity, (a, b, c, d), (first, second), m.max_impulses, watch=watch)
+    return plane_parts(build, m.velocity, (a, b, c, d), (first, second), m.max_impulses, watch=watch,
+                       number_field=number_field)  # fmt: skip
 
 
 def _source_numbers(system: System) -> list[tuple[str, Any]]:

@@ -32,6 +32,7 @@ from typing import Any
 import sympy as sp
 
 from verify.core.backends.plane import Frac, NewCurves, OutOfTime, PlaneBackend, Polys, polys
+from verify.core.backends.tower import Tower
 from verify.core.format import format_decimal, format_exact
 from verify.core.rule import solve
 from verify.core.system import System
@@ -83,7 +84,7 @@ class PlaneMap:
         part = self.locate(x, y)
         if part.stop != "exit":
             return part, None
-        return part, [self.P.value(f.n, x, y) / self.P.value(f.d, x, y) for f in part.velocity]
+        return part, [f.at(x, y) for f in part.velocity]
 
     @property
     def box_area(self) -> Fraction:
@@ -114,12 +115,14 @@ def plane_parts(
     *,
     arithmetic: str | None = None,
     watch: Watch | None = None,
+    number_field: Any = None,
 ) -> PlaneMap:
     """The map of the box: ``build(K)`` is the system on the plane backend ``K`` (its CORs written in the
     two parameters ``names``), ``velocity`` the exact entrance velocity (see the module's example). ``watch``
     (:class:`~verify.maps.line.Watch`) gives a wall-clock and a size budget (cells run) and the progress; when
     the map stops early (a budget, or Ctrl-C with a watch), the cells not run are unexplored, with the reason,
-    and ``stopped`` says why."""
+    and ``stopped`` says why. ``number_field`` is the number field of the system's numbers when they are not all
+    rational (a :class:`~verify.core.backends.field.NumberFieldBackend`)."""
     P = polys(arithmetic)
     cache = Roots()
     curves: dict[tuple, Any] = {}
@@ -131,7 +134,8 @@ def plane_parts(
         while work and not (watch is not None and watch.check()):
             cell, known = work.pop()
             try:
-                part = _run_cell(build, velocity, cell, (P, known, names), max_impulses, deadline=deadline)
+                part = _run_cell(build, velocity, cell, (P, known, names), max_impulses, deadline=deadline,
+                                 number_field=number_field)  # fmt: skip
             except OutOfTime:
                 work.append((cell, known))
                 watch.check()  # type: ignore[union-attr]
@@ -171,13 +175,15 @@ def _run_cell(
     max_impulses: int,
     *,
     deadline: float | None = None,
+    number_field: Any = None,
 ) -> CellPart:
     """The part of one cell (raises :class:`NewCurves` when its run asks a sign the cell does not decide);
     ``known`` is the polynomials' arithmetic, the keys of the curves with one sign on it and the parameters."""
     P, keys, names = known
     if cell.sample is None:
         return CellPart(cell, "not_run", 0, [], [], reason="an irrational abscissa: no rational point, measure 0")
-    K = PlaneBackend(P, cell.sample, set(keys), names, point=cell.dim == 0, deadline=deadline)
+    tower = Tower.over(P, number_field) if number_field is not None else None
+    K = PlaneBackend(P, cell.sample, set(keys), names, point=cell.dim == 0, deadline=deadline, tower=tower)
     # no proofs of never-exits yet: a cone search asks signs of high degree, each a new curve that cuts the cell
     r = solve(build(K), velocity, max_iterations=max_impulses, trace=False, certify=False)
     v = [K.to_number(x) for x in r.exit_velocity]

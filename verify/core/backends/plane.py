@@ -251,6 +251,10 @@ class Frac:
     def expr(self, names: tuple[str, str] = ("x", "y")) -> Any:
         return self.P.expr(self.n, names) / self.P.expr(self.d, names)
 
+    def at(self, x: Fraction, y: Fraction) -> Fraction:
+        """The value at the rational point (x, y) (the denominator non-zero there)."""
+        return self.P.value(self.n, x, y) / self.P.value(self.d, x, y)
+
 
 class NewCurves(Undecided):
     """A sign asked on a cell depends on curves the decomposition does not know yet: ``polys`` (irreducible
@@ -291,21 +295,36 @@ class PlaneBackend(Backend):
         *,
         point: bool = False,
         deadline: float | None = None,
+        tower: Any = None,
     ):
         self.P, self.sample, self.known, self.names, self.point = P, sample, known, names, point
         self.deadline = deadline  #: a time.monotonic() after which a sign raises OutOfTime
         self.zero, self.one = Frac(P, P.zero, P.one), Frac(P, P.one, P.one)
-        self.parameters = (Frac(P, P.x, P.one), Frac(P, P.y, P.one))
-        self._signs: dict[Frac, int] = {}
+        self.parameters: tuple[Any, Any] = (Frac(P, P.x, P.one), Frac(P, P.y, P.one))
+        self._signs: dict[Any, int] = {}
         self._factors: dict[tuple, list[Any]] = {}
+        #: for a system over a number field, its :class:`~verify.core.backends.tower.Tower` (over ``P``): the
+        #: elements are then its TowerFracs
+        self.tower = tower
+        if tower is not None:
+            self.zero, self.one = tower.zero, tower.one
+            self.parameters = (tower.of([self.parameters[0]]), tower.of([self.parameters[1]]))
 
-    def convert(self, value: Any) -> Frac:
+    def convert(self, value: Any) -> Any:
         if isinstance(value, Fraction):
-            return Frac(self.P, self.P.from_dict({(0, 0): value}), self.P.one)
+            c = Frac(self.P, self.P.from_dict({(0, 0): value}), self.P.one)
+            return c if self.tower is None else self.tower.of([c])
         e = sp.sympify(value)
         a, b = sp.Symbol(self.names[0]), sp.Symbol(self.names[1])
         if e.free_symbols - {a, b}:
             raise BadNumber(f"{value}: a map of two parameters knows only {a} and {b}")
+        if self.tower is not None:
+            try:
+                return self.tower.from_expr(e.subs({a: X, b: Y}, simultaneous=True))
+            except (sp.PolynomialError, sp.polys.polyerrors.CoercionFailed):
+                raise BadNumber(
+                    f"{value}: not a rational function of the parameters over {self.tower.field_of.label()}"
+                ) from None
         n, d = sp.fraction(sp.cancel(sp.together(e.subs({a: X, b: Y}, simultaneous=True))))
         try:
             return Frac(self.P, self.P.from_expr(n), self.P.from_expr(d))
@@ -323,15 +342,15 @@ class PlaneBackend(Backend):
         x, y = self.sample
         return (y if isinstance(y, RealAlgebraic) else RealAlgebraic.rational(y)).sign_of(self.P.in_y(p, x))
 
-    def sign(self, f: Frac) -> int:
+    def sign(self, f: Any) -> int:
         found = self._signs.get(f)
         if found is not None:
             return found
-        if self.P.is_zero(f.n):
+        T = self.tower
+        if f.is_zero() if T is not None else self.P.is_zero(f.n):
             return 0
-        new = (
-            [] if self.point else [g for p in (f.n, f.d) for g in self.factors_of(p) if self.P.key(g) not in self.known]
-        )
+        polys = T.curves(f) if T is not None else (f.n, f.d)
+        new = [] if self.point else [g for p in polys for g in self.factors_of(p) if self.P.key(g) not in self.known]
         if self.deadline is not None and time.monotonic() > self.deadline:
             raise OutOfTime("the map's wall-clock budget ran out during a cell's run")
         if new:
@@ -342,15 +361,15 @@ class PlaneBackend(Backend):
                 return f"the sign of {what} is read on a cell that no curve {shown} bounds"
 
             raise NewCurves(new, message)
-        s = self.value_sign(f.n) * self.value_sign(f.d)
+        s = int(T.sign_at(f, *self.sample)) if T is not None else self.value_sign(f.n) * self.value_sign(f.d)
         self._signs[f] = s
         return s
 
-    def to_number(self, x: Frac) -> Any:
-        return x.expr(self.names)
+    def to_number(self, x: Any) -> Any:
+        return x.expr(self.names) if self.tower is None else self.tower.expr(x, self.names)
 
-    def to_exact(self, x: Frac) -> str:
-        return str(sp.factor(x.expr(self.names)))
+    def to_exact(self, x: Any) -> str:
+        return str(sp.factor(self.to_number(x)))
 
     def to_decimal(self, x: Frac, digits: int = 30) -> str:
         return self.to_exact(x)
