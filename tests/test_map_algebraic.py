@@ -188,3 +188,21 @@ def test_cells_of_the_paper_corner_at_two_impulses_as_single_runs() -> None:
     """The paper's corner (alpha = pi/6) entered in the direction phi = pi/12, (1, tan(pi/12), 0): at 2 impulses,
     cells that exit and cells still impacting, each as single runs answer."""
     assert _cells_against_single_runs(["1", "2 - sqrt(3)", "0"], 2, 42) == {"exit", "max_iterations"}
+
+
+def test_the_paper_statement_on_repeated_multiple_impacts_has_its_exact_boundary() -> None:
+    """verify.checks.paper.corner_map: on eps2 = 1/1000 the first two impulses are both multiple impacts exactly for
+    eps1 above 1513/6500 + 2013*sqrt(3)/6500 (0.76917...); single exact runs on either side of it agree, and the
+    paper's eps1 = 0.999 is inside."""
+    from verify.checks.paper.corner_map import corner_maps, repeated
+    from verify.models.corner import run_corner
+
+    found = corner_maps(line_impulses=4, plane_impulses=2)
+    (piece,) = found.repeated_pieces()
+    boundary = (1513 + 2013 * sp.sqrt(3)) / 6500
+    assert sp.simplify(piece.lower.expr - boundary) == 0 and not piece.lower_closed and piece.upper_closed
+    for e1, inside in (("0.769172", False), ("0.769173", True), ("0.999", True), ("0.5", False)):
+        r = run_corner(alpha="pi/6", phi="pi/12", eps1=e1, eps2="0.001")
+        assert repeated(list(r.result.impact_sets)) is inside, e1
+    low, high = found.repeated_area()
+    assert 0 < low <= high < Fraction(1, 100)

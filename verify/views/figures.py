@@ -637,8 +637,9 @@ def plane_legend(m: Any) -> list[tuple[tuple, str]]:
     for key, parts in sorted(kinds.items(), key=lambda kv: total - sum(p.cell.area[0] for p in kv[1])):
         low, high = plane.bounds_of(parts)
         stop, n, sets = key
+        so_far = f", {_named_sequence(list(sets), names)} so far" if sets else ""
         what = (f"exit after {n}: {_named_sequence(list(sets), names)}" if stop == "exit"
-                else f"unexplored: still impacting after {n} impulses")  # fmt: skip
+                else f"unexplored: still impacting after {n} impulses{so_far}")  # fmt: skip
         out.append((key, f"{what}, area {_x(low):.3g}-{_x(high):.3g}"))
     return out
 
@@ -654,9 +655,9 @@ def _xs(cell: Any) -> list[Fraction]:
 def plane_plot(m: Any) -> Any:
     """The matplotlib figure of a map of two parameters as cells (``verify map --cells --figure FILE``), not
     saved: each open cell filled with the colour of its behaviour (stop and impact sequence; the legend names
-    each, with its area bounds), the unexplored cells grey and hatched; the curves between cells drawn from
-    their exact description (each side's y computed exactly at rational x, rounded for the drawing only),
-    the cells that are points as dots."""
+    each, with its area bounds), the unexplored cells hatched in the colour of their impact sequence so far;
+    the curves between cells drawn from their exact description (each side's y computed exactly at rational
+    x, rounded for the drawing only), the cells that are points as dots."""
     plt = _pyplot()
     from matplotlib.patches import Patch
 
@@ -677,7 +678,8 @@ def plane_plot(m: Any) -> Any:
             xs = _xs(cell)
             low = [_x(bound_at(plane.P, cell.y_lo, x, plane.box, cache)) for x in xs]
             high = [_x(bound_at(plane.P, cell.y_hi, x, plane.box, cache)) for x in xs]
-            style = {"hatch": "xx", "facecolor": "0.8"} if part.stop == "max_iterations" else {"color": colour}
+            style = ({"hatch": "xx", "facecolor": "0.85", "edgecolor": colour} if part.stop == "max_iterations"
+                     else {"color": colour})  # fmt: skip
             ax.fill_between([_x(x) for x in xs], low, high, lw=0, **style)
         elif cell.dim == 1 and not cell.on_line:
             xs = _xs(cell)
@@ -694,7 +696,8 @@ def plane_plot(m: Any) -> Any:
     cors = ", ".join(f"{n} = {c}" for n, c in zip(m.system.names, m.restitution))
     ax.set_title(f"{len(plane.parts)} exact cells; CORs {cors}", fontsize=9)
     handles = [Patch(color=colours[key], label=label) if key[0] == "exit"
-               else Patch(facecolor="0.8", hatch="xx", label=label) for key, label in legend]  # fmt: skip
+               else Patch(facecolor="0.85", edgecolor=colours[key], hatch="xx", label=label)
+               for key, label in legend]  # fmt: skip
     ax.legend(handles=handles, fontsize=7, loc="upper center", bbox_to_anchor=(0.5, -0.12), ncol=1)
     return fig
 

@@ -110,6 +110,12 @@ class Findings:
         return run_corner(alpha=e["alpha"], phi=e["phi"], eps1=e["eps1"], eps2=e["eps2"], v0=e["v0"])
 
     @cached_property
+    def corner_maps(self) -> Any:
+        from verify.checks.paper.corner_map import corner_maps
+
+        return corner_maps()
+
+    @cached_property
     def corner(self) -> tuple[Any, ...]:
         from verify.checks.paper.corner_claims import corner_findings
 
@@ -157,11 +163,12 @@ def cradle_map_page(out: Path, report: Any) -> str:
     )
 
 
-def corner_page(out: Path, example: Any, findings: tuple[Any, ...], runner: Any = None) -> str:
-    """The page of the corner: the paper's example run, the findings of ``verify corner-claims``; draws
-    its figures into ``out``."""
+def corner_page(out: Path, example: Any, findings: tuple[Any, ...], runner: Any = None, maps: Any = None) -> str:
+    """The page of the corner: the paper's example run, the findings of ``verify corner-claims``, and the paper's
+    corner mapped over its CORs (``maps``, :func:`verify.checks.paper.corner_map.corner_maps`); draws its figures
+    into ``out``."""
     from verify.views import figures
-    from verify.views.text import corner_claims_text, corner_text
+    from verify.views.text import corner_claims_text, corner_map_text, corner_text
 
     names = [
         ("corner-exit-vs-entrance.png", figures.corner_exit_vs_entrance, "exit speed and direction against entrance"),
@@ -179,6 +186,21 @@ def corner_page(out: Path, example: Any, findings: tuple[Any, ...], runner: Any 
         f"corner narrows, and float against exact (`verify corner-claims --cases {CORNER_CASES}`):\n\n"
         + _block(corner_claims_text(*findings))
         + pictures
+        + ("" if maps is None else _corner_maps_section(out, maps, corner_map_text(maps)))
+    )
+
+
+def _corner_maps_section(out: Path, maps: Any, text: str) -> str:
+    from verify.views import figures
+
+    figures.plane_figure(maps.plane, out / "corner-cors-plane.png")
+    return (
+        "\nThe paper's statement that repeated multiple impacts occur when the CORs are very different (its example:\n"
+        "eps1 = 0.999, eps2 = 0.001), mapped exactly over the CORs in the number field of the corner's numbers\n"
+        "(`verify.checks.paper.corner_map`; the line is also\n"
+        "`verify map docs/examples/paper-corner-map.json --max-impulses 12`):\n\n"
+        + _block(text)
+        + "\n![the square of both CORs as exact cells, up to two impulses](corner-cors-plane.png)\n"
     )
 
 
@@ -453,7 +475,7 @@ def engines_page(out: Path) -> str:
 PAGES: list[tuple[str, Callable[[Path, Findings], str]]] = [
     ("table1.md", lambda out, f: table1_page(f.table1)),
     ("cradle-map.md", lambda out, f: cradle_map_page(out, f.cradle_map)),
-    ("corner.md", lambda out, f: corner_page(out, f.corner_example, f.corner, f.runner)),
+    ("corner.md", lambda out, f: corner_page(out, f.corner_example, f.corner, f.runner, f.corner_maps)),
     ("properties.md", lambda out, f: properties_page(f.profile, f.verdicts)),
     ("oracle.md", lambda out, f: oracle_page(f.oracle)),
     ("performance.md", lambda out, f: performance_page(out)),

@@ -929,6 +929,28 @@ def plane_lines(m: Any) -> list[str]:
     return out
 
 
+def corner_map_text(found: Any) -> str:
+    """The paper's corner mapped over its CORs (:func:`verify.checks.paper.corner_map.corner_maps`): the line
+    eps2 = 1/1000, where its runs have repeated multiple impacts, and the area of the square where they do."""
+    from verify.maps.plane import describe_area
+
+    pieces = " and ".join(str(p) for p in found.repeated_pieces()) or "no value"
+    plane = found.plane.plane
+    curves = sorted({plane.P.show(side.poly, plane.names) for p in found.repeated_plane
+                     for side in (p.cell.y_lo, p.cell.y_hi) if getattr(side, "poly", None) is not None})  # fmt: skip
+    return (
+        eps_map_text(found.line, exact_in="verify.checks.paper.corner_map")
+        + f"\nRepeated multiple impacts (the first two impulses both on both walls) on this line: exactly for eps1 in "
+        f"{pieces}.\n\nBoth CORs over [0, 1]^2 as exact cells, up to {found.plane.max_impulses} impulses (two decide "
+        f"it): {len(plane.parts)} cells; the first two impulses are multiple impacts on {len(found.repeated_plane)} of "
+        f"them, of area {describe_area(found.repeated_area())} (exact bounds), for eps1 from "
+        f"{min((p.cell.x_lo for p in found.repeated_plane), default='-')} to "
+        f"{max((p.cell.x_hi for p in found.repeated_plane), default='-')}, bounded below and above by "
+        + ("; ".join(f"{c} = 0" for c in curves) or "the box")
+        + ".\n"
+    )
+
+
 def eps_map_text(m: Any, *, exact_in: str = "eps_map_json(m)") -> str:
     """A map of :func:`verify.maps.general.eps_map` in words and tables, one table per line;
     ``exact_in`` says where the exact endpoints are (the command line passes ``"--json"``).
