@@ -267,6 +267,25 @@ class RealAlgebraic:
         sign, self.lo, self.hi = _decided(coeffs, self.lo, self.hi, lambda t: _eval(self.poly, t))
         return sign
 
+    def narrowed(self, width: Fraction) -> tuple[Fraction, Fraction]:
+        """Rationals at most ``width`` apart around this number, by exact bisection of a copy of its isolating
+        interval (on python-flint's rationals where they are in use); the number itself is left as it is.
+
+        >>> lo, hi = RealAlgebraic.roots_in(poly_from_coeffs([1, 0, -2]))[1].narrowed(Fraction(1, 10**6))
+        >>> lo < Fraction(14142136, 10**7) < hi, hi - lo <= Fraction(1, 10**6)
+        (True, True)
+        """
+        if self.is_rational:
+            return self.lo, self.lo
+        value_at: Any
+        if flint is not None and flint_in_use():
+            value_at, lo, hi, w = self._flint_poly, _fmpq(self.lo), _fmpq(self.hi), _fmpq(width)
+        else:
+            value_at, lo, hi, w = (lambda t: _eval(self.poly, t)), self.lo, self.hi, width
+        while hi - lo > w:
+            lo, hi = _halved(value_at, lo, hi)
+        return _q(lo), _q(hi)
+
     @cached_property
     def _flint_poly(self) -> Any:
         return flint.fmpq_poly([_fmpq(_q(c)) for c in reversed(self.poly.all_coeffs())])

@@ -40,7 +40,7 @@ import sympy as sp
 
 from verify.core.algebraic import RealAlgebraic, X
 from verify.core.backends.plane import Polys
-from verify.core.backends.ratfunc import FLINT, as_fraction, flint
+from verify.core.backends.ratfunc import FLINT, flint
 from verify.core.backends.symbolic import RootCache
 from verify.core.format import format_decimal
 
@@ -359,49 +359,7 @@ def _value_bounds(P: Polys, bound: Bound, x: Fraction, box: Box, cache: RootCach
     if bound.value is not None:
         return bound.value, bound.value
     _, _, c, d = box
-    return narrowed(bound_at(P, bound, x, box, cache), (d - c) / 2**14)
-
-
-def narrowed(r: RealAlgebraic, width: Fraction) -> tuple[Fraction, Fraction]:
-    """Rationals at most ``width`` apart around r, by exact bisection of its isolating interval (on python-flint's
-    rationals where installed; r itself is left as it is).
-
-    >>> from verify.core.algebraic import poly_from_coeffs
-    >>> lo, hi = narrowed(RealAlgebraic.roots_in(poly_from_coeffs([1, 0, -2]))[1], Fraction(1, 10**6))
-    >>> lo < Fraction(14142136, 10**7) < hi, hi - lo <= Fraction(1, 10**6)
-    (True, True)
-    """
-    if r.is_rational:
-        return r.lo, r.lo
-    coeffs = [as_fraction(c) for c in reversed(r.poly.all_coeffs())]
-    if FLINT:
-        f = flint.fmpq_poly([flint.fmpq(q.numerator, q.denominator) for q in coeffs])
-        a, b = flint.fmpq(r.lo.numerator, r.lo.denominator), flint.fmpq(r.hi.numerator, r.hi.denominator)
-        w = flint.fmpq(width.numerator, width.denominator)
-        at = f
-    else:
-        a, b, w = r.lo, r.hi, width
-
-        def at(t: Any) -> Any:
-            total = Fraction(0)
-            for q in reversed(coeffs):
-                total = total * t + q
-            return total
-
-    left = at(a)
-    if left == 0 or at(b) == 0:
-        x = a if left == 0 else b
-        return as_fraction(x), as_fraction(x)
-    while b - a > w:
-        m = (a + b) / 2
-        value = at(m)
-        if value == 0:
-            return as_fraction(m), as_fraction(m)
-        if (value > 0) == (left > 0):
-            a = m
-        else:
-            b = m
-    return as_fraction(a), as_fraction(b)
+    return bound_at(P, bound, x, box, cache).narrowed((d - c) / 2**14)
 
 
 def set_areas(P: Polys, cells: Sequence[Cell], box: Box, cache: RootCache | None = None) -> None:

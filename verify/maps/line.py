@@ -33,7 +33,6 @@ from typing import Any
 
 import sympy as sp
 
-from verify.core.algebraic import RealAlgebraic
 from verify.core.backends.symbolic import EPS, Piece, RootCache, Split, SymbolicBackend
 from verify.core.format import format_decimal
 from verify.core.rule import solve
@@ -111,21 +110,13 @@ class Watch:
         self.parts += 1
         self.deepest = max(self.deepest, part.iterations)
         if part.stop != "max_iterations":
-            lower, upper = _narrow(part.piece.lower), _narrow(part.piece.upper)
+            width = Fraction(1, 10**9)
+            lower, upper = part.piece.lower.narrowed(width), part.piece.upper.narrowed(width)
             self.decided += max(Fraction(0), upper[0] - lower[1])
         if self.progress is not None:
             elapsed = round(time.monotonic() - self.started)  # the clock: a float, shown to the second
             self.progress(f"map: {self.parts} parts, decided a length of {format_decimal(self.decided, 6)}, "
                           f"deepest impulse {self.deepest}, {elapsed} s")  # fmt: skip
-
-
-def _narrow(x: RealAlgebraic, width: Fraction = Fraction(1, 10**9)) -> tuple[Fraction, Fraction]:
-    """An interval of at most ``width`` around x, refined on a copy (the map's own numbers, whose
-    intervals choose its sample points, are left as they are)."""
-    y = RealAlgebraic(x.poly, x.lo, x.hi)
-    while y.hi - y.lo > width:
-        y.refine()
-    return y.lo, y.hi
 
 
 def line_parts(
@@ -287,6 +278,7 @@ def widened(
 def uncovered(domain: Piece, pieces: Sequence[Piece]) -> list[Piece]:
     """The parts of ``domain`` that none of ``pieces`` (disjoint, in order, inside it) holds.
 
+    >>> from verify.core.algebraic import RealAlgebraic
     >>> half = Piece(RealAlgebraic.rational(Fraction(0)), RealAlgebraic.rational(Fraction(1, 2)), True, False)
     >>> [str(p) for p in uncovered(Piece.closed(0, 1), [half])]
     ['[1/2, 1]']
