@@ -9,7 +9,6 @@ import json
 import random
 from fractions import Fraction
 
-import mpmath
 import pytest
 import sympy as sp
 
@@ -109,8 +108,7 @@ def test_signs_at_algebraic_points_against_high_precision() -> None:
             continue
         got = F.sign_at(sp.Poly(q, x, domain=F.field), r)
         value = sp.N(q.subs(x, r.expr), 60)
-        with mpmath.workdps(60):
-            expected = 0 if abs(value) < sp.Float(10) ** -40 else (1 if value > 0 else -1)
+        expected = 0 if abs(value) < sp.Float(10) ** -40 else (1 if value > 0 else -1)
         assert got == expected, (q, r)
     assert zeros > 5
 
@@ -206,3 +204,18 @@ def test_the_paper_statement_on_repeated_multiple_impacts_has_its_exact_boundary
         assert repeated(list(r.result.impact_sets)) is inside, e1
     low, high = found.repeated_area()
     assert 0 < low <= high < Fraction(1, 100)
+
+
+def test_a_new_curve_over_a_number_field_is_named_in_its_message() -> None:
+    """The message of NewCurves for a function over a number field writes the function (it read a rational
+    fraction's numerator, which the tower's functions do not have)."""
+    from verify.core.backends.plane import NewCurves, PlaneBackend, polys
+    from verify.core.backends.tower import Tower
+
+    P = polys()
+    K = PlaneBackend(
+        P, (Fraction(1, 2), Fraction(1, 3)), known=set(), tower=Tower.over(P, NumberFieldBackend([sp.sqrt(3)]))
+    )
+    with pytest.raises(NewCurves) as info:
+        K.sign(K.convert(sp.sqrt(3) * sp.Symbol("x")) - K.parameters[1])
+    assert str(info.value).startswith("the sign of sqrt(3)*x - y is read on a cell that no curve")

@@ -74,12 +74,26 @@ def _exact_backend(g: list[list], a: list[list], e: list, c: list) -> Backend:
             raise InvalidSystem(
                 f"{field} = {x} is not a number: it depends on {', '.join(sorted(str(s) for s in symbols))}"
             )
-        if not isinstance(x, Fraction) and getattr(x, "is_algebraic", None) is not True:
-            raise BadNumber(
-                f"{field} = {x} is not an algebraic number, so the exact backend cannot hold it: "
-                'pass backend="interval" (certified) or backend="mp"'
-            )
+        if not is_algebraic(x):
+            raise _not_exact(field, x)
     return exact_for([x for _, x in entries])  # refused for another reason: its own message
+
+
+def is_algebraic(x: Number) -> bool:
+    """Whether a parsed number is rational or algebraic: what the exact backend can hold.
+
+    >>> import sympy as sp
+    >>> is_algebraic(Fraction(1, 3)), is_algebraic(sp.sqrt(2)), is_algebraic(sp.pi)
+    (True, True, False)
+    """
+    return isinstance(x, Fraction) or getattr(x, "is_algebraic", None) is True
+
+
+def _not_exact(field: str, x: Any) -> BadNumber:
+    return BadNumber(
+        f"{field} = {x} is not an algebraic number, so the exact backend cannot hold it: "
+        'pass backend="interval" (certified) or backend="mp"'
+    )
 
 
 def _sympy_entries(matrix: Any) -> list[tuple[str, Any]]:
@@ -682,11 +696,8 @@ def exact_backend_for_velocity(system: System, velocity: Sequence[Any]) -> tuple
         return system, system.velocity(values)
     except InvalidInput:  # not in this field (BadNumber): build the field of every input
         for i, x in enumerate(values):
-            if type(x) is not Fraction and getattr(x, "is_algebraic", None) is not True:
-                raise BadNumber(
-                    f"velocity[{i}] = {x} is not an algebraic number, so the exact backend cannot hold it: "
-                    'pass backend="interval" (certified) or backend="mp"'
-                ) from None
+            if not is_algebraic(x):
+                raise _not_exact(f"velocity[{i}]", x) from None
         system = on_exact_field(system, values)
         return system, system.velocity(values)
 

@@ -45,7 +45,7 @@ from verify.core.backends import NumberFieldBackend, exact_for
 from verify.core.backends.symbolic import EPS, Piece, RootCache, Split, SymbolicBackend
 from verify.core.format import format_exact
 from verify.core.parse import CONSTANTS, FUNCTIONS, Number, parse_number, to_number
-from verify.core.system import System
+from verify.core.system import System, is_algebraic
 from verify.errors import BadNumber, InvalidInput, InvalidSystem
 from verify.maps import DEFAULT_LINES, DEFAULT_WIDEN, MAX_LINES
 from verify.maps.line import Part, Watch, line_parts, parts_json, piece_json
@@ -228,7 +228,7 @@ def eps_map(
     v = [to_number(x, where=f"velocity[{i}]") for i, x in enumerate(velocity)]
     numbers = [*_source_numbers(system), *((f"velocity[{i}]", x) for i, x in enumerate(v))]
     for where, x in numbers:
-        if not isinstance(x, Fraction) and x.is_algebraic is not True:
+        if not is_algebraic(x):
             raise InvalidSystem(f"a map needs algebraic numbers: {where} = {format_exact(x)} is not algebraic")
     number_field = exact_for([x for _, x in numbers])
     field_of = number_field if isinstance(number_field, NumberFieldBackend) else None

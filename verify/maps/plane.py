@@ -124,6 +124,7 @@ def plane_parts(
     and ``stopped`` says why. ``number_field`` is the number field of the system's numbers when they are not all
     rational (a :class:`~verify.core.backends.field.NumberFieldBackend`)."""
     P = polys(arithmetic)
+    tower = Tower.over(P, number_field) if number_field is not None else None
     cache = Roots()
     curves: dict[tuple, Any] = {}
     started = shown = time.monotonic()
@@ -135,7 +136,7 @@ def plane_parts(
             cell, known = work.pop()
             try:
                 part = _run_cell(build, velocity, cell, (P, known, names), max_impulses, deadline=deadline,
-                                 number_field=number_field)  # fmt: skip
+                                 tower=tower)  # fmt: skip
             except OutOfTime:
                 work.append((cell, known))
                 watch.check()  # type: ignore[union-attr]
@@ -175,14 +176,13 @@ def _run_cell(
     max_impulses: int,
     *,
     deadline: float | None = None,
-    number_field: Any = None,
+    tower: Tower | None = None,
 ) -> CellPart:
     """The part of one cell (raises :class:`NewCurves` when its run asks a sign the cell does not decide);
     ``known`` is the polynomials' arithmetic, the keys of the curves with one sign on it and the parameters."""
     P, keys, names = known
     if cell.sample is None:
         return CellPart(cell, "not_run", 0, [], [], reason="an irrational abscissa: no rational point, measure 0")
-    tower = Tower.over(P, number_field) if number_field is not None else None
     K = PlaneBackend(P, cell.sample, set(keys), names, point=cell.dim == 0, deadline=deadline, tower=tower)
     # no proofs of never-exits yet: a cone search asks signs of high degree, each a new curve that cuts the cell
     r = solve(build(K), velocity, max_iterations=max_impulses, trace=False, certify=False)

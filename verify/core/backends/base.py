@@ -30,6 +30,19 @@ from verify.core.parse import Number
 from verify.errors import Undecided
 
 
+class NotConstant(Undecided):
+    """The sign asked of a function of parameters is not known to be constant where it is asked: ``polys``
+    are the polynomials whose zero sets must cut the region first (each parameter backend says which). The
+    message is written only when shown (a map raises thousands of these): a string or a function giving it."""
+
+    def __init__(self, polys: list[Any], message: Any):
+        super().__init__("")
+        self.polys, self._message = polys, message
+
+    def __str__(self) -> str:
+        return str(self._message()) if callable(self._message) else str(self._message)
+
+
 class Backend:
     """The contract (see the module docstring). Subclasses set the capabilities and methods.
 

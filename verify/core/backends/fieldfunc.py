@@ -19,6 +19,7 @@ decides.
 
 from __future__ import annotations
 
+import functools
 from fractions import Fraction
 from typing import Any
 
@@ -131,13 +132,11 @@ class FieldArithmetic:
     name = "field"
 
     @staticmethod
+    @functools.cache
     def over(number_field: Any) -> FieldArithmetic:
-        """The arithmetic over this :class:`~verify.core.backends.field.NumberFieldBackend` (it caches the
-        conversion of expressions, which SymPy makes slowly)."""
-        found = _OVER.get(id(number_field))
-        if found is None or found.field_of is not number_field:
-            found = _OVER[id(number_field)] = FieldArithmetic(number_field)
-        return found
+        """The arithmetic over this :class:`~verify.core.backends.field.NumberFieldBackend`, one per field (it
+        caches the conversion of expressions, which SymPy makes slowly)."""
+        return FieldArithmetic(number_field)
 
     def __init__(self, number_field: Any) -> None:
         self.field_of = number_field
@@ -182,6 +181,3 @@ class FieldArithmetic:
         """x as a SymPy expression in :data:`EPS` (radicals in the coefficients)."""
         n, d = x.n.as_expr(), x.d.as_expr()
         return n / d if d != 1 else n
-
-
-_OVER: dict[int, FieldArithmetic] = {}

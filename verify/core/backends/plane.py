@@ -33,9 +33,9 @@ from typing import Any
 import sympy as sp
 
 from verify.core.algebraic import RealAlgebraic
-from verify.core.backends.base import Backend
+from verify.core.backends.base import Backend, NotConstant
 from verify.core.backends.ratfunc import FLINT, as_fraction, flint
-from verify.errors import BadNumber, Undecided
+from verify.errors import BadNumber
 
 #: whether python-flint's polynomials in two variables are there (the ``fast`` extra)
 FLINT_POLYS = FLINT
@@ -256,17 +256,9 @@ class Frac:
         return self.P.value(self.n, x, y) / self.P.value(self.d, x, y)
 
 
-class NewCurves(Undecided):
+class NewCurves(NotConstant):
     """A sign asked on a cell depends on curves the decomposition does not know yet: ``polys`` (irreducible
-    factors, canonical) must cut the plane first. The message is written only when shown (a map raises
-    thousands of these)."""
-
-    def __init__(self, polys: list[Any], message: Any):
-        super().__init__("")
-        self.polys, self._message = polys, message
-
-    def __str__(self) -> str:
-        return str(self._message()) if callable(self._message) else str(self._message)
+    factors, canonical) must cut the plane first."""
 
 
 class OutOfTime(Exception):
@@ -357,7 +349,10 @@ class PlaneBackend(Backend):
 
             def message() -> str:
                 shown = ", ".join(f"{self.P.show(g, self.names)} = 0" for g in new)
-                what = self.P.show(f.n, self.names) if self.P.is_one(f.d) else f.expr(self.names)
+                if T is not None:
+                    what = str(T.expr(f, self.names))
+                else:
+                    what = self.P.show(f.n, self.names) if self.P.is_one(f.d) else str(f.expr(self.names))
                 return f"the sign of {what} is read on a cell that no curve {shown} bounds"
 
             raise NewCurves(new, message)

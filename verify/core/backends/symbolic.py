@@ -30,21 +30,14 @@ from typing import Any
 import sympy as sp
 
 from verify.core.algebraic import RealAlgebraic, X
-from verify.core.backends.base import Backend
+from verify.core.backends.base import Backend, NotConstant
 from verify.core.backends.fieldfunc import FieldArithmetic
 from verify.core.backends.ratfunc import EPS, Coefficients, arithmetic, as_fraction
-from verify.errors import BadNumber, Undecided
+from verify.errors import BadNumber
 
 
-class Split(Undecided):
+class Split(NotConstant):
     """The sign of an element is not constant on the piece: cut at the roots of ``polys``."""
-
-    def __init__(self, polys: list[sp.Poly], message: Any):
-        super().__init__("")
-        self.polys, self._message = polys, message
-
-    def __str__(self) -> str:  # written only when shown (a map raises many of these)
-        return str(self._message()) if callable(self._message) else str(self._message)
 
 
 @dataclass(frozen=True)

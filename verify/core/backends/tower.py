@@ -24,6 +24,7 @@ rational x and an algebraic y (:meth:`~verify.core.backends.field.NumberFieldBac
 
 from __future__ import annotations
 
+import functools
 from fractions import Fraction
 from typing import Any
 
@@ -77,12 +78,10 @@ class Tower:
     (a :class:`~verify.core.backends.field.NumberFieldBackend`); one instance per pair (:meth:`over`)."""
 
     @staticmethod
+    @functools.cache
     def over(P: Polys, number_field: Any) -> Tower:
-        key = (P.name, id(number_field))
-        found = _TOWERS.get(key)
-        if found is None or found.field_of is not number_field:
-            found = _TOWERS[key] = Tower(P, number_field)
-        return found
+        """The tower over these polynomials and this field, one per pair (it caches conversions and curves)."""
+        return Tower(P, number_field)
 
     def __init__(self, P: Polys, number_field: Any):
         self.P, self.field_of = P, number_field
@@ -250,6 +249,3 @@ class Tower:
 
 def _sign(q: Fraction) -> int:
     return (q > 0) - (q < 0)
-
-
-_TOWERS: dict[tuple[str, int], Tower] = {}
