@@ -126,3 +126,27 @@ def test_the_record_is_what_the_installed_engines_give() -> None:
             scale = max(abs(Fraction(engines.short_decimal(x, 30))) for x in cases[row["id"]]["velocity"])
             for a, b in zip(row["engine_exit_velocity"], new[row["id"]]["engine_exit_velocity"]):
                 assert abs(Fraction(a) - Fraction(b)) <= scale / 10**9, (entry["name"], row["id"])
+
+
+def test_box2d_is_the_exact_sequential_law_of_its_own_settings(box2d_record: dict[str, Any]) -> None:
+    """Box2D 2.3 at its defaults (8 velocity iterations, restitution above 1 m/s) leaves the 3-ball cradles at
+    eps > 0 as the exact sequential law with those settings does, to float32 precision (1e-5 of the speed),
+    recomputed here; the record's explanation says so, and its summary counts its rows."""
+    from verify.core.rule import solve
+    from verify.core.sequential import Sequential
+    from verify.records.results import case_from_record
+
+    (entry,) = box2d_record["engines"]
+    rows = {r["id"]: r for r in entry["cases"]}
+    cases = {c["id"]: c for c in box2d_record["cases"]}
+    for eps in engines.GRID[1:]:
+        cid = f"cradle-3-eps-{eps}"
+        c = case_from_record(cases[cid])
+        r = solve(c.system, c.velocity_source, law=Sequential(8, threshold=1))
+        exact = [r.backend.to_number(x) for x in r.exit_velocity]
+        got = [Fraction(x) for x in rows[cid]["engine_exit_velocity"]]
+        assert max(abs(a - b) for a, b in zip(got, exact)) <= Fraction(100, 10**5), cid
+        assert rows[cid]["model"] is not None and "8 sweeps" in rows[cid]["model"]
+    summary = entry["explained"]
+    assert summary["cases"] == len(entry["cases"])
+    assert summary["explained"] == sum(1 for row in entry["cases"] if row["model"]) == sum(summary["models"].values())

@@ -194,7 +194,10 @@ def test_the_output_has_the_protocol_shape(name: str, mode: str) -> None:
     out = output(name, mode)
     assert set(out) == {"engine", "results", "skipped"}
     engine = out["engine"]
-    assert set(engine) == {"name", "package", "version", "combine_rule", "cor_setting", "settings", "alternate"}
+    assert set(engine) == {"name", "package", "version", "combine_rule", "cor_setting", "settings", "alternate",
+                           "solver"}  # fmt: skip
+    assert engine["solver"]["kind"] in ("sequential", "simultaneous", "soft", "position-based")
+    assert engine["solver"]["precision"] in ("float32", "float64")
     assert engine["name"] == engine["package"] == name and engine["version"]
     assert all(word in engine[described] for described, word in ENGINES[name].describes)
     assert set(engine["settings"]) >= {*ENGINES[name].has, *ENGINES[name].sets}

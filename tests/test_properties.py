@@ -52,7 +52,9 @@ def test_every_row_has_a_verdict(table) -> None:
     assert sum(v.law == "rule" for v in table) == 185
     # the law: 14 properties x 3 CORs x 3 families, less mirror symmetry's general family
     assert sum(v.law == "simultaneous" for v in table) == 123
-    assert len(table) == 185 + 123
+    # the sequential law: 6 properties x 3 CORs x 3 families, less mirror symmetry's general family
+    assert sum(v.law == "sequential" for v in table) == 51
+    assert len(table) == 185 + 123 + 51
     assert {v.verdict for v in table} <= {"proved", "holds", "refuted"}
     assert all(v.cases >= 0 and v.note for v in table)
 
@@ -497,13 +499,15 @@ def test_cli_json_follows_the_contract(capsys: pytest.CaptureFixture[str]) -> No
                  "--workers", "1", "--quiet", "--json"])  # fmt: skip
     out = json.loads(capsys.readouterr().out)
     assert code == 0
-    assert out["profile"] == "dev" and len(out["properties"]) == 4 + 3  # the rule's 4 rules, the law's 3 CORs
+    # the rule's 4 rules, the simultaneous and the sequential law's 3 CORs each
+    assert out["profile"] == "dev" and len(out["properties"]) == 4 + 3 + 3
     for row in out["properties"]:
         assert set(row) == {"property", "law", "rule", "family", "verdict", "cases", "counterexample", "note"}
         assert row["verdict"] == "holds" and row["counterexample"] is None
     assert [(r["law"], r["rule"]) for r in out["properties"]] == [
-        ("rule", "ideal"), ("simultaneous", "ideal"), ("rule", "symmetric"), ("simultaneous", "symmetric"),
-        ("rule", "asymmetric"), ("rule", "general"), ("simultaneous", "general"),
+        ("rule", "ideal"), ("simultaneous", "ideal"), ("sequential", "ideal"), ("rule", "symmetric"),
+        ("simultaneous", "symmetric"), ("sequential", "symmetric"), ("rule", "asymmetric"), ("rule", "general"),
+        ("simultaneous", "general"), ("sequential", "general"),
     ]  # fmt: skip
 
 

@@ -26,6 +26,7 @@ from verify.core.rule import (
     solve,
     solve_many,
 )
+from verify.core.sequential import Sequential
 from verify.core.system import System
 from verify.errors import (
     BadNumber,
@@ -65,6 +66,7 @@ __all__ = [
     "InvalidSystem",
     "NoConvergence",
     "Result",
+    "Sequential",
     "Step",
     "System",
     "Undecided",

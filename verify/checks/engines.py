@@ -28,6 +28,7 @@ from concurrent.futures import ThreadPoolExecutor
 from fractions import Fraction
 from typing import Any
 
+from verify.checks.explain import Explainer, explain_case, explained_summary
 from verify.checks.oracle import approx, golden_cases, golden_results
 from verify.core.format import format_decimal
 from verify.models.corner import corner_geometry, slope_of, velocity_of
@@ -37,14 +38,6 @@ from verify.physics.protocol import NOT_INSTALLED
 from verify.physics.scene import Unsupported, scene_of
 from verify.records.results import case_record
 
-#: the Python package each engine is imported from (to tell whether it is installed, without importing it)
-IMPORTS: dict[str, str] = {
-    "box2d": "Box2D",
-    "pymunk": "pymunk",
-    "pybullet": "pybullet",
-    "mujoco": "mujoco",
-    "dartpy": "dartpy",
-}
 #: the eps of the 3-ball cradle's grid (the figure's points)
 GRID = tuple(Fraction(k, 10) for k in range(11))
 #: a relative distance under which an engine is said to agree with a law
@@ -54,9 +47,51 @@ GAIN = Fraction(1, 10**6)
 TIMEOUT = 600.0
 
 
-def _cradle(case_id: str, eps: Sequence[Any], velocity: Sequence[Any]) -> dict[str, Any]:
-    g, normals = cradle_geometry([Fraction(1)] * len(velocity))
+def _cradle(case_id: str, eps: Sequence[Any], velocity: Sequence[Any], *, wall: bool = False) -> dict[str, Any]:
+    g, normals = cradle_geometry([Fraction(1)] * len(velocity), wall=wall)
     return case_record(case_id, g, normals, list(eps), list(velocity))
+
+
+def documented_thresholds() -> dict[str, Fraction]:
+    """Each engine's documented restitution threshold on the incoming speed (its adapter's ``solver``; for a
+    threshold on the COR times the speed, the speed at COR 1), for the engines that have one.
+
+    >>> documented_thresholds()["box2d"]
+    Fraction(1, 1)
+    """
+    import importlib
+
+    from verify.physics.protocol import Adapter
+
+    out = {}
+    for name, path in ENGINES.items():
+        module = importlib.import_module(path)
+        adapter = next(
+            v for v in vars(module).values() if isinstance(v, type) and issubclass(v, Adapter) and v.name == name
+        )
+        t = adapter.solver.get("threshold", 0)
+        t = adapter.settings.get(t, 0) if isinstance(t, str) else t
+        if t:
+            out[name] = Fraction(repr(float(t)))  # as the engine documents it: 0.2 is 1/5
+    return out
+
+
+def reported_cases() -> list[dict[str, Any]]:
+    """The cases that engines' users report (docs/engines.md cites each report): two balls and a wall in
+    contact at once with one ball moving; chains of balls against a wall; a 5-ball cradle with one COR per
+    contact; and the 3-ball cradle at 9/10 and 11/10 of each engine's restitution threshold.
+
+    >>> [c["id"] for c in reported_cases()][:2]
+    ['wall-2-balls-one-moving', 'wall-chain-3-eps-1']
+    """
+    out = [_cradle("wall-2-balls-one-moving", [1, 1], [100, 0], wall=True)]
+    for balls, eps in ((3, 1), (5, 1), (5, Fraction(1, 2))):
+        out.append(_cradle(f"wall-chain-{balls}-eps-{eps}", [eps] * balls, [100] + [0] * (balls - 1), wall=True))
+    out.append(_cradle("cradle-5-cors-1-1/2-9/10-1/5", [1, Fraction(1, 2), Fraction(9, 10), Fraction(1, 5)],
+                       [100, 0, 0, 0, 0]))  # fmt: skip
+    speeds = sorted({t * k for t in documented_thresholds().values() for k in (Fraction(9, 10), Fraction(11, 10))})
+    out += [_cradle(f"slow-cradle-3-eps-1-v0-{v}", [1, 1], [v, 0, 0]) for v in speeds]
+    return out
 
 
 def engine_cases() -> list[dict[str, Any]]:
@@ -76,7 +111,7 @@ def engine_cases() -> list[dict[str, Any]]:
         except Unsupported:
             continue
         out.append(case)
-    return out
+    return out + reported_cases()
 
 
 # -- running the adapters -----------------------------------------------------------------------
@@ -105,10 +140,14 @@ def installed() -> list[str]:
     return out
 
 
-def run_adapter(name: str, case_text: str, overrides: dict[str, float] | None = None) -> dict[str, Any]:
+def run_adapter(
+    name: str, case_text: str, overrides: dict[str, float] | None = None, *, python: str | None = None
+) -> dict[str, Any]:
     """One adapter run: its output (``engine``, ``results``, ``skipped``), or ``{"not_installed":
-    reason}`` when its engine cannot be imported. A failure of the adapter is an error (RuntimeError)."""
-    argv = [sys.executable, "-m", ENGINES[name]]
+    reason}`` when its engine cannot be imported (or cannot run here). A failure of the adapter is an error
+    (RuntimeError). ``python`` runs the adapter with another interpreter (an environment of its own, for an
+    engine whose pins conflict with another's; ``verify`` must be importable there)."""
+    argv = [python or sys.executable, "-m", ENGINES[name]]
     for key, value in (overrides or {}).items():
         argv += ["--set", f"{key}={value!r}"]
     done = subprocess.run(argv, input=case_text, capture_output=True, text=True, timeout=TIMEOUT, check=False)
@@ -183,18 +222,20 @@ def case_row(case: dict[str, Any], engine_velocity: Sequence[str], refs: dict[st
     }
 
 
-def _engine_entry(name: str, cases: list[dict[str, Any]], refs: dict[str, Any], text: str) -> dict[str, Any]:
+def _engine_entry(
+    name: str, cases: list[dict[str, Any]], refs: dict[str, Any], text: str, python: str | None = None
+) -> dict[str, Any]:
     """One engine's record: description, default run's cases, and the other settings' runs."""
-    first = run_adapter(name, text)
+    first = run_adapter(name, text, python=python)
     if "not_installed" in first:
         return {"name": name, "skipped": first["not_installed"]}
     d = first["engine"]
-    keys = ("name", "package", "version", "combine_rule", "cor_setting", "settings", "alternate")
+    keys = ("name", "package", "version", "combine_rule", "cor_setting", "settings", "alternate", "solver")
     entry: dict[str, Any] = {key: d[key] for key in keys}
     by_id = {c["id"]: c for c in cases}
     runs = []
     for label, overrides in _variants(d):
-        out = first if not overrides else run_adapter(name, text, overrides)
+        out = first if not overrides else run_adapter(name, text, overrides, python=python)
         rows = [case_row(by_id[r["id"]], r["exit_velocity"], refs[r["id"]]) for r in out["results"]]
         runs.append({"label": label, "settings": out["engine"]["settings"], "cases": rows, "skipped": out["skipped"]})
     entry["cases"] = runs[0]["cases"]
@@ -204,9 +245,14 @@ def _engine_entry(name: str, cases: list[dict[str, Any]], refs: dict[str, Any], 
 
 
 def engines_record(
-    names: Sequence[str] | None = None, *, progress: Callable[[str], None] | None = None, workers: int = 2
+    names: Sequence[str] | None = None,
+    *,
+    progress: Callable[[str], None] | None = None,
+    workers: int = 2,
+    pythons: dict[str, str] | None = None,
 ) -> dict[str, Any]:
-    """The ``verify engines --json`` record: every engine (or ``names``) on :func:`engine_cases`."""
+    """The ``verify engines --json`` record: every engine (or ``names``) on :func:`engine_cases`; ``pythons``
+    maps an engine to the interpreter that runs its adapter (default: this one)."""
     cases = engine_cases()
     if progress:
         progress(f"exact references: {len(cases)} cases, the rule and the simultaneous law")
@@ -215,7 +261,7 @@ def engines_record(
     chosen = list(names) if names else list(ENGINES)
 
     def one(name: str) -> dict[str, Any]:
-        entry = _engine_entry(name, cases, refs, text)
+        entry = _engine_entry(name, cases, refs, text, (pythons or {}).get(name))
         if progress:
             progress(
                 f"{name}: " + ("skipped, " + entry["skipped"] if "skipped" in entry else f"{len(entry['cases'])} cases")
@@ -224,11 +270,29 @@ def engines_record(
 
     with ThreadPoolExecutor(max_workers=max(1, workers)) as pool:
         entries = list(pool.map(one, chosen))
+    explain(entries, cases, progress)
     return {
         "engines": [e for e in entries if "skipped" not in e],
         "skipped": [{"name": e["name"], "reason": e["skipped"]} for e in entries if "skipped" in e],
         "cases": cases,
     }
+
+
+def explain(entries: list[dict[str, Any]], cases: list[dict[str, Any]], progress: Callable[[str], None] | None) -> None:
+    """Each engine's default answers explained by the nearest exact model of its algorithm
+    (:mod:`verify.checks.explain`): each case row gets ``nearest_model``, ``model_distance``, ``model`` (or
+    None) and, unexplained, ``why``; each engine its ``explained`` summary."""
+    by_id = {c["id"]: c for c in cases}
+    explainer = Explainer()
+    for entry in entries:
+        if "skipped" in entry:
+            continue
+        for row in entry["cases"]:
+            row.update(explain_case(explainer, entry, by_id[row["id"]], row["engine_exit_velocity"]))
+        entry["explained"] = explained_summary(entry, entry["cases"])
+        if progress:
+            s = entry["explained"]
+            progress(f"{entry['name']}: {s['explained']} of {s['cases']} cases explained by an exact model")
 
 
 # -- the findings, measured on the record ---------------------------------------------------------
@@ -245,6 +309,16 @@ def _median(values: list[Fraction]) -> Fraction:
 
 def _d(x: Fraction) -> str:
     return format_decimal(x, 2)
+
+
+def median_distance(entry: dict[str, Any], key: str) -> str:
+    """The median of an engine's distances ``key`` over the cases where the law exits (``-`` if none).
+
+    >>> median_distance({"cases": [{"d": "0.1"}, {"d": None}, {"d": "0.3"}]}, "d")
+    '0.2'
+    """
+    values = [Fraction(c[key]) for c in entry["cases"] if c[key] is not None]
+    return _d(_median(values)) if values else "-"
 
 
 def closest_law(entry: dict[str, Any]) -> str:
@@ -377,12 +451,26 @@ def _moved(entry: dict[str, Any], variant: dict[str, Any], cases: dict[str, dict
     return f"{entry['name']} under {variant['label']}: the answers move by up to {_d(worst)} (relative), on `{where}`."
 
 
+def explained_line(entry: dict[str, Any]) -> str:
+    """How many of an engine's default answers an exact model explains, by which, and what differs on the rest."""
+    s = entry.get("explained")
+    if not s:
+        return f"{entry['name']}: not explained (a record made before the exact models)"
+    models = "; ".join(f"{label} on {n}" for label, n in s["models"].items()) or "none"
+    rest = "; ".join(f"{why} on {n}" for why, n in s["unexplained"].items())
+    return (
+        f"{entry['name']} ({s['precision']}): an exact model explains {s['explained']} of {s['cases']} answers "
+        f"to within {s['tolerance']} of the speed: {models}" + (f". The others: {rest}." if rest else ".")
+    )
+
+
 def findings(record: dict[str, Any]) -> list[str]:
     """Every measured statement of the engines page, from a record of :func:`engines_record`."""
     cases = {c["id"]: c for c in record["cases"]}
     out = []
     for entry in record["engines"]:
         out.append(closest_law(entry))
+        out.append(explained_line(entry))
         out += departures(entry, cases)
     return out
 

@@ -258,6 +258,7 @@ def divergence(case: dict[str, Any], exact: dict[str, Any], found: list[Any]) ->
     import re
 
     from verify.core.rule import solve
+    from verify.core.sequential import law_of_record
     from verify.records.results import case_from_record
 
     detail = next((m.detail for m in found if m.field.split("[")[0] in ("impact_sets", "betas")), "")
@@ -266,7 +267,7 @@ def divergence(case: dict[str, Any], exact: dict[str, Any], found: list[Any]) ->
         return ""
     w = int(match.group(1))
     c = case_from_record({k: v for k, v in case.items() if k in CASE_KEYS}, f"case {case['id']}")
-    run = solve(c.system, c.velocity_source, law=exact.get("law", "rule"), max_iterations=w, certify=False)
+    run = solve(c.system, c.velocity_source, law=law_of_record(exact), max_iterations=w, certify=False)
     K = run.backend
     if len(run.steps) >= w:
         step = run.steps[w - 1]

@@ -28,6 +28,7 @@ from typing import Any
 
 from verify.checks.grading import DEFAULT_FLOOR, DEFAULT_RTOL, Tolerance
 from verify.checks.properties.strategies import velocity_with_rates
+from verify.core.sequential import Law
 from verify.errors import InvalidInput
 from verify.models.corner import corner_geometry
 from verify.models.cradle import cradle_geometry
@@ -187,7 +188,7 @@ def golden_results(
     *,
     budget: Any = None,
     progress: Callable[[int, str, int], None] | None = None,
-    law: str = "rule",
+    law: Law = "rule",
 ) -> list[dict]:
     """The exact result records of the cases (the default exact engine, with certificates), under
     the paper's rule or, with ``law="simultaneous"``, the simultaneous law.

@@ -24,6 +24,8 @@ from verify.cli.common import (
     budget_options,
     cluster_options,
     command,
+    law_choice,
+    law_options,
     run_budget,
     task_runner,
     write_output,
@@ -53,7 +55,7 @@ class JunitAs:
 
 def properties_options(p: argparse.ArgumentParser) -> None:
     """The options of ``verify properties``."""
-    from verify.core.rule import LAWS, RULES
+    from verify.core.rule import RULES
 
     p.add_argument(
         "--profile",
@@ -68,8 +70,8 @@ def properties_options(p: argparse.ArgumentParser) -> None:
     )
     p.add_argument("--rule", action="append", choices=RULES,
                    help="only this rule, or for the simultaneous law these CORs (repeatable)")  # fmt: skip
-    p.add_argument("--law", action="append", choices=LAWS,
-                   help="only this law: rule (the paper's) or simultaneous (repeatable; default both)")  # fmt: skip
+    law_options(p, append=True, help="only this law: rule (the paper's), simultaneous or sequential (repeatable; "
+                "default all three)")  # fmt: skip
     p.add_argument(
         "--family", action="append", choices=("general", "cradle", "corner"), help="only this family (repeatable)"
     )
@@ -101,8 +103,8 @@ def oracle_options(p: argparse.ArgumentParser) -> None:
     q.add_argument("--floor", default="1e-12", type=NonNegativeRational(),
                    help="a component whose exact value is 0 also passes within FLOOR times the entrance speed "
                         "max|v_in| (default 1e-12)")  # fmt: skip
-    q.add_argument("--law", default="rule", choices=("rule", "simultaneous"),
-                   help="the law of the exact results: the paper's rule (default) or the simultaneous law")  # fmt: skip
+    law_options(q, help="the law of the exact results: the paper's rule (default), the simultaneous law, or the "
+                "sequential law (with its settings below)")  # fmt: skip
     q.add_argument("--junit", metavar="FILE", type=OutputFile(), default=None,
                    help="also write the graded verdicts as JUnit XML, one test case per case")  # fmt: skip
     q.add_argument("--junit-as", metavar="CLASS=KIND,...", type=JunitAs(), default=None,
@@ -123,7 +125,7 @@ def oracle_options(p: argparse.ArgumentParser) -> None:
     q.add_argument("cases", metavar="CASES.json")
     q.add_argument("results", metavar="RESULTS.json", nargs="+",
                    help="result files, each NAME=FILE or FILE (named by its file name)")  # fmt: skip
-    q.add_argument("--law", default="rule", choices=("rule", "simultaneous"), help="the law of the exact results")
+    law_options(q, help="the law of the exact results (the sequential law with its settings below)")
     q.add_argument("--rtol", default="1e-8", type=NonNegativeRational(),
                    help="tolerance relative to the exact exit speed (default 1e-8)")  # fmt: skip
     q.add_argument("--json", action="store_true", help="print the table as JSON")
@@ -153,7 +155,8 @@ def cmd_properties(args: argparse.Namespace) -> int:
         bar = "#" * (width * done // max(total, 1))
         status.show(f"[{bar:{width}}] {done}/{total} tasks  {time.monotonic() - start:.0f} s", now=done == total)
 
-    chosen = {"properties": args.property, "families": args.family, "rules": args.rule, "laws": args.law}
+    laws = law_choice(args, "properties")
+    chosen = {"properties": args.property, "families": args.family, "rules": args.rule, "laws": laws}
     with task_runner(args, checkpoint_options(args.profile, **chosen)) as runner:
         run = run_verdicts(args.profile, **chosen, progress=progress, runner=runner)
     status.close()
@@ -173,12 +176,14 @@ def cmd_properties(args: argparse.Namespace) -> int:
     return 1 if any(v.verdict == "refuted" for v in found) else 0
 
 
-def list_properties(table: list[tuple[Any, str, str, str]]) -> None:
+def list_properties(table: list[tuple[Any, str, str, Any]]) -> None:
     """``verify properties --list``: each property with the rules of each law, and its families.
 
     >>> from verify.checks.properties.verdicts import rows
-    >>> list_properties(rows(["the exit velocity"], ["corner"], ["ideal", "asymmetric"]))
-    the exit velocity is outgoing  [rule: ideal, asymmetric; simultaneous: ideal; families: general, cradle, corner]
+    >>> table = rows(["the exit velocity"], ["corner"], ["ideal", "asymmetric"])
+    >>> list_properties(table)  # doctest: +NORMALIZE_WHITESPACE
+    the exit velocity is outgoing  [rule: ideal, asymmetric; simultaneous: ideal; sequential: ideal;
+    families: general, cradle, corner]
     """
     for prop in dict.fromkeys(p for p, _, _, _ in table):
         laws = "; ".join(
@@ -252,7 +257,7 @@ def oracle_check(args: argparse.Namespace) -> int:
                     now=impulses == 0)  # fmt: skip
 
     try:
-        expected = oracle.golden_results(records, budget=run_budget(args), law=args.law,
+        expected = oracle.golden_results(records, budget=run_budget(args), law=law_choice(args, "oracle check"),
                                          progress=progress if status.enabled else None)  # fmt: skip
     finally:
         status.close()
@@ -288,7 +293,7 @@ def oracle_table(args: argparse.Namespace) -> int:
     load_cases(args.cases)
     with open(args.cases, encoding="utf-8") as fh:
         records = json.loads(fh.read())["cases"]
-    expected = oracle.golden_results(records, law=args.law)
+    expected = oracle.golden_results(records, law=law_choice(args, "oracle table"))
     rows = []
     for spec in args.results:
         name, sep, path = spec.partition("=")

@@ -597,3 +597,70 @@ NUMBER = ExactNumber()
 
 #: what ``add_parser`` of the subcommands' parsers returns (``sub.add_parser(...)``)
 SubParsers = Any
+
+
+#: the options of the sequential law's settings (``--law sequential``)
+SWEEP_OPTIONS = ("iterations", "order", "threshold")
+
+
+def law_options(p: argparse.ArgumentParser, *, append: bool = False, help: str | None = None) -> None:
+    """``--law`` (the paper's rule by default; with ``append``, repeatable) and the sequential law's settings
+    ``--iterations``, ``--order``, ``--threshold`` (:class:`verify.core.sequential.Sequential`)."""
+    from verify.core.rule import LAWS
+    from verify.core.sequential import DEFAULT_ITERATIONS
+
+    what = help or (
+        "rule: the paper's iterative rule (default); simultaneous: Newton's restitution with complementarity, all "
+        "constraints at once; sequential: the sweeps of single-contact impulses that physics engines run"
+    )
+    if append:
+        p.add_argument("--law", action="append", choices=LAWS, help=what)
+    else:
+        p.add_argument("--law", default="rule", choices=LAWS, help=what)
+    p.add_argument("--iterations", type=BoundedInt(1, MAX_COUNT), default=None, metavar="K",
+                   help=f"with --law sequential: sweeps over the contacts (default {DEFAULT_ITERATIONS}, as Bullet's "
+                        "and Chipmunk's solvers; Box2D 2.3 runs 8)")  # fmt: skip
+    p.add_argument("--order", default=None, metavar="I,J,...",
+                   help="with --law sequential: the constraints' order in a sweep, by 0-based index, e.g. 1,0 "
+                        "(default: as given)")  # fmt: skip
+    p.add_argument("--threshold", default=None, metavar="SPEED",
+                   help="with --law sequential: no restitution for a contact incoming at this speed or slower "
+                        "(one number, or one per constraint: 1 or 1,0; default 0)")  # fmt: skip
+
+
+def law_choice(args: argparse.Namespace, command: str) -> Any:
+    """The law of ``--law`` with the sequential law's settings (a ``Sequential``), checked; with a repeatable
+    ``--law``, the list of laws (or None for all)."""
+    from verify.core.sequential import DEFAULT_ITERATIONS, Sequential
+    from verify.errors import InvalidInput
+
+    given = [f"--{name}" for name in SWEEP_OPTIONS if getattr(args, name) is not None]
+    laws = [args.law] if isinstance(args.law, str) else list(args.law or ())
+    if not given:
+        return args.law
+    if "sequential" not in laws:
+        raise UsageError(f"{PROG} {command}: {given[0]} is a setting of the sequential law: add --law sequential")
+    order = None
+    if args.order is not None:
+        try:
+            order = tuple(int(x) for x in split_option(args.order))
+        except ValueError:
+            raise UsageError(
+                f"{PROG} {command}: --order: expected 0-based indices such as 1,0, got {args.order!r}"
+            ) from None
+    threshold: Any = 0
+    if args.threshold is not None:
+        parts = split_option(args.threshold)
+        for x in parts:
+            try:
+                NUMBER(x)
+            except argparse.ArgumentTypeError as exc:
+                raise UsageError(f"{PROG} {command}: --threshold: {exc}") from None
+        threshold = parts[0] if len(parts) == 1 else tuple(parts)
+    try:
+        law = Sequential(args.iterations or DEFAULT_ITERATIONS, order, threshold)
+        law.thresholds(1 if not isinstance(threshold, tuple) else len(threshold))  # a negative one: refused now
+    except InvalidInput as exc:
+        raise UsageError(f"{PROG} {command}: {one_line(exc)}") from None
+    chosen = [law if x == "sequential" else x for x in laws]
+    return chosen[0] if isinstance(args.law, str) else chosen

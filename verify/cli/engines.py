@@ -18,8 +18,25 @@ def engines_options(p: argparse.ArgumentParser) -> None:
                    help="write engines.json, engines.md and engines-cradle.png into --out")  # fmt: skip
     p.add_argument("--out", default="reports", type=OutputDir(), help="the folder of --report (default reports)")
     p.add_argument("--workers", type=WORKERS, default=None, help="engines run at once (default 2)")
+    p.add_argument("--python", action="append", default=[], metavar="NAME=PYTHON", type=_interpreter,
+                   help="run engine NAME's adapter with another Python (an environment of its own, with verify and "
+                        "the engine installed), e.g. nimblephysics=venv-nimble/bin/python (repeatable)")  # fmt: skip
     p.add_argument("--quiet", action="store_true", help="no progress lines on stderr")
     p.add_argument("--json", action="store_true", help="print the record (JSON)")
+
+
+def _interpreter(text: str) -> tuple[str, str]:
+    """``NAME=PYTHON``: a known engine and an executable file."""
+    import os
+
+    from verify.physics import ENGINES
+
+    name, sep, path = text.partition("=")
+    if not sep or name not in ENGINES:
+        raise argparse.ArgumentTypeError(f"expected NAME=PYTHON with NAME one of {', '.join(ENGINES)}, got {text!r}")
+    if not (os.path.isfile(path) and os.access(path, os.X_OK)):
+        raise argparse.ArgumentTypeError(f"{path!r} is not an executable file")
+    return name, path
 
 
 def cmd_engines(args: argparse.Namespace) -> int:
@@ -31,7 +48,7 @@ def cmd_engines(args: argparse.Namespace) -> int:
         if not args.quiet:
             print(f"verify engines: {line}", file=sys.stderr, flush=True)
 
-    record = engines_record(args.engine, progress=progress, workers=args.workers or 2)
+    record = engines_record(args.engine, progress=progress, workers=args.workers or 2, pythons=dict(args.python))
     if args.report:
         write_engines_report(args.out, record)
     if args.json:

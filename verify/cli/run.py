@@ -19,6 +19,8 @@ from verify.cli.common import (
     backend_options,
     budget_options,
     case_progress,
+    law_choice,
+    law_options,
     one_line,
     run_budget,
     split_option,
@@ -46,7 +48,7 @@ def cradle_options(p: argparse.ArgumentParser) -> None:
         help="with --mode paper: the reading of the AEEV stop, measure/norm/when "
         "(default l2_pair/v/before; the earlier one: max_pair/v0/before; verify table1 lists all)",
     )
-    law_option(p)
+    law_options(p)
     p.add_argument("--max-iterations", type=COUNT, default=None, help="cap on impulses (default 10000)")
     p.add_argument("--trace", action="store_true", help="print every impulse, however many")
     p.add_argument("--json", action="store_true", help="print the result record (JSON)")
@@ -64,7 +66,7 @@ def solve_options(p: argparse.ArgumentParser) -> None:
         choices=RULES,
         help="general (eq. 8, default), ideal (5), symmetric (6) or asymmetric (7); also for --law simultaneous",
     )
-    law_option(p)
+    law_options(p)
     budget_options(p, "per case")
     p.add_argument("--quiet", action="store_true", help="no status line on stderr")
     p.add_argument("--json", action="store_true", help='print {"results": [...]}')
@@ -80,23 +82,10 @@ def corner_options(p: argparse.ArgumentParser) -> None:
     p.add_argument("--eps1", required=True, type=NUMBER, help="COR of wall S1 (kx - y = 0), in [0, 1]")
     p.add_argument("--eps2", required=True, type=NUMBER, help="COR of wall S2 (kx + y = 0), in [0, 1]")
     p.add_argument("--v0", default="100", type=NUMBER, help="speed of the entrance velocity (default 100)")
-    law_option(p)
+    law_options(p)
     p.add_argument("--max-iterations", type=COUNT, default=10_000, help="cap on impulses (default 10000)")
     p.add_argument("--json", action="store_true", help="print the result record with the zones (JSON)")
     backend_options(p)
-
-
-def law_option(p: argparse.ArgumentParser) -> None:
-    """``--law``: the paper's rule (default) or the simultaneous law."""
-    from verify.core.rule import LAWS
-
-    p.add_argument(
-        "--law",
-        default="rule",
-        choices=LAWS,
-        help="rule: the paper's iterative rule (default); simultaneous: Newton's restitution with "
-        "complementarity, all constraints at once (the law of physics engines)",
-    )
 
 
 def cmd_cradle(args: argparse.Namespace) -> int:
@@ -113,8 +102,9 @@ def cmd_cradle(args: argparse.Namespace) -> int:
     except InvalidSystem as exc:  # a list of another length than the balls: name the option
         raise UsageError(f"{PROG} cradle: --{exc}") from None
     aeev = _aeev_reading(args)
+    law = law_choice(args, "cradle")
     if args.law != "rule" and args.mode == "paper":
-        raise UsageError(f"{PROG} cradle: --mode paper is the paper's rule; --law simultaneous has no AEEV stop")
+        raise UsageError(f"{PROG} cradle: --mode paper is the paper's rule; --law {args.law} has no AEEV stop")
     result = run_cradle(
         eps if len(eps) > 1 else eps[0],
         aeev=aeev,
@@ -123,7 +113,7 @@ def cmd_cradle(args: argparse.Namespace) -> int:
         masses=masses,
         velocity=velocity,
         mode=args.mode,
-        law=args.law,
+        law=law,
         max_iterations=args.max_iterations,
         **backend_choice(args),
     )
@@ -155,6 +145,7 @@ def cmd_solve(args: argparse.Namespace) -> int:
     from verify.records.results import dumps, load_cases, result_record
     from verify.views.text import solve_text
 
+    law = law_choice(args, "solve")
     cases = load_cases(args.cases, **backend_choice(args))  # every case validated first
     budget = run_budget(args)
     status = StatusLine.for_args(args)
@@ -164,7 +155,7 @@ def cmd_solve(args: argparse.Namespace) -> int:
             cap = c.max_iterations if args.max_iterations is None else args.max_iterations
             progress = case_progress(status, f"verify solve: case {k}/{len(cases)} {c.id}")
             try:
-                r = solve(c.system, c.velocity_source, rule=args.rule, law=args.law, max_iterations=cap, trace=False,
+                r = solve(c.system, c.velocity_source, rule=args.rule, law=law, max_iterations=cap, trace=False,
                           budget=budget, progress=progress)  # fmt: skip
             except (InvalidInput, Undecided) as exc:  # name the case; nothing is printed for the others
                 raise type(exc)(f"{PROG} solve: case {c.id!r} (cases[{k - 1}]): {one_line(exc)}") from None
@@ -184,6 +175,7 @@ def cmd_corner(args: argparse.Namespace) -> int:
     from verify.records.results import corner_record, dumps
     from verify.views.text import corner_text
 
+    law = law_choice(args, "corner")
     run = run_corner(
         alpha=args.alpha,
         slope=args.slope,
@@ -191,7 +183,7 @@ def cmd_corner(args: argparse.Namespace) -> int:
         eps1=args.eps1,
         eps2=args.eps2,
         v0=args.v0,
-        law=args.law,
+        law=law,
         max_iterations=args.max_iterations,
         **backend_choice(args),
     )

@@ -66,14 +66,17 @@ class Result:
     max_iterations: int
     notes: tuple[str, ...] = ()
     certificate: dict | None = field(default=None)
-    #: the impact law: ``"rule"`` (the paper's iterative rule) or ``"simultaneous"``
-    #: (:mod:`verify.core.simultaneous`)
+    #: the impact law: ``"rule"`` (the paper's iterative rule), ``"simultaneous"``
+    #: (:mod:`verify.core.simultaneous`) or ``"sequential"`` (:mod:`verify.core.sequential`)
     law: str = "rule"
-    #: the simultaneous law's impulse magnitudes lambda_i, one per constraint (None for the rule)
+    #: the impulse magnitudes lambda_i, one per constraint, of the simultaneous law (or the sequential law's
+    #: accumulated impulses); None for the rule
     impulses: tuple | None = None
     #: on a backend that is not rigorous (mp, float): the first impulse whose impact set was decided on a
     #: rate below the working precision (the run is not to be trusted from there on; a note says so), or None
     doubtful: int | None = None
+    #: the sequential law's settings (:class:`verify.core.sequential.Sequential`); None for the other laws
+    sequential: Any = None
 
     @cached_property
     def kinetic_energy_in(self) -> Any:
@@ -140,7 +143,7 @@ class Result:
             words = [*words[:6], f" ... {len(words) - 9} more ... ", *words[-3:]]
         how = {"exit": "exit", "non_terminating": "never exits (proved)", "max_iterations": "still impacting"}
         head = f"{how.get(self.stop, self.stop)} after {self.iterations} impulses"
-        law = f"{self.rule} rule" if self.law == "rule" else f"simultaneous law, {self.rule} CORs"
+        law = f"{self.rule} rule" if self.law == "rule" else f"{self.law} law, {self.rule} CORs"
         coordinates = self.system.coordinates
         shown = ", ".join(f"{q} = {K.to_decimal(x, digits)}" for q, x in zip(coordinates, self.exit_velocity))
         energy = f"{K.to_decimal(self.kinetic_energy_in, digits)} -> {K.to_decimal(self.kinetic_energy_out, digits)}"

@@ -46,6 +46,7 @@ from verify.core.engines.policy import Limits, Run
 from verify.core.engines.rates import beta_from_rates, coefficients
 from verify.core.linalg import ldl, solve_spd
 from verify.core.outcome import Result, Step
+from verify.core.sequential import Law, Sequential, solve_sequential
 from verify.core.simultaneous import solve_simultaneous
 from verify.core.system import (
     System,
@@ -59,8 +60,9 @@ from verify.core.termination import non_termination_halt
 from verify.errors import InvalidInput, InvalidSystem, NoConvergence, Undecided
 
 RULES = ("general", "ideal", "symmetric", "asymmetric")
-#: the impact laws: the paper's iterative rule, and the simultaneous law of :mod:`verify.core.simultaneous`
-LAWS = ("rule", "simultaneous")
+#: the impact laws: the paper's iterative rule, the simultaneous law of :mod:`verify.core.simultaneous`, and the
+#: sequential-impulse law of :mod:`verify.core.sequential` (``law=`` also takes its settings, a ``Sequential``)
+LAWS = ("rule", "simultaneous", "sequential")
 DEFAULT_MAX_ITERATIONS = 10_000
 
 #: A stop test: called with (system, velocity) before each impulse, once an impact is
@@ -553,11 +555,18 @@ def _no_convergence(K: Backend, exc: Undecided, exact: _ExactRates) -> NoConverg
     return NoConvergence(f"{K.describe()}: a sign stayed undecided at the precision limit ({exc}); {why}")
 
 
-def _other_law(law: str) -> bool:
-    """Whether ``law`` is the simultaneous law (False for the rule; an unknown law is an error)."""
+def law_name(law: Law) -> str:
+    """The name of a law as :func:`solve` takes it (a name of :data:`LAWS`, or a ``Sequential``); an unknown
+    law is an error.
+
+    >>> law_name("simultaneous"), law_name(Sequential(iterations=3))
+    ('simultaneous', 'sequential')
+    """
+    if isinstance(law, Sequential):
+        return law.name
     if law not in LAWS:
         raise InvalidSystem(f"unknown law {law!r} (choose from {', '.join(LAWS)})")
-    return law != "rule"
+    return law
 
 
 def solve(
@@ -565,7 +574,7 @@ def solve(
     velocity: Sequence[Any],
     *,
     rule: str = "general",
-    law: str = "rule",
+    law: Law = "rule",
     max_iterations: int = DEFAULT_MAX_ITERATIONS,
     halt: Halt | None = None,
     trace: bool = True,
@@ -577,9 +586,11 @@ def solve(
 
     ``rule`` is ``"general"`` (eq. 8, the system's own CORs), ``"ideal"`` (eq. 5, all CORs 1), ``"symmetric"``
     (eq. 6, requires equal CORs) or ``"asymmetric"`` (eq. 7, requires two constraints). ``law="simultaneous"``
-    applies the simultaneous law instead (:mod:`verify.core.simultaneous`) with the CORs that ``rule`` gives;
-    the options of the iteration are then unused. ``max_iterations`` caps the number of impulses (stop
-    ``"max_iterations"``); ``halt`` is an extra stop test such as the paper's AEEV stop. With ``certify``
+    applies the simultaneous law instead (:mod:`verify.core.simultaneous`) with the CORs that ``rule`` gives,
+    ``law="sequential"`` or ``law=Sequential(iterations=..., order=..., threshold=...)`` the sequential-impulse
+    law (:mod:`verify.core.sequential`); the options of the iteration are then unused. ``max_iterations`` caps
+    the number of impulses (stop ``"max_iterations"``); ``halt`` is an extra stop test such as the paper's AEEV
+    stop. With ``certify``
     (the default) a run also stops, with stop ``"non_terminating"`` and a certificate, as soon as it is
     proved never to exit (:mod:`verify.core.termination`). ``budget`` (a :class:`Budget`) ends a run whose
     numbers grow too large or which takes too long with stop ``"budget"`` (or, :attr:`Budget.intervals`,
@@ -601,9 +612,12 @@ def solve(
     """
     if not isinstance(max_iterations, int) or max_iterations < 0:
         raise InvalidSystem(f"max_iterations must be a non-negative integer, got {max_iterations!r}")
+    name = law_name(law)
     system = _system_for_rule(system, rule)
-    if _other_law(law):
+    if name == "simultaneous":
         return solve_simultaneous(system, velocity, rule=rule, max_iterations=max_iterations)
+    if name == "sequential":
+        return solve_sequential(system, velocity, law if isinstance(law, Sequential) else Sequential(), rule=rule)
     options = {"rule": rule, "max_iterations": max_iterations, "halt": halt, "trace": trace, "certify": certify}
     return _solve_rule(system, velocity, budget, progress, options, searched=set())
 

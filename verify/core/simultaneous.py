@@ -39,14 +39,16 @@ incoming).
 
 from __future__ import annotations
 
-from collections.abc import Sequence
-from typing import Any
+from collections.abc import Callable, Sequence
+from typing import Any, TypeVar
 
 from verify.core.backends import Backend, exact_for
 from verify.core.linalg import ldl, solve_spd
 from verify.core.outcome import Result, Step
 from verify.core.system import System, exact_backend_for_velocity, known_zero, source_numbers, velocity_numbers
 from verify.errors import BadNumber, NoConvergence, Undecided
+
+T = TypeVar("T")
 
 
 def complementarity(K: Backend, G: Sequence[Sequence[Any]], q: Sequence[Any]) -> tuple[tuple[int, ...], tuple]:
@@ -171,28 +173,38 @@ def solve_simultaneous(
     >>> [s.backend.to_exact(x) for x in solve_simultaneous(s, ["100", "0", "0"]).exit_velocity]
     ['0', '50', '50']
     """
-    notes: list[str] = []
     exact = _on_exact(system, velocity) if not system.backend.is_exact else None
+
+    def attempt(system: System) -> tuple[System, tuple]:
+        if system.backend.widens_to_inputs:
+            system, v = exact_backend_for_velocity(system, velocity)
+        else:
+            v = system.velocity(velocity)
+        hits, S, hit = _decide(system, v, exact)
+        return system, (v, hit, _on_active_set(system, v, hits, S))
+
+    system, (v, hit, lam), notes = refining(system, attempt, "the simultaneous law's active set")
+    return _result(system, v, hit, lam, rule=rule, max_iterations=max_iterations, notes=notes)
+
+
+def refining(system: System, attempt: Callable[[System], tuple[System, T]], what: str) -> tuple[System, T, list[str]]:
+    """``attempt(system)`` (which returns the system it ran on, perhaps widened, and its value), repeated at higher
+    precision while a sign is undecided on a refinable backend (intervals); the notes say so.
+    :class:`~verify.errors.NoConvergence` names ``what`` at the precision limit; on other backends the
+    :class:`~verify.errors.Undecided` is raised as it is."""
+    notes: list[str] = []
     while True:
         try:
-            if system.backend.widens_to_inputs:
-                system, v = exact_backend_for_velocity(system, velocity)
-            else:
-                v = system.velocity(velocity)
-            hits, S, hit = _decide(system, v, exact)
-            lam = _on_active_set(system, v, hits, S)
-            break
+            system, value = attempt(system)
+            return system, value, notes
         except Undecided as exc:
             finer = system.backend.refined() if system.backend.refinable else None
             if finer is None:
                 if system.backend.refinable:
-                    raise NoConvergence(
-                        f"{system.backend.describe()}: the simultaneous law's active set stayed undecided ({exc})"
-                    ) from None
+                    raise NoConvergence(f"{system.backend.describe()}: {what} stayed undecided ({exc})") from None
                 raise
             notes.append(f"precision raised from {system.backend.dps} to {finer.dps} digits after an undecided sign")
             system = system.convert_to(finer)
-    return _result(system, v, hit, lam, rule=rule, max_iterations=max_iterations, notes=notes)
 
 
 def _result(

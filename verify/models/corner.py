@@ -35,6 +35,7 @@ from verify.core.backends import Backend, get_backend
 from verify.core.numeric import certified_sign
 from verify.core.parse import Number, to_number
 from verify.core.rule import DEFAULT_MAX_ITERATIONS, Result, solve
+from verify.core.sequential import Law
 from verify.core.system import System
 from verify.errors import InvalidInput, InvalidSystem
 
@@ -168,7 +169,7 @@ def run_corner(
     dps: int | None = None,
     max_iterations: int = DEFAULT_MAX_ITERATIONS,
     rule: str = "general",
-    law: str = "rule",
+    law: Law = "rule",
     trace: bool = True,
     certify: bool = True,
 ) -> CornerRun:

@@ -25,6 +25,7 @@ from typing import Any
 from verify.core.backends import Backend
 from verify.core.parse import to_number
 from verify.core.rule import DEFAULT_MAX_ITERATIONS, Result, solve_many
+from verify.core.sequential import Law
 from verify.core.system import System
 from verify.errors import InvalidSystem
 from verify.models.paper import PAPER_MAX_ITERATIONS, PAPER_READING, Reading, aeev_halt
@@ -61,18 +62,24 @@ def _check_balls(balls: int) -> None:
         raise InvalidSystem(f"balls must be an integer >= 2, got {balls!r}")
 
 
-def cradle_geometry(masses: Sequence[Any]) -> tuple[list[list[Any]], list[list[Fraction]]]:
+def cradle_geometry(masses: Sequence[Any], *, wall: bool = False) -> tuple[list[list[Any]], list[list[Fraction]]]:
     """The cradle of ``len(masses)`` balls in reduced coordinates: the diagonal mass matrix of
-    ``masses`` (as given) and the normals ``e_(i+1) - e_i`` of the contacts, as exact numbers.
+    ``masses`` (as given) and the normals ``e_(i+1) - e_i`` of the contacts, as exact numbers. With
+    ``wall``, a fixed wall touches the last ball on its right: one more contact, of normal ``-e_N``
+    (its rate is ``-v_N``: the last ball approaches the wall when it moves right).
 
     >>> g, normals = cradle_geometry([Fraction(1), Fraction(2), Fraction(1)])
     >>> [str(x) for x in g[1]], [[str(a) for a in row] for row in normals]
     (['0', '2', '0'], [['-1', '1', '0'], ['0', '-1', '1']])
+    >>> [[str(a) for a in row] for row in cradle_geometry([Fraction(1)] * 2, wall=True)[1]]
+    [['-1', '1'], ['0', '-1']]
     """
     balls = len(masses)
     zero, one = Fraction(0), Fraction(1)
     g = [[masses[i] if i == j else zero for j in range(balls)] for i in range(balls)]
     normals = [[-one if k == i else one if k == i + 1 else zero for k in range(balls)] for i in range(balls - 1)]
+    if wall:
+        normals.append([-one if k == balls - 1 else zero for k in range(balls)])
     return g, normals
 
 
@@ -200,7 +207,7 @@ def run_cradle(
     certify: bool = True,
     aeev: Reading | str = PAPER_READING,
     sigma_squared: Fraction | None = None,
-    law: str = "rule",
+    law: Law = "rule",
 ) -> Result:
     """Run the cradle (reduced coordinates) in ``exact`` mode or in the paper's ``paper`` mode.
 
@@ -242,7 +249,7 @@ def run_cradle_many(
     certify: bool = True,
     aeev: Reading | str = PAPER_READING,
     sigma_squared: Fraction | None = None,
-    law: str = "rule",
+    law: Law = "rule",
 ) -> list[Result]:
     """:func:`run_cradle` for each of ``eps_values`` (the other options as there): the cradle is
     built once and every COR shares its geometry (:func:`verify.core.rule.solve_many`).

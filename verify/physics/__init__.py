@@ -14,4 +14,9 @@ ENGINES: dict[str, str] = {
     "pybullet": "verify.physics.pybullet",
     "mujoco": "verify.physics.mujoco",
     "dartpy": "verify.physics.dartpy",
+    "nimblephysics": "verify.physics.nimble",
+    "sapien": "verify.physics.sapien",
+    "newton": "verify.physics.newton",
+    "mujoco_warp": "verify.physics.mujoco_warp",
+    "genesis": "verify.physics.genesis",
 }

@@ -60,7 +60,11 @@ Settings (all changeable with ``--set``):
 A case ends after a step that applied no normal impulse (as reported by ``PostSolve``,
 below 1e-6 of the momentum scale) with no contact approaching (closing speed below 1e-6 of
 the fastest initial speed): bodies separating, or resting together. Walls are static bodies
-with one edge shape each, 1000 radii long, from the apex. Gravity is off, friction 0, sleeping off; the
+with one edge shape each, 1000 radii long, from the apex. A cradle's fixed wall
+(:attr:`~verify.physics.scene.Cradle.wall`) is one more: a static body with a vertical edge
+2000 radii long, at ``radius + skin - overlap`` from the last ball's centre like the corner's
+walls; it is body N on the path (ball 1 .. ball N, wall), so the listener gives its contact
+``cors[-1]`` and with ``per_contact=0`` the max rule runs along that path. Gravity is off, friction 0, sleeping off; the
 disk has unit mass and unit moment of inertia, a ball of mass m has m and ``m radius^2 / 2``.
 
 Alternate setting: ``velocity_iterations=1``: one Gauss-Seidel pass per step, so the
@@ -146,7 +150,16 @@ class Box2DAdapter(ContactAdapter):
     alternate: ClassVar[tuple[str, float]] = ("velocity_iterations", 1)
     rule: ClassVar[str] = "max"
     who: ClassVar[str] = "per-body restitutions combined by max (Box2D)"
+    solver: ClassVar[dict[str, Any]] = {
+        "kind": "sequential",
+        "iterations": "velocity_iterations",
+        "threshold": 1.0,
+        "precision": "float32",
+        "source": "Box2D 2.3 b2ContactSolver::InitializeVelocityConstraints (bias -e*vRel when vRel < "
+        "-b2_velocityThreshold, b2Settings.h: 1 m/s) and SolveVelocityConstraints (accumulated impulses clamped at 0)",
+    }
     tolerance: ClassVar[float] = 1e-6  # a float32 engine: impulses and velocities carry about 1e-7 relative
+    walls: ClassVar[bool] = True
 
     def checks(self) -> dict[str, bool]:
         c = self.config
@@ -169,6 +182,12 @@ class Box2DAdapter(ContactAdapter):
 
         return world, log, step
 
+    @staticmethod
+    def _wall(world: Any, index: int, vertices: list[tuple[float, float]], restitution: float) -> None:
+        """A static body with one edge shape, ``index`` on the path of bodies (its ``userData``)."""
+        wall = world.CreateStaticBody(userData=index)
+        wall.CreateEdgeFixture(vertices=vertices, friction=0, restitution=restitution)
+
     # -- the scenes --------------------------------------------------------------------
     def cradle(self, scene: Cradle) -> list[float]:
         masses, cors, v0 = cradle_inputs(scene)
@@ -176,16 +195,23 @@ class Box2DAdapter(ContactAdapter):
         world, log, step = self._world(cors)
         r, c = self.config["radius"], self.config
         rest = self.body_values(cors)
-        bodies: list[Any] = [None] * len(masses)
-        for i in in_order(range(len(masses)), c["reverse_order"]):
-            body = world.CreateDynamicBody(
-                position=(i * (2 * r - c["overlap"]), 0), userData=i, bullet=bool(c["bullet"])
-            )
+        n, pitch = len(masses), 2 * r - c["overlap"]
+        bodies: list[Any] = [None] * n
+        for i in in_order(range(n + scene.wall), c["reverse_order"]):
+            if i == n:  # the wall: its edge at the corner's distance from the last ball's centre
+                x = (n - 1) * pitch + r + b2.b2_polygonRadius - c["overlap"]
+                self._wall(world, n, [(x, -1000 * r), (x, 1000 * r)], rest[n])
+                continue
+            body = world.CreateDynamicBody(position=(i * pitch, 0), userData=i, bullet=bool(c["bullet"]))
             body.CreateCircleFixture(radius=r, density=1, friction=0, restitution=rest[i])
             body.massData = b2.b2MassData(mass=masses[i], center=(0, 0), I=masses[i] * r * r / 2)
             body.linearVelocity = (v0[i], 0)
             bodies[i] = body
-        return self.settle_cradle(step, log, lambda: [float(b.linearVelocity.x) for b in bodies], masses, v0)
+
+        def read() -> list[float]:
+            return [float(b.linearVelocity.x) for b in bodies]
+
+        return self.settle_cradle(step, log, read, masses, v0, wall=scene.wall)
 
     def corner(self, scene: Corner) -> list[float]:
         k, cors, (vx, vy, w) = corner_inputs(scene)
@@ -204,10 +230,7 @@ class Box2DAdapter(ContactAdapter):
                 disk.linearVelocity, disk.angularVelocity = (vx, vy), w
             else:
                 slope = k if index == 0 else -k  # S1: y = kx, S2: y = -kx, towards negative x
-                wall = world.CreateStaticBody(userData=index)
-                wall.CreateEdgeFixture(
-                    vertices=[(0, 0), (-length, -slope * length)], friction=0, restitution=rest[index]
-                )
+                self._wall(world, index, [(0, 0), (-length, -slope * length)], rest[index])
 
         def read() -> list[float]:
             return [float(disk.linearVelocity.x), float(disk.linearVelocity.y), float(disk.angularVelocity)]

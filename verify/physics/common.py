@@ -14,10 +14,10 @@ from __future__ import annotations
 import math
 import sys
 from collections.abc import Callable, Iterable, Sequence
-from typing import ClassVar, TypeVar
+from typing import Any, ClassVar, TypeVar
 
 from verify.physics.combine import max_rule_values, product_rule_values
-from verify.physics.protocol import Adapter
+from verify.physics.protocol import Adapter, CannotRun, NotInstalled, import_engine, silenced
 from verify.physics.scene import Corner, Cradle, Unsupported
 
 T = TypeVar("T")
@@ -48,13 +48,17 @@ def wall_normals(k: float) -> list[tuple[float, float]]:
     return [(-k, 1.0), (-k, -1.0)]
 
 
-def cradle_closing(v: Sequence[float]) -> float:
-    """The fastest approach of two neighbouring balls (> 0: still approaching).
+def cradle_closing(v: Sequence[float], wall: bool = False) -> float:
+    """The fastest approach of two neighbouring balls, or with ``wall`` of the last ball towards the
+    fixed wall on its right (``v[-1]``) too (> 0: still approaching).
 
     >>> cradle_closing([3.0, 1.0, 2.0])
     2.0
+    >>> cradle_closing([3.0, 1.0, 2.0], wall=True), cradle_closing([-1.0], wall=True)
+    (2.0, -1.0)
     """
-    return max(v[i] - v[i + 1] for i in range(len(v) - 1))
+    pairs = [v[i] - v[i + 1] for i in range(len(v) - 1)]
+    return max([*pairs, v[-1]]) if wall else max(pairs)
 
 
 def corner_closing(k: float, v: Sequence[float]) -> float:
@@ -172,12 +176,20 @@ class ContactAdapter(Adapter):
         return product_rule_values(cors, self.who, bounded=True)
 
     def settle_cradle(
-        self, step: Callable[[], object], log: ContactLog, read: Velocities, masses: list[float], v0: list[float]
+        self,
+        step: Callable[[], object],
+        log: ContactLog,
+        read: Velocities,
+        masses: list[float],
+        v0: list[float],
+        *,
+        wall: bool = False,
     ) -> list[float]:
-        """Run a cradle (``step``: one engine step) until the impact is over; the balls' velocities."""
+        """Run a cradle (``step``: one engine step; ``wall``: it has a fixed wall) until the impact is
+        over; the balls' velocities."""
         momentum = sum(m * abs(x) for m, x in zip(masses, v0)) or 1.0
         speed = max(map(abs, v0)) or 1.0
-        return self._settle(step, log, read, cradle_closing, momentum=momentum, speed=speed)
+        return self._settle(step, log, read, lambda v: cradle_closing(v, wall), momentum=momentum, speed=speed)
 
     def settle_corner(
         self, step: Callable[[], object], log: ContactLog, read: Velocities, k: float, v0: list[float]
@@ -211,3 +223,23 @@ class ContactAdapter(Adapter):
                 file=sys.stderr,
             )
         return v
+
+
+def warp_on_cpu(engine: str, version: str) -> Any:
+    """NVIDIA Warp initialised on its CPU device, quietly (its banner and CUDA warning silenced); :class:`CannotRun`
+    with Warp's error and ``engine``'s ``version`` when it cannot run there (the engines built on Warp: Newton,
+    MuJoCo Warp)."""
+    try:
+        with silenced(), silenced(2):
+            wp = import_engine("warp")
+            wp.config.quiet = True
+            wp.init()
+            if not wp.is_cpu_available():  # Warp built without its CPU (LLVM/Clang) backend
+                raise RuntimeError(f"warp {wp.__version__}: no CPU device (wp.is_cpu_available() is False)")
+            wp.set_device("cpu")
+    except NotInstalled:
+        raise
+    except Exception as exc:  # Warp's own errors (no CPU backend, a missing library)
+        line = str(exc).splitlines()[0] if str(exc) else type(exc).__name__
+        raise CannotRun(f"{line}; {engine} {version}") from None
+    return wp

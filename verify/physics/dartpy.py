@@ -33,7 +33,10 @@ shifts the answers in the fifth digit) are possible from Python.
 **Scenes.** Gravity 0; each ball or disk is a Skeleton with a FreeJoint and a SphereShape of
 radius 1 (collision and dynamics aspects, friction 0); the two walls are box ShapeNodes of one
 body welded to the world (one body, so the walls do not collide with each other), faces on the
-lines ``y = kx`` and ``y = -kx``. Balls are solid spheres (moment ``2/5 m``); the disk has unit
+lines ``y = kx`` and ``y = -kx``. A cradle's fixed wall (:attr:`~verify.physics.scene.Cradle.wall`)
+is such a welded body with one box, its face at ``RADIUS - overlap`` from the last ball's centre,
+facing -x: one more body at the end of the path, its shape's restitution from the same product
+rule (its contact gets ``cors[-1]``). Balls are solid spheres (moment ``2/5 m``); the disk has unit
 mass and unit moment. Velocities are set and read in the world frame. A case steps until the
 velocities have not changed for 3 steps and no contact approaches (or ``max_steps``).
 
@@ -74,6 +77,23 @@ WHO = "per-body restitutions multiplied (DART; dartpy binds no per-contact setti
 SLACK = 1e-12  #: a per-body value up to 1 + SLACK (a rounding) is given as 1
 
 
+#: a wall: a point of its face, the face's direction in the xy plane, its normal pointing into the wall (out of
+#: the bodies' side), its restitution and its name
+Wall = tuple[list[float], list[float], list[float], float, str]
+WALL_HALF_LENGTH, WALL_THICKNESS = 20 * RADIUS, RADIUS
+WALL_BOX = [2 * WALL_HALF_LENGTH, WALL_THICKNESS, 4 * RADIUS]  #: a wall's box: along, across, z
+
+
+def wall_frame(d: Any, wall: Wall) -> Any:
+    """Where a wall's box (:data:`WALL_BOX`) lies: its x axis along the face, its y axis out of the wall."""
+    foot, along, into = wall[0], wall[1], wall[2]
+    side = [-along[1], along[0], 0.0]  # (along, side, z) right-handed: side = -into
+    frame = d.math.Isometry3()
+    frame.set_rotation([[along[i], side[i], [0.0, 0.0, 1.0][i]] for i in range(3)])
+    frame.set_translation([foot[i] + into[i] * WALL_THICKNESS / 2 for i in range(3)])
+    return frame
+
+
 class DartAdapter(Adapter):
     """DART (dartpy): all contacts of a step in one boxed LCP, restitution combined as a product."""
 
@@ -104,6 +124,20 @@ class DartAdapter(Adapter):
     # largest change of any one setting (reverse_order: -33.323; time_step: none; pgs_iterations alone:
     # none, Dantzig converges); with pgs_iterations=1 as well the answer becomes about (0, 50, 50).
     alternate: ClassVar[tuple[str, float]] = ("lcp_solver", 1)
+    #: whether a wall's restitution must lie in [0, 1] (DART replaces others by 0; nimblephysics takes them)
+    bounded: ClassVar[bool] = True
+    walls: ClassVar[bool] = True
+    solver: ClassVar[dict[str, Any]] = {
+        "kind": "simultaneous",
+        "iterations": "pgs_iterations",
+        "threshold": 0.1,
+        "threshold_of": "cor_times_speed",
+        "cor_floor": 0.001,
+        "precision": "float64",
+        "source": "dart/constraint/BoxedLcpConstraintSolver.cpp (one boxed LCP per step, Dantzig, PGS fallback); "
+        "dart/constraint/ContactConstraint.cpp getInformation and ContactSurface.hpp (target e*approach from "
+        "before the solve; none when e <= 1e-3 or e*approach <= 0.1)",
+    }
 
     def checks(self) -> dict[str, bool]:
         c = self.config
@@ -182,9 +216,14 @@ class DartAdapter(Adapter):
         d = self.engine()
         with silenced():
             world = self._world(d)
-            gap = 2 * RADIUS - self.config["overlap"]
-            balls: list[Any] = [None] * len(masses)
-            for j in in_order(range(len(masses)), self.config["reverse_order"]):
+            n, gap = len(masses), 2 * RADIUS - self.config["overlap"]
+            balls: list[Any] = [None] * n
+            for j in in_order(range(n + scene.wall), self.config["reverse_order"]):
+                if j == n:  # the wall: its face at RADIUS - overlap from the last ball's centre, facing -x
+                    face = [(n - 1) * gap + RADIUS - self.config["overlap"], 0.0, 0.0]
+                    wall = (face, [0.0, 1.0, 0.0], [1.0, 0.0, 0.0], restitution[n], "wall")
+                    world.addSkeleton(self._wall_skeleton(d, [wall]))
+                    continue
                 moment = 0.4 * masses[j] * RADIUS**2  # a solid sphere
                 skeleton, joint = self._free_sphere(d, f"ball{j}", masses[j], moment, restitution[j])
                 joint.setPositions([0.0, 0.0, 0.0, j * gap, 0.0, 0.0])
@@ -195,31 +234,33 @@ class DartAdapter(Adapter):
             def read() -> list[float]:
                 return [float(b.getLinearVelocity()[0]) for b in balls]
 
-            return self._settle(world, read, cradle_closing)
+            return self._settle(world, read, lambda v: cradle_closing(v, scene.wall))
 
     def _walls(self, d: Any, k: float, cors: list[float], centre: float) -> Any:
-        """One body welded to the world with a box shape per wall (S1: y = kx, S2: y = -kx)."""
-        skeleton = d.dynamics.Skeleton("walls")
-        _, body = skeleton.createWeldJointAndBodyNodePair()
+        """The corner's walls (S1: y = kx, S2: y = -kx), a box each, welded to the world."""
         s = math.hypot(1.0, k)
-        half_length, thickness = 20 * RADIUS, RADIUS
+        walls: list[Wall] = []
         for w in in_order([0, 1], self.config["reverse_order"]):
             sign = 1.0 if w == 0 else -1.0
             along = [1 / s, sign * k / s, 0.0]
             into = [k / s, -sign / s, 0.0]  # the wall's normal, pointing out of the admissible region
             foot = [centre / s * x for x in along]  # the disk centre's foot on the wall's line
-            side = [-sign * x for x in into]  # (along, side, z) right-handed
-            node = self._shape(d, body, d.dynamics.BoxShape([2 * half_length, thickness, 4 * RADIUS]), cors[w])
-            node.setName(f"S{w + 1}")
-            frame = d.math.Isometry3()
-            frame.set_rotation([[along[i], side[i], [0.0, 0.0, 1.0][i]] for i in range(3)])
-            frame.set_translation([foot[i] + into[i] * thickness / 2 for i in range(3)])
-            node.setRelativeTransform(frame)
+            walls.append((foot, along, into, cors[w], f"S{w + 1}"))
+        return self._wall_skeleton(d, walls)
+
+    def _wall_skeleton(self, d: Any, walls: list[Wall]) -> Any:
+        """One body welded to the world with a box shape per wall (so the walls do not collide)."""
+        skeleton = d.dynamics.Skeleton("walls")
+        _, body = skeleton.createWeldJointAndBodyNodePair()
+        for wall in walls:
+            node = self._shape(d, body, d.dynamics.BoxShape(WALL_BOX), wall[3])
+            node.setName(wall[4])
+            node.setRelativeTransform(wall_frame(d, wall))
         return skeleton
 
     def corner(self, scene: Corner) -> list[float]:
         k, cors, (vx, vy, omega) = corner_inputs(scene)
-        check_range(cors, WHO, bounded=True)  # the disk has restitution 1, each wall its COR
+        check_range(cors, WHO, bounded=self.bounded)  # the disk has restitution 1, each wall its COR
         d = self.engine()
         with silenced():
             world = self._world(d)

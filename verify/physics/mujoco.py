@@ -17,7 +17,10 @@ priority a standard ``solref`` is the ``solmix``-weighted mean, a direct ``solre
 element-wise minimum, ``solimp`` the weighted mean and friction the maximum. This adapter does
 not use it: every constraint is an explicit ``<contact><pair>`` with its own ``solref``
 (pairs bypass the mixing) and every geom has ``contype = conaffinity = 0``, so no other contact
-exists. Each pair has ``condim = 1`` (frictionless).
+exists. Each pair has ``condim = 1`` (frictionless). A cradle's fixed wall
+(:attr:`~verify.physics.scene.Cradle.wall`) is a plane geom of the world body facing -x at
+``radius - overlap`` from the last ball's centre (as the corner's walls), with its own pair to
+the last ball whose ``solref`` comes from ``cors[-1]`` like the balls' pairs.
 
 COR to damping: a linear spring-damper of damping ratio ``zeta`` has
 ``e = exp(-zeta pi / sqrt(1 - zeta^2))``, so ``zeta = -ln e / sqrt(pi^2 + ln^2 e)`` and
@@ -123,6 +126,15 @@ class MuJoCoAdapter(Adapter):
     # contacts (the single-contact COR is unchanged, as K and B are scaled by it); it moves the
     # 3-ball e = 1 cradle from about (-33.6, 64.0, 69.6) to (-26.9, 40.4, 86.5).
     alternate: ClassVar[tuple[str, float]] = ("solimp_dmax", 0.5)
+    walls: ClassVar[bool] = True
+    solver: ClassVar[dict[str, Any]] = {
+        "kind": "soft",
+        "iterations": "iterations",
+        "threshold": 0.0,
+        "precision": "float64",
+        "source": "MuJoCo modeling guide, 'Solver parameters' and 'Restitution': contacts are soft constraints "
+        "(a spring-damper set by solref), with no coefficient of restitution",
+    }
 
     def checks(self) -> dict[str, bool]:
         c = self.config
@@ -176,6 +188,15 @@ class MuJoCoAdapter(Adapter):
             f'<geom name="{name}" type="sphere" size="{radius!r}" contype="0" conaffinity="0"/></body>'
         )
 
+    @staticmethod
+    def _plane(name: str, normal: tuple[float, float], pos: tuple[float, float] | None = None) -> str:
+        """A fixed wall: a plane geom of the world body, facing ``normal``, through ``pos`` (by default the origin)."""
+        at = "" if pos is None else f' pos="{pos[0]!r} {pos[1]!r} 0"'
+        return (
+            f'<geom name="{name}" type="plane" size="0 0 1"{at} zaxis="{normal[0]!r} {normal[1]!r} 0" '
+            'contype="0" conaffinity="0"/>'
+        )
+
     def _simulate(
         self, xml: str, velocity: dict[Dof, float], read: list[Dof], closing: Callable[[list[float]], float]
     ) -> list[float]:
@@ -196,9 +217,10 @@ class MuJoCoAdapter(Adapter):
             raise Unsupported(f"MuJoCo warned: {warnings[0]}")
         return v
 
-    def _steps(
-        self, mj: Any, xml: str, velocity: dict[Dof, float], read: list[Dof], closing: Callable[[list[float]], float]
-    ) -> list[float]:
+    @staticmethod
+    def model(mj: Any, xml: str, velocity: dict[Dof, float], read: list[Dof]) -> tuple[Any, Any, list[int]]:
+        """The compiled model, its data with the velocities set, and the addresses of the velocities to read
+        (:class:`Unsupported` when MuJoCo rejects the model)."""
         try:
             m = mj.MjModel.from_xml_string(xml)
         except ValueError as exc:
@@ -210,7 +232,12 @@ class MuJoCoAdapter(Adapter):
 
         for dof, x in velocity.items():
             d.qvel[address(dof)] = x
-        out = [address(dof) for dof in read]
+        return m, d, [address(dof) for dof in read]
+
+    def _steps(
+        self, mj: Any, xml: str, velocity: dict[Dof, float], read: list[Dof], closing: Callable[[list[float]], float]
+    ) -> list[float]:
+        m, d, out = self.model(mj, xml, velocity, read)
         v, _ = settle(
             lambda: mj.mj_step(m, d),
             lambda: [float(d.qvel[i]) for i in out],
@@ -224,21 +251,25 @@ class MuJoCoAdapter(Adapter):
     # -- the scenes --------------------------------------------------------------------
     def cradle(self, scene: Cradle) -> list[float]:
         masses, cors, vel = cradle_inputs(scene)
-        pairs = [self._pair(f"b{i}", f"b{i + 1}", e) for i, e in enumerate(cors)]
-        radius = self._radius(max(vel) - min(vel))
+        n = len(masses)
+        names = [f"b{i}" for i in range(n)] + ["wall"] * scene.wall  # the path of bodies
+        pairs = [self._pair(names[i], names[i + 1], e) for i, e in enumerate(cors)]
+        speeds = [*vel, 0.0] if scene.wall else vel  # the wall stands still
+        radius = self._radius(max(speeds) - min(speeds))
         pitch = 2 * radius - self.config["overlap"]
         bodies = [self._ball(f"b{i}", (i * pitch, 0.0), m, 0.4 * m * radius**2, radius) for i, m in enumerate(masses)]
-        xs = [(f"b{i}", 0) for i in range(len(masses))]
-        return self._simulate(self._model(bodies, pairs), dict(zip(xs, vel)), xs, cradle_closing)
+        if scene.wall:  # a plane facing -x, at radius - overlap from the last ball's centre
+            bodies.append(self._plane("wall", (-1.0, 0.0), ((n - 1) * pitch + radius - self.config["overlap"], 0.0)))
+        xs = [(f"b{i}", 0) for i in range(n)]
+        model = self._model(bodies, pairs)
+        return self._simulate(model, dict(zip(xs, vel)), xs, lambda v: cradle_closing(v, scene.wall))
 
     def corner(self, scene: Corner) -> list[float]:
         k, cors, vel = corner_inputs(scene)
         radius = self._radius(math.hypot(vel[0], vel[1]))
         centre = corner_centre(k, radius - self.config["overlap"])
-        walls = [
-            f'<geom name="s{j + 1}" type="plane" size="0 0 1" zaxis="{n[0]!r} {n[1]!r} 0" contype="0" conaffinity="0"/>'
-            for j, n in enumerate(wall_normals(k))  # towards the admissible side x <= -|y|/k
-        ]
+        # towards the admissible side x <= -|y|/k
+        walls = [self._plane(f"s{j + 1}", (n[0], n[1])) for j, n in enumerate(wall_normals(k))]
         bodies = [*walls, self._ball("disk", (centre, 0.0), 1.0, 1.0, radius)]
         pairs = [self._pair("disk", f"s{j + 1}", e) for j, e in enumerate(cors)]
         # a free joint's angular velocity is in the body frame; the disk turns about z only

@@ -45,6 +45,11 @@ class NotInstalled(Exception):
     """The engine's Python package cannot be imported."""
 
 
+class CannotRun(NotInstalled):
+    """The engine imports but cannot run here (no CPU backend, a missing driver): the message says
+    what stopped it, measured (the error and the version), and ``verify engines`` lists it as skipped."""
+
+
 @contextlib.contextmanager
 def silenced(fd: int = 1) -> Iterator[None]:
     """Send what is written on a file descriptor (standard output by default) to /dev/null.
@@ -88,8 +93,28 @@ class Adapter:
     cor_setting: ClassVar[str] = "?"
     #: the solver settings used by default (name -> number), all changeable with --set
     settings: ClassVar[dict[str, float]] = {}
+    #: whether :meth:`cradle` builds a cradle's fixed wall (:attr:`verify.physics.scene.Cradle.wall`)
+    walls: ClassVar[bool] = False
     #: the setting that matters most, and its second value (run by ``verify engines``)
     alternate: ClassVar[tuple[str, float]] = ("", 0)
+    #: the engine's contact solver, as an exact model replays it (``verify engines`` explains answers by it):
+    #: ``kind`` is "sequential" (projected Gauss-Seidel sweeps of impulses, the restitution target taken
+    #: before the solve), "simultaneous" (a complementarity problem solved exactly or to convergence) or
+    #: "soft" (compliant contact: no exact model); ``iterations`` names the setting that holds the sweeps'
+    #: count ("" if none); ``threshold`` is the incoming speed at or below which no restitution is applied
+    #: (0: none; a number, or the name of the setting that holds it), compared with the COR times that speed
+    #: when ``threshold_of`` is "cor_times_speed"; ``cor_floor``: a COR at or below it acts as 0;
+    #: ``precision`` is "float32" or "float64" (the tolerance of an explanation: 1e-5 or 1e-9 of the speed);
+    #: ``source`` cites where the engine documents it
+    solver: ClassVar[dict[str, Any]] = {
+        "kind": "?",
+        "iterations": "",
+        "threshold": 0.0,
+        "threshold_of": "speed",
+        "cor_floor": 0.0,
+        "precision": "float64",
+        "source": "?",
+    }
 
     def __init__(self, overrides: dict[str, float] | None = None):
         unknown = sorted(set(overrides or {}) - set(self.settings))
@@ -132,10 +157,13 @@ class Adapter:
             "cor_setting": self.cor_setting,
             "settings": dict(self.config),
             "alternate": {"setting": self.alternate[0], "value": self.alternate[1]},
+            "solver": {**Adapter.solver, **self.solver},
         }
 
     def run(self, scene: Scene) -> list[float]:
-        """The engine's exit velocity for a scene."""
+        """The engine's exit velocity for a scene (a cradle against a wall only where :attr:`walls`)."""
+        if isinstance(scene, Cradle) and scene.wall and not self.walls:
+            raise Unsupported(f"a cradle against a wall: the {self.name} adapter does not build the wall")
         return self.cradle(scene) if isinstance(scene, Cradle) else self.corner(scene)
 
     def results(self, cases: Sequence[dict[str, Any]]) -> dict[str, Any]:
@@ -165,6 +193,9 @@ class Adapter:
                 return 0
             cases = _read_cases(sys.stdin.read())
             sys.stdout.write(json.dumps(adapter.results(cases), indent=1) + "\n")
+        except CannotRun as exc:
+            print(f"{cls.name}: cannot run here ({exc})", file=sys.stderr)
+            return NOT_INSTALLED
         except NotInstalled as exc:
             print(f"{cls.name}: not installed ({exc}); pip install {cls.package}", file=sys.stderr)
             return NOT_INSTALLED

@@ -14,7 +14,10 @@ gives a two-ball COR of 2).
 
 How each contact gets its own COR: per-body restitutions (``changeDynamics(restitution=...)``)
 solved through the product rule. Corner: the disk has restitution 1, wall S1 ``cors[0]``, S2
-``cors[1]``: always expressible. Cradle: ball restitutions ``r`` with ``r_i * r_(i+1) = e_i``;
+``cors[1]``: always expressible. A cradle's fixed wall (:attr:`~verify.physics.scene.Cradle.wall`)
+is a static (mass 0) plane facing -x at ``RADIUS - overlap`` from the last ball's centre (as
+the corner's walls), one more body at the end of the path whose restitution comes out of the
+same product rule (its contact gets ``cors[-1]``). Cradle: ball restitutions ``r`` with ``r_i * r_(i+1) = e_i``;
 along a run of positive CORs ``r_(i+1) = e_i / r_i``, the first ``r`` chosen so that the largest
 ``r`` is as small as it can be (equal CORs give ``r = sqrt(e)`` for every ball). A COR of 0 needs a
 ball of restitution 0, which makes both contacts of that ball 0: a 0 between two positive CORs
@@ -94,6 +97,19 @@ class PyBulletAdapter(Adapter):
     # numSolverIterations = 1: one Gauss-Seidel sweep over the contacts, i.e. pairwise impulses in
     # creation order; it turns the 3-ball cradle from the simultaneous answer into (0, 0, 100).
     alternate: ClassVar[tuple[str, float]] = ("solver_iterations", 1)
+    walls: ClassVar[bool] = True
+    # pybullet's wheels are built with BT_USE_DOUBLE_PRECISION (bullet3 setup.py; measured: a velocity of 1/3
+    # reads back as the double 1/3); restitution needs |v_n| >= the threshold (the law's "> threshold" differs
+    # only at equality)
+    solver: ClassVar[dict[str, Any]] = {
+        "kind": "sequential",
+        "iterations": "solver_iterations",
+        "threshold": "restitution_velocity_threshold",
+        "precision": "float64",
+        "source": "bullet3 btSequentialImpulseConstraintSolver::setupContactConstraint and restitutionCurve "
+        "(target -e*v_n from the step's start, 0 when |v_n| < restitutionVelocityThreshold), "
+        "solveGroupCacheFriendlyIterations (numSolverIterations sweeps, accumulated impulses clamped at 0)",
+    }
 
     def checks(self) -> dict[str, bool]:
         c = self.config
@@ -118,7 +134,8 @@ class PyBulletAdapter(Adapter):
             return str(self.engine().getAPIVersion())
 
     def body_values(self, cors: list[float]) -> list[float]:
-        """The cradle's per-ball restitutions (the product rule, no upper bound; Unsupported if none)."""
+        """The cradle's per-body restitutions, balls then the wall if any (the product rule, no upper bound;
+        Unsupported if none)."""
         return product_rule_values(cors, WHO, bounded=False)
 
     # -- a world -----------------------------------------------------------------------
@@ -182,17 +199,21 @@ class PyBulletAdapter(Adapter):
         cid = self._connect(p)
         try:
             shape = p.createCollisionShape(p.GEOM_SPHERE, radius=RADIUS, physicsClientId=cid)
-            pitch = 2 * RADIUS - self.config["overlap"]
+            n, pitch = len(masses), 2 * RADIUS - self.config["overlap"]
             ids: dict[int, int] = {}
-            for i in in_order(range(len(masses)), self.config["reverse_order"]):
+            for i in in_order(range(n + scene.wall), self.config["reverse_order"]):
+                if i == n:  # the wall: a plane facing -x, at RADIUS - overlap from the last ball's centre
+                    face = (n - 1) * pitch + RADIUS - self.config["overlap"]
+                    self._wall(p, cid, [-1.0, 0.0, 0.0], rest[n], [face, 0.0, 0.0])()
+                    continue
                 ids[i] = self._body(p, cid, mass=masses[i], shape=shape, pos=[i * pitch, 0.0, 0.0], restitution=rest[i])
                 p.resetBaseVelocity(ids[i], [vel[i], 0.0, 0.0], [0.0, 0.0, 0.0], physicsClientId=cid)
-            balls = [ids[i] for i in range(len(masses))]
+            balls = [ids[i] for i in range(n)]
 
             def read() -> list[float]:
                 return [float(p.getBaseVelocity(b, physicsClientId=cid)[0][0]) for b in balls]
 
-            return self._settle(p, cid, read, cradle_closing)
+            return self._settle(p, cid, read, lambda v: cradle_closing(v, scene.wall))
         finally:
             p.disconnect(physicsClientId=cid)
 
@@ -220,10 +241,15 @@ class PyBulletAdapter(Adapter):
         finally:
             p.disconnect(physicsClientId=cid)
 
-    def _wall(self, p: Any, cid: int, normal: list[float], restitution: float) -> Callable[[], int]:
+    def _wall(
+        self, p: Any, cid: int, normal: list[float], restitution: float, pos: list[float] | None = None
+    ) -> Callable[[], int]:
+        """What makes a static (mass 0) plane of this normal through ``pos`` (the origin by default)."""
+
         def make() -> int:
             plane = p.createCollisionShape(p.GEOM_PLANE, planeNormal=normal, physicsClientId=cid)
-            return self._body(p, cid, mass=0.0, shape=plane, pos=[0.0, 0.0, 0.0], restitution=restitution)
+            at = [0.0, 0.0, 0.0] if pos is None else pos
+            return self._body(p, cid, mass=0.0, shape=plane, pos=at, restitution=restitution)
 
         return make
 

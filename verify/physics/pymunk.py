@@ -47,7 +47,11 @@ Settings (all changeable with ``--set``):
 A case ends after a step that applied no normal impulse (``arbiter.total_impulse`` in
 ``post_solve``, below 1e-9 of the momentum scale) with no contact approaching (closing speed
 below 1e-9 of the fastest initial speed): bodies separating, or resting together. Walls are
-static bodies with one segment each, 1000 radii long, from the apex. Gravity off, friction
+static bodies with one segment each, 1000 radii long, from the apex. A cradle's fixed wall
+(:attr:`~verify.physics.scene.Cradle.wall`) is one more: a static vertical segment, 2000 radii
+long, at ``radius - overlap`` from the last ball's centre; it is body N on the path (ball 1 ..
+ball N, wall), so the ``pre_solve`` callback gives its contact ``cors[-1]`` and with
+``per_contact=0`` the product rule runs along that path. Gravity off, friction
 0, no damping; the disk has unit mass and unit moment of inertia, a ball of mass m has m and
 ``m radius^2 / 2``.
 
@@ -101,7 +105,16 @@ class PymunkAdapter(ContactAdapter):
     alternate: ClassVar[tuple[str, float]] = ("overlap", 1e-6)
     rule: ClassVar[str] = "product"
     who: ClassVar[str] = "per-body elasticities multiplied (Chipmunk)"
+    solver: ClassVar[dict[str, Any]] = {
+        "kind": "sequential",
+        "iterations": "iterations",
+        "threshold": 0.0,
+        "precision": "float64",
+        "source": "Chipmunk2D src/cpArbiter.c cpArbiterPreStep (bounce = e*vn from the step's start, no threshold) "
+        "and cpArbiterApplyImpulse (accumulated jnAcc clamped at 0); cpSpace.iterations default 10",
+    }
     tolerance: ClassVar[float] = 1e-9  # double precision
+    walls: ClassVar[bool] = True
 
     def checks(self) -> dict[str, bool]:
         return {**super().checks(), "iterations": self.config["iterations"] >= 1}
@@ -130,6 +143,17 @@ class PymunkAdapter(ContactAdapter):
         dt = self.config["time_step"]
         return space, log, lambda: space.step(dt)
 
+    def _wall(
+        self, space: Any, index: dict[Any, int], i: int, ends: tuple[tuple[float, float], ...], elasticity: float
+    ) -> None:
+        """A static body with one segment of radius 0 between the two ``ends``, body ``i`` on the path."""
+        pm = self.engine()
+        body = pm.Body(body_type=pm.Body.STATIC)
+        shape = pm.Segment(body, ends[0], ends[1], 0)
+        shape.friction, shape.elasticity = 0, elasticity
+        space.add(body, shape)
+        index[shape] = i
+
     # -- the scenes --------------------------------------------------------------------
     def cradle(self, scene: Cradle) -> list[float]:
         masses, cors, v0 = cradle_inputs(scene)
@@ -138,15 +162,24 @@ class PymunkAdapter(ContactAdapter):
         space, log, step = self._space(cors, index)
         r, c = self.config["radius"], self.config
         elasticity = self.body_values(cors)
-        bodies: list[Any] = [None] * len(masses)
-        for i in in_order(range(len(masses)), c["reverse_order"]):
+        n, pitch = len(masses), 2 * r - c["overlap"]
+        bodies: list[Any] = [None] * n
+        for i in in_order(range(n + scene.wall), c["reverse_order"]):
+            if i == n:  # the wall, at r - overlap from the last ball's centre
+                x = (n - 1) * pitch + r - c["overlap"]
+                self._wall(space, index, n, ((x, -1000 * r), (x, 1000 * r)), elasticity[n])
+                continue
             body = pm.Body(masses[i], masses[i] * r * r / 2)
-            body.position, body.velocity = (i * (2 * r - c["overlap"]), 0), (v0[i], 0)
+            body.position, body.velocity = (i * pitch, 0), (v0[i], 0)
             shape = pm.Circle(body, r)
             shape.friction, shape.elasticity = 0, elasticity[i]
             space.add(body, shape)
             index[shape], bodies[i] = i, body
-        return self.settle_cradle(step, log, lambda: [float(b.velocity.x) for b in bodies], masses, v0)
+
+        def read() -> list[float]:
+            return [float(b.velocity.x) for b in bodies]
+
+        return self.settle_cradle(step, log, read, masses, v0, wall=scene.wall)
 
     def corner(self, scene: Corner) -> list[float]:
         k, cors, (vx, vy, w) = corner_inputs(scene)
@@ -163,14 +196,12 @@ class PymunkAdapter(ContactAdapter):
                 disk.position, disk.velocity = (corner_centre(k, r - c["overlap"]), 0), (vx, vy)
                 disk.angular_velocity = w
                 shape = pm.Circle(disk, r)
-                body = disk
+                shape.friction, shape.elasticity = 0, elasticity[i]
+                space.add(disk, shape)
+                index[shape] = i
             else:
                 slope = k if i == 0 else -k  # S1: y = kx, S2: y = -kx, towards negative x
-                body = pm.Body(body_type=pm.Body.STATIC)
-                shape = pm.Segment(body, (0, 0), (-length, -slope * length), 0)
-            shape.friction, shape.elasticity = 0, elasticity[i]
-            space.add(body, shape)
-            index[shape] = i
+                self._wall(space, index, i, ((0, 0), (-length, -slope * length)), elasticity[i])
 
         def read() -> list[float]:
             return [float(disk.velocity.x), float(disk.velocity.y), float(disk.angular_velocity)]

@@ -58,6 +58,9 @@ class Cradle:
     masses: tuple[Number, ...]
     cors: tuple[Number, ...]
     velocity: tuple[Number, ...]  # along x, one per ball
+    #: a fixed wall touching the last ball on its right (x = (N - 1) * 2 r + r with ball i at 2 r i): the last
+    #: contact, ``cors[-1]``, is the last ball's with the wall (one more contact than ball pairs)
+    wall: bool = False
 
     @staticmethod
     def floats(values: tuple[Number, ...] | list[Number]) -> list[float]:
@@ -110,6 +113,9 @@ def scene_of(case: dict[str, Any]) -> Scene:
     cradle_g, cradle_normals = cradle_geometry(diagonal)
     if n >= 2 and _same_matrix(g, cradle_g) and _same_matrix(normals, cradle_normals):
         return Cradle(tuple(diagonal), tuple(cors), tuple(velocity))
+    walled = cradle_geometry(diagonal, wall=True)[1]
+    if n >= 1 and _same_matrix(g, cradle_g) and _same_matrix(normals, walled):
+        return Cradle(tuple(diagonal), tuple(cors), tuple(velocity), wall=True)
     if n == 3 and len(normals) == 2 and len(normals[0]) == 3:
         k = -normals[0][0]
         corner_g, corner_normals = corner_geometry(k)

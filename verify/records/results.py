@@ -92,6 +92,8 @@ def result_record(result: Result, case_id: str, *, digits: int = DECIMAL_DIGITS)
     if result.law != "rule":  # the rule's records keep the contract's fields only
         record["law"] = result.law
         record["impulses"] = [value_string(K, x, digits) for x in result.impulses or ()]
+    if result.sequential is not None:
+        record["law_settings"] = result.sequential.settings(result.system.r)
     return record
 
 

@@ -55,14 +55,15 @@ def cradle_text(result: Result, *, eps: list[str], mode: str, full_trace: bool =
     steps = result.steps
     if steps:
         lines.append("")
-        head = f"{'impulse':>7}  {'impact set':<16} {'beta':<14} {'velocity after (12 digits)':<48}"
+        unit = "sweep" if result.law == "sequential" else "impulse"
+        head = f"{unit:>7}  {'impact set':<16} {'beta':<14} {'velocity after (12 digits)':<48}"
         lines.append(head + " kinetic energy")
         shown: list[tuple[int, Any] | None] = list(enumerate(steps, 1))
         if not full_trace and len(shown) > TRACE_LIMIT:
             shown = [*shown[: TRACE_LIMIT - 5], None, *shown[-5:]]
         for item in shown:
             if item is None:
-                lines.append(f"{'...':>7}  ({len(steps) - TRACE_LIMIT + 1} impulses not shown; --trace shows all)")
+                lines.append(f"{'...':>7}  ({len(steps) - TRACE_LIMIT + 1} {unit}s not shown; --trace shows all)")
                 continue
             w, st = item
             names = "{" + ", ".join(s.names[j] for j in st.impact_set) + "}"
@@ -77,10 +78,15 @@ def cradle_text(result: Result, *, eps: list[str], mode: str, full_trace: bool =
     stop = {
         "exit": "exit (no constraint is hit any more)",
         "aeev": "aeev (the paper's almost-equal-exit-velocities stop)",
-        "max_iterations": f"max_iterations (no exit within {result.max_iterations} impulses)",
+        "max_iterations": (
+            f"max_iterations (still incoming after {result.max_iterations} sweeps)"
+            if result.law == "sequential"
+            else f"max_iterations (no exit within {result.max_iterations} impulses)"
+        ),
         "non_terminating": "non_terminating (proved never to exit: the certificate is in --json)",
     }.get(result.stop, result.stop)
-    lines.append(f"iterations: {result.iterations}; stop: {stop}")
+    counted = " (sweeps that changed an impulse)" if result.law == "sequential" else ""
+    lines.append(f"iterations: {result.iterations}{counted}; stop: {stop}")
     lines.append(
         f"kinetic energy: {K.to_decimal(result.kinetic_energy_in, 12)} -> "
         f"{K.to_decimal(result.kinetic_energy_out, 12)} (12 significant digits)"
@@ -89,15 +95,18 @@ def cradle_text(result: Result, *, eps: list[str], mode: str, full_trace: bool =
 
 
 def law_lines(result: Result, indent: str = "") -> list[str]:
-    """The lines that name the simultaneous law and its impulses (none for the paper's rule)."""
+    """The lines that name the simultaneous or the sequential law and its impulses (none for the paper's rule)."""
     if result.law == "rule":
         return []
     K = result.backend
     lam = _join([K.to_decimal(x, 12) for x in result.impulses or ()])
-    return [
-        f"{indent}law: simultaneous (Newton's restitution with complementarity, all constraints at once)",
-        f"{indent}impulses lambda (12 digits): {lam}",
-    ]
+    if result.sequential is not None:
+        what = f"sequential ({result.sequential.describe(result.system.names)})"
+        label = "accumulated impulses lambda"
+    else:
+        what = "simultaneous (Newton's restitution with complementarity, all constraints at once)"
+        label = "impulses lambda"
+    return [f"{indent}law: {what}", f"{indent}{label} (12 digits): {lam}"]
 
 
 def solve_text(case_id: str, result: Result) -> str:
@@ -706,7 +715,7 @@ def properties_text(profile: str, found: list) -> str:
     for v in found:
         if v.verdict != "refuted":
             continue
-        which = f"{v.rule} rule" if v.law == "rule" else f"simultaneous law, {v.rule} CORs"
+        which = f"{v.rule} rule" if v.law == "rule" else f"{v.law} law, {v.rule} CORs"
         lines += [
             "",
             f"REFUTED: {v.property} ({which}, {v.family})",

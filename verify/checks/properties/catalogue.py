@@ -68,7 +68,7 @@ def energy_does_not_increase(run: Any, d: Drawn, extra: Any) -> str | None:
     exact criterion of :func:`verify.checks.properties.proofs.energy_increase_criterion` predicts it
     (for the simultaneous law: the identity of :func:`simultaneous_energy_rises`)."""
     r = run(d.record, d.rule)
-    if r.law == "simultaneous":
+    if r.law in ("simultaneous", "sequential"):  # the sequential law's sweeps as a whole: an engine's step
         return simultaneous_energy_rises(r, d)
     K = r.backend
     before = r.kinetic_energy_in
@@ -96,9 +96,10 @@ def _cors(d: Drawn) -> list[Fraction]:
 
 
 def simultaneous_energy_rises(r: Any, d: Drawn) -> str | None:
-    """Whether the simultaneous law's impulse raises the kinetic energy, with the terms of
-    ``Delta K = 1/2 sum lambda_i (w_i + w'_i)`` (:func:`verify.checks.properties.proofs.simultaneous_energy_terms`,
-    from the raw inputs) that predict it: the constraints not incoming against the incoming ones.
+    """Whether the simultaneous law's impulse (or the sequential law's accumulated impulses) raises the kinetic
+    energy, with the terms of ``Delta K = 1/2 sum lambda_i (w_i + w'_i)``
+    (:func:`verify.checks.properties.proofs.simultaneous_energy_terms`, from the raw inputs; it holds for any
+    impulse ``sum lambda_i U_i``) that predict it: the constraints not incoming against the incoming ones.
 
     Three unit balls, every COR 1: ball 1 hits ball 2 while ball 3 moves slowly away; the impulse
     also pushes the separating contact (the run is :func:`verify.core.rule.solve` with ``law=``):
@@ -124,8 +125,13 @@ def simultaneous_energy_rises(r: Any, d: Drawn) -> str | None:
     pushed = [i for i, x in enumerate(lam) if x != 0 and formulas.rate(a[i], t[i], v) >= 0]
     rates = [str(formulas.rate(a[i], t[i], v)) for i in pushed]
     change = Fraction(K.to_exact(after)) - Fraction(K.to_exact(before))
+    what = (
+        f"the impulse on {list(r.impact_sets[0])}"
+        if r.law == "simultaneous"
+        else f"{r.sequential}, accumulated impulses on {[i for i, x in enumerate(lam) if x]}"
+    )
     return (
-        f"the impulse on {list(r.impact_sets[0])} (lambda = {_show(lam)}, CORs {[str(x) for x in e]}) raises the "
+        f"{what} (lambda = {_show(lam)}, CORs {[str(x) for x in e]}) raises the "
         f"kinetic energy from {K.to_exact(before)} to {K.to_exact(after)}; as Delta K = 1/2 sum lambda_i (w_i + w'_i) "
         f"predicts: the constraints {pushed} that are not incoming (rates {rates}) take impulses and add {gain}, "
         f"the incoming ones add {loss}, in all {gain + loss}" + ("" if gain + loss == change else f", not {change}")
@@ -205,6 +211,31 @@ def solves_complementarity(run: Any, d: Drawn, extra: Any) -> str | None:
                 f"constraint {i} (rate {w}, COR {e[i]}) takes lambda = {c} and leaves with rate {w_out}: "
                 f"complementarity asks lambda >= 0, a rate >= {floor}, and = {floor} where lambda > 0"
             )
+    return None
+
+
+def sweeps_reach_the_simultaneous_law(run: Any, d: Drawn, extra: Any) -> str | None:
+    """After its sweeps, the sequential law (threshold 0) leaves with the simultaneous law's exit velocity:
+    its accumulated impulses then solve the complementarity problem that Gauss-Seidel approaches, whose
+    solution is unique. Counted: the sweeps that changed an impulse, when they stopped changing before the last.
+
+    >>> from verify.checks.properties.strategies import make_drawn
+    >>> from verify.checks.properties.verdicts import Runner
+    >>> cradle = ([[1, 0, 0], [0, 1, 0], [0, 0, 1]], [[-1, 1, 0], [0, -1, 1]], [0, 0], [1, 1])
+    >>> d = make_drawn("cradle", "general", cradle, [1, 0, 0])
+    >>> print(sweeps_reach_the_simultaneous_law(Runner("sequential"), d, None))
+    sequential leaves with (-87381/262144, 349525/524288, 349525/524288), the simultaneous law with (-1/3, 2/3, 2/3) ...
+    """
+    r = run(d.record, d.rule)
+    by_law = run(d.record, d.rule, law="simultaneous")
+    got, expected = q(r, r.exit_velocity), q(by_law, by_law.exit_velocity)
+    if r.iterations < r.max_iterations:
+        run.count("the sweeps stopped changing")
+    if got != expected:
+        return (
+            f"{r.sequential} leaves with {_show(got)}, the simultaneous law with {_show(expected)} "
+            f"(still changing after {r.max_iterations} sweeps)"
+        )
     return None
 
 
@@ -545,6 +576,7 @@ class Property:
     laws: tuple[str, ...] = ("rule",)
     simultaneous_proof: str | None = None
     simultaneous_explain: str | None = None
+    sequential_explain: str | None = None
     #: the cap of impulses of its runs, if not the drawn records' (``strategies.MAX_ITERATIONS``)
     max_iterations: int | None = None
 
@@ -552,6 +584,8 @@ class Property:
         """The proof and the explanation of a failure for the law (names or a sentence)."""
         if law == "simultaneous":
             return self.simultaneous_proof, self.simultaneous_explain
+        if law == "sequential":
+            return None, self.sequential_explain
         return self.proof, self.explain
 
 
@@ -559,6 +593,9 @@ _ENTRIES = st.lists(small_rationals(2, 2), min_size=1, max_size=6)
 _DIAGONAL = st.lists(st.sampled_from([Fraction(1), Fraction(-1), Fraction(2), Fraction(1, 2)]), min_size=1, max_size=6)
 _SCALES = st.sampled_from([Fraction(2), Fraction(1, 3), Fraction(7, 2), Fraction(10**6), Fraction(1, 10**6)])
 BOTH = ("rule", "simultaneous")  #: the laws of a property that the simultaneous law should keep too
+#: the laws of a property that the sequential law (engines' sweeps) is also checked for
+ALL = ("rule", "simultaneous", "sequential")
+_ORDER = "the sequential law visits the constraints in the order given: relabelling them changes that order"
 
 PROPERTIES: tuple[Property, ...] = (
     Property(
@@ -566,10 +603,18 @@ PROPERTIES: tuple[Property, ...] = (
         energy_does_not_increase,
         proof="energy",
         explain="energy_change",
-        laws=BOTH,
+        laws=ALL,
         simultaneous_explain="simultaneous_energy",
+        sequential_explain="Delta K = 1/2 sum lambda_i (w_i + w'_i) for any impulse: a contact that is not incoming "
+        "but takes an impulse adds energy, and so does an incoming one that the sweeps leave faster than its "
+        "restitution target",
     ),
-    Property("the exit velocity is outgoing", exit_is_outgoing, laws=BOTH),
+    Property(
+        "the exit velocity is outgoing",
+        exit_is_outgoing,
+        laws=ALL,
+        sequential_explain="a sweep's later impulses make an earlier constraint incoming again, and the sweeps end",
+    ),
     Property("each impulse is eq. (8) as printed", follows_eq8),
     Property(
         "the simultaneous impulses satisfy restitution and complementarity",
@@ -596,13 +641,15 @@ PROPERTIES: tuple[Property, ...] = (
         "relabelling the constraints changes nothing",
         relabelling_changes_nothing,
         extra=st.permutations(range(4)),
-        laws=BOTH,
+        laws=ALL,
+        sequential_explain=_ORDER,
     ),
     Property(
         "mirror symmetry (corner y -> -y; cradle read backwards)",
         mirror_symmetry,
         families=("cradle", "corner"),
-        laws=BOTH,
+        laws=ALL,
+        sequential_explain=_ORDER,
     ),
     Property(
         "homogeneity: scaling the velocity by lambda > 0 scales the result", homogeneous, extra=_SCALES, laws=BOTH
@@ -631,12 +678,19 @@ PROPERTIES: tuple[Property, ...] = (
             "the symmetric corner tan(alpha) <= (1 - sqrt(e))/(1 + sqrt(e)) (verify corner-claims)"
         ),
     ),
-    Property("momentum along directions free of constraints is conserved", momentum_is_conserved, laws=BOTH),
+    Property("momentum along directions free of constraints is conserved", momentum_is_conserved, laws=ALL),
     Property("backends agree (exact, interval, mp, float)", backends_agree, laws=BOTH),
     Property(
         "the laws agree where the rule exits after one impulse on orthogonal constraints",
         laws_agree_after_one_orthogonal_impulse,
         laws=("simultaneous",),
+    ),
+    Property(
+        "the sequential sweeps reach the simultaneous law",
+        sweeps_reach_the_simultaneous_law,
+        laws=("sequential",),
+        sequential_explain="Gauss-Seidel approaches the simultaneous law's impulses geometrically: a finite "
+        "number of sweeps reaches them exactly only where the sweeps stop changing",
     ),
 )
 

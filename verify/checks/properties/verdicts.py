@@ -46,7 +46,8 @@ from verify.checks.properties.profiles import PER_PROPERTY, PROFILES
 from verify.checks.properties.proofs import PROOFS, prove
 from verify.checks.properties.strategies import FAMILIES, MAX_ITERATIONS, RULES, Drawn, capped, cases
 from verify.checks.tasks import Task, TaskRun, TaskRunner, TasksFailed
-from verify.core.rule import LAWS, Budget
+from verify.core.rule import LAWS, Budget, law_name
+from verify.core.sequential import Law, Sequential
 
 #: the size budget of a run of the verdicts (bits of its exact numbers; :mod:`verify.core.bounds`)
 CENSUS_BITS = 4096
@@ -56,7 +57,11 @@ DECIDING_BUDGET = Budget(bits=CENSUS_BITS, intervals=True)
 INTERVAL_DPS, INTERVAL_MAX_DPS, MP_DPS = 30, 120, 30
 #: the COR variants each law is checked with: every rule for the rule; for the simultaneous law
 #: the general, symmetric and ideal CORs (the asymmetric rule's cases are general ones with r = 2)
-LAW_RULES = {"rule": RULES, "simultaneous": tuple(r for r in RULES if r != "asymmetric")}
+LAW_RULES = {
+    "rule": RULES,
+    "simultaneous": tuple(r for r in RULES if r != "asymmetric"),
+    "sequential": tuple(r for r in RULES if r != "asymmetric"),
+}
 
 
 class Runner:
@@ -66,7 +71,7 @@ class Runner:
     ``cap``, when set, lowers the records' ``max_iterations`` to it (the search sets it while it shrinks a
     failure); ``deepest`` is the most impulses of a run it returned since it was last set to 0."""
 
-    def __init__(self, law: str = "rule") -> None:
+    def __init__(self, law: Law = "rule") -> None:
         self.law = law
         self.memo: dict[str, Any] = {}
         self.counts: Counter[str] = Counter()
@@ -77,12 +82,14 @@ class Runner:
         self.counts[what] += 1
 
     def __call__(
-        self, record: dict[str, Any], rule: str, backend: str = "exact", *, law: str | None = None, decide: bool = False
+        self, record: dict[str, Any], rule: str, backend: str = "exact", *, law: Law | None = None, decide: bool = False
     ) -> Any:
         law = self.law if law is None else law
+        if law == Sequential.name:  # a check asking for the sequential law by name: this runner's settings
+            law = self.law if isinstance(self.law, Sequential) else law
         if self.cap is not None and record["max_iterations"] > self.cap:
             record = dict(record, max_iterations=self.cap)
-        key = json.dumps([record, rule, backend, law, decide], sort_keys=True)
+        key = json.dumps([record, rule, backend, str(law), decide], sort_keys=True)
         if key not in self.memo:
             if len(self.memo) > 512:
                 self.memo.clear()
@@ -93,7 +100,7 @@ class Runner:
 
 
 def run_record(
-    record: dict[str, Any], rule: str, backend: str = "exact", *, law: str = "rule", decide: bool = False
+    record: dict[str, Any], rule: str, backend: str = "exact", *, law: Law = "rule", decide: bool = False
 ) -> Any:
     """Solve one case record with the rule (or, with ``law="simultaneous"``, the simultaneous law
     with the rule's CORs), the suite's budget and backend settings. With ``decide``, an exact run that
@@ -181,14 +188,19 @@ CENSUS_STOPS = ("exit", "non_terminating", "max_iterations", "budget")
 
 def rows(
     properties: Any = None, families: Any = None, rules: Any = None, laws: Any = None
-) -> list[tuple[Property, str, str, str]]:
-    """The (property, family, rule, law) rows, in a fixed order: a property's row for the
-    simultaneous law right after its row for the rule (same rule variant and family).
+) -> list[tuple[Property, str, str, Law]]:
+    """The (property, family, rule, law) rows, in a fixed order: a property's rows for the
+    simultaneous and the sequential law right after its row for the rule (same rule variant and family).
+    ``laws`` holds names of laws, or the sequential law's settings (a ``Sequential``: its rows run with them).
 
-    >>> [(f, r, law) for p, f, r, law in rows(["the exit velocity"], ["cradle"], ["ideal", "asymmetric"])]
-    [('cradle', 'ideal', 'rule'), ('cradle', 'ideal', 'simultaneous'), ('cradle', 'asymmetric', 'rule')]
+    >>> [(f, r, str(law)) for p, f, r, law in rows(["the exit velocity"], ["cradle"], ["ideal", "asymmetric"])]
+    [('cradle', 'ideal', 'rule'), ('cradle', 'ideal', 'simultaneous'), ('cradle', 'ideal', 'sequential'), \
+('cradle', 'asymmetric', 'rule')]
+    >>> [str(law) for *_, law in rows(["the exit velocity"], ["cradle"], ["ideal"], [Sequential(iterations=2)])]
+    ['sequential (iterations 2)']
     """
     chosen = [property_named(p) for p in properties] if properties else list(PROPERTIES)
+    wanted: dict[str, Law] = {law_name(x): x for x in laws or ()}  # a name, or the sequential law's settings
     out = []
     for prop in chosen:
         for rule in RULES:
@@ -198,8 +210,8 @@ def rows(
                 if family not in prop.families or (families and family not in families):
                     continue
                 for law in LAWS:
-                    if law in prop.laws and rule in LAW_RULES[law] and (not laws or law in laws):
-                        out.append((prop, family, rule, law))
+                    if law in prop.laws and rule in LAW_RULES[law] and (not laws or law in wanted):
+                        out.append((prop, family, rule, wanted.get(law, law)))
     return out
 
 
@@ -217,7 +229,7 @@ def search(
     rule: str,
     examples: int,
     *,
-    law: str = "rule",
+    law: Law = "rule",
     seed: int | None = None,
     strategy: Any = None,
 ) -> Verdict:
@@ -270,16 +282,18 @@ def search(
     d, extra = item if prop.extra is not None else (item, None)
     why = _check(prop, Runner(law), item) or ""
     note = why + (f" (with {_describe(extra)})" if extra is not None else "")
-    explain = prop.statement(law)[1]
+    explain = prop.statement(law_name(law))[1]
     if proof:
         note = f"contradicts the proof ({proof}): the implementation is wrong: " + note
     elif explain:
         where = prove(explain, rule) if explain in PROOFS else explain
         note += f". Where it fails: {where}" if where else ""
-    law_part = "" if law == "rule" else f"{law}-"
+    name = law_name(law)
+    law_part = "" if name == "rule" else f"{name}-"
     record = dict(d.record, id=f"{family}-{rule}-{law_part}{_slug(prop.name)}")
-    note += f"; reproduce with: verify solve CASE.json --rule {rule}" + ("" if law == "rule" else f" --law {law}")
-    found = Verdict(prop.name, rule, family, "refuted", tally["applied"], record, note, extra, law, dict(tally))
+    flags = "" if name == "rule" else " " + (law.flags() if isinstance(law, Sequential) else f"--law {name}")
+    note += f"; reproduce with: verify solve CASE.json --rule {rule}{flags}"
+    found = Verdict(prop.name, rule, family, "refuted", tally["applied"], record, note, extra, name, dict(tally))
     found.detail = note
     if prop.census:
         found.counts = dict(_census(prop, strategy, examples, law, seed))
@@ -287,9 +301,9 @@ def search(
     return found
 
 
-def _proof(prop: Property, rule: str, law: str) -> str | None:
+def _proof(prop: Property, rule: str, law: Law) -> str | None:
     """What SymPy proves of the row (``prop`` under ``law`` and ``rule``), or None."""
-    proof_name = prop.statement(law)[0]
+    proof_name = prop.statement(law_name(law))[0]
     return prove(proof_name, rule) if proof_name else None
 
 
@@ -304,7 +318,7 @@ def _census_note(detail: str, counts: dict[str, int]) -> tuple[int, str]:
 CENSUS_CASES = "cases"
 
 
-def _census(prop: Property, strategy: Any, examples: int, law: str, seed: int | None = None) -> Counter[str]:
+def _census(prop: Property, strategy: Any, examples: int, law: Law, seed: int | None = None) -> Counter[str]:
     """How the runs of a refuted row end, over all its cases (the search stops at the first failure),
     with the number of cases under :data:`CENSUS_CASES`."""
     from hypothesis import HealthCheck, Phase, given, settings
@@ -338,9 +352,9 @@ CENSUS_SEED = 0
 
 
 def _holds(
-    prop: Property, row: tuple[str, str, str], tally: dict[str, int], counts: dict[str, int], proof: str | None
+    prop: Property, row: tuple[str, str, Law], tally: dict[str, int], counts: dict[str, int], proof: str | None
 ) -> Verdict:
-    family, rule, law = row
+    family, rule, law = row[0], row[1], law_name(row[2])
     parts = [f"no counterexample in {tally.get('applied', 0)} cases"]
     if tally.get("skipped"):
         parts.append(f"{tally['skipped']} of {tally['drawn']} drawn cases did not apply")
@@ -456,6 +470,7 @@ def row_tasks(
     ...     print(task.id)
     the exit velocity is outgoing | rule | ideal | cradle | 25
     the exit velocity is outgoing | simultaneous | ideal | cradle | 25
+    the exit velocity is outgoing | sequential | ideal | cradle | 25
     >>> [t.id.split(" | ", 4)[-1] for t in row_tasks("thorough", properties=["the exit velocity"])][:2]
     ['8334 | chunk 1/5', '8334 | chunk 2/5']
     """
@@ -504,7 +519,15 @@ def checkpoint_options(
     >>> checkpoint_options("dev", properties=["kinetic energy"])
     {'profile': 'dev', 'property': ['kinetic energy'], 'family': None, 'rule': None, 'law': None, 'chunk': 2000}
     """
-    return {"profile": profile, "property": properties, "family": families, "rule": rules, "law": laws, "chunk": chunk}
+    chosen_laws = [str(x) for x in laws] if laws else laws
+    return {
+        "profile": profile,
+        "property": properties,
+        "family": families,
+        "rule": rules,
+        "law": chosen_laws,
+        "chunk": chunk,
+    }
 
 
 def run_verdicts(
