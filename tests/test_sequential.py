@@ -207,3 +207,22 @@ def test_solve_and_the_oracle_take_the_settings(tmp_path: Path) -> None:
     assert check.returncode == 0, check.stdout + check.stderr
     other = verify_cli("oracle", "check", str(path), str(results), "--law", "sequential", "--quiet")
     assert other.returncode == 1  # 10 sweeps in the order given: another exit velocity
+
+
+def test_the_corner_takes_the_law_over_its_number_field() -> None:
+    done = verify_cli("corner", "--alpha", "pi/6", "--phi", "pi/12", "--eps1", "0.999", "--eps2", "0.001",
+                      "--law", "sequential", "--iterations", "3", "--order", "1,0", "--json")  # fmt: skip
+    assert done.returncode == 0, done.stderr
+    record = json.loads(done.stdout)
+    assert record["law"] == "sequential" and record["law_settings"]["order"] == [1, 0]
+    assert "sqrt" in "".join(record["exit_velocity"])  # exact in Q(sqrt(2), sqrt(3)), not rounded
+
+
+def test_the_property_suite_runs_the_settings_and_says_how_to_reproduce() -> None:
+    done = verify_cli("properties", "--profile", "dev", "--property", "relabelling", "--family", "cradle",
+                      "--rule", "general", "--law", "sequential", "--iterations", "2", "--json", "--quiet",
+                      "--workers", "1")  # fmt: skip
+    assert done.returncode == 1, done.stderr  # refuted: the sweeps visit the contacts in the order given
+    (row,) = json.loads(done.stdout)["properties"]
+    assert row["law"] == "sequential" and row["verdict"] == "refuted"
+    assert "verify solve CASE.json --rule general --law sequential --iterations 2" in row["note"]

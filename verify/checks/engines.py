@@ -28,7 +28,7 @@ from concurrent.futures import ThreadPoolExecutor
 from fractions import Fraction
 from typing import Any
 
-from verify.checks.explain import Explainer, explain_case, explained_summary
+from verify.checks.explain import GAIN, Explainer, explain_case, explained_summary
 from verify.checks.oracle import approx, golden_cases, golden_results
 from verify.core.format import format_decimal
 from verify.models.corner import corner_geometry, slope_of, velocity_of
@@ -42,8 +42,6 @@ from verify.records.results import case_record
 GRID = tuple(Fraction(k, 10) for k in range(11))
 #: a relative distance under which an engine is said to agree with a law
 AGREES = Fraction(1, 10**3)
-#: a relative rise of kinetic energy above which an engine is said to gain energy
-GAIN = Fraction(1, 10**6)
 TIMEOUT = 600.0
 
 

@@ -47,7 +47,8 @@ from verify.physics.scene import Corner, Unsupported, scene_of
 TOLERANCES = {"float32": Fraction(1, 10**5), "float64": Fraction(1, 10**9)}
 #: a COR at or below this may be dropped by an engine (the paper's 0.001 on S2)
 SMALL_COR = Fraction(1, 100)
-#: a relative rise of kinetic energy above which an answer gains energy (as :mod:`verify.checks.engines`)
+#: a relative rise of kinetic energy above which an answer gains energy (the findings of :mod:`verify.checks.engines`
+#: too)
 GAIN = Fraction(1, 10**6)
 
 
@@ -88,8 +89,9 @@ def _speed_scale(case: dict[str, Any]) -> list[Any]:
 
 
 def models(description: dict[str, Any], case: dict[str, Any]) -> list[Model]:
-    """The exact models of an engine (its ``--describe`` description) on a case record, in order of
-    preference (a tie in distance goes to the earlier)."""
+    """The exact models of an engine (its ``--describe`` description) on a case record, in order of preference:
+    the models of the engine's own kind of solver first (its documented sweeps and order first), the paper's rule
+    last."""
     solver = description.get("solver") or {}
     cors = list(case["restitution"])
     threshold = _exact(_setting(description, solver.get("threshold", 0)) or 0)
@@ -105,10 +107,13 @@ def models(description: dict[str, Any], case: dict[str, Any]) -> list[Model]:
         if solver.get("threshold_of") == "cor_times_speed":
             t = t / _sympy(e) if not _at_most(e, Fraction(0)) else sp.Integer(0)
         per.append(t)
-    out = [Model("the paper's rule", tuple(cors), "rule"), Model("the simultaneous law", tuple(cors), "simultaneous")]
+    simultaneous = [Model("the simultaneous law", tuple(cors), "simultaneous")]
     thresholds = tuple(str(t) for t in per)
     if threshold > 0 or floor > 0:
-        out.append(Model("the simultaneous law with the engine's threshold", floored, "simultaneous", thresholds))
+        simultaneous.append(
+            Model("the simultaneous law with the engine's threshold", floored, "simultaneous", thresholds)
+        )
+    sequential: list[Model] = []
     # sweeps of sequential impulses: the engine's count, for a solver of sweeps (a soft solver's iterations are not)
     k0 = _setting(description, solver.get("iterations") or "")
     if solver.get("kind") in ("sequential", "simultaneous") and isinstance(k0, (int, float)) and k0 >= 1:
@@ -122,8 +127,11 @@ def models(description: dict[str, Any], case: dict[str, Any]) -> list[Model]:
                 label = f"the sequential law, {k} sweeps, order {name}" + (
                     f", threshold {format_decimal(threshold, 6)}" if threshold > 0 else ""
                 )
-                out.append(Model(label, floored, Sequential(k, order, thresholds)))
-    return out
+                sequential.append(Model(label, floored, Sequential(k, order, thresholds)))
+    # the engine's own kind first: among models within its precision the first is named (they are the same answer
+    # to that precision); the paper's rule last
+    first, then = (sequential, simultaneous) if solver.get("kind") == "sequential" else (simultaneous, sequential)
+    return [*first, *then, Model("the paper's rule", tuple(cors), "rule")]
 
 
 def _sympy(x: Any) -> Any:
@@ -208,7 +216,8 @@ def _approx(text: Any) -> Fraction:
 def explain_case(
     explainer: Explainer, description: dict[str, Any], case: dict[str, Any], engine_velocity: Sequence[str]
 ) -> dict[str, Any]:
-    """One case of one engine: the nearest model, its distance, whether it explains the answer, and if not why.
+    """One case of one engine: the model that explains the answer (of those within the engine's precision, the first
+    of :func:`models`), else the nearest model, its distance and why it does not explain it.
 
     >>> from verify.checks.engines import engine_cases
     >>> case = next(c for c in engine_cases() if c["id"] == "cradle-3-eps-1")
@@ -228,8 +237,8 @@ def explain_case(
     for m in candidates:
         exit_velocity, energy, _ = explainer.exit_of(case, m)
         scored.append((_distance(v, exit_velocity, scale), m, energy))
-    best = min(scored, key=lambda t: t[0])
-    distance, nearest, model_energy = best
+    within = [t for t in scored if t[0] <= tol]  # the same answer to the engine's precision: the first is named
+    distance, nearest, model_energy = within[0] if within else min(scored, key=lambda t: t[0])
     row: dict[str, Any] = {
         "nearest_model": nearest.label,
         "model_distance": format_decimal(distance, 3),

@@ -123,6 +123,9 @@ class NimbleAdapter(DartAdapter):
         "kind": "simultaneous",
         "iterations": "pgs_iterations",
         "threshold": 0.1,
+        "threshold_of": "cor_times_speed",
+        "cor_floor": 0.001,
+        "precision": "float64",
         "source": (
             "keenon/nimblephysics dart/constraint/BoxedLcpConstraintSolver.cpp solveLcp (one boxed LCP per step, "
             "Dantzig with cfm 0, PGS fallback with cfm 1e-4); dart/constraint/ContactConstraint.cpp getInformation "

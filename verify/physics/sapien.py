@@ -160,6 +160,7 @@ class SapienAdapter(Adapter):
         "kind": "sequential",
         "iterations": "position_iterations",
         "threshold": 2.0,
+        "precision": "float32",
         "source": (
             "PhysX 5 (bundled 5.3.1): PxSceneDesc::bounceThresholdVelocity, 'A contact with a relative velocity "
             "below this will not bounce', default 0.2*PxTolerancesScale::speed = 2 (SAPIEN PhysxSceneConfig."

@@ -391,19 +391,19 @@ def _v(values: list[str] | None, digits: int = 6) -> str:
 def explained_table(record: dict[str, Any]) -> list[str]:
     """Per engine: the share of its default answers an exact model explains (and the model that explains most),
     its largest kinetic-energy gain, and its median distance to the paper's rule and to the simultaneous law."""
-    from verify.checks.engines import median_distance
+    from verify.checks.engines import GAIN, median_distance
     from verify.core.format import format_decimal
 
     lines = [
-        "| engine | precision | explained by an exact model | most by | largest energy gain | "
+        f"| engine | precision | explained by an exact model | most by | largest energy gain (above {GAIN}) | "
         "median distance to the paper's rule | to the simultaneous law |",
         "|---|---|---|---|---|---|---|",
     ]
     for e in record["engines"]:
         s = e.get("explained") or {"explained": 0, "cases": len(e["cases"]), "models": {}, "precision": "?"}
-        top = next(iter(s["models"]), "-")
+        top = max(s["models"].items(), key=lambda kv: (kv[1], kv[0]))[0] if s["models"] else "-"
         gains = [Fraction(c["energy_change"]) for c in e["cases"] if c["energy_change"]]
-        gain = format_decimal(max(gains), 3) if gains and max(gains) > 0 else "none"
+        gain = format_decimal(max(gains), 3) if gains and max(gains) > GAIN else "none"
         lines.append(
             f"| {e['name']} | {s['precision']} | {s['explained']} of {s['cases']} | {top} | {gain} | "
             f"{median_distance(e, 'distance_to_rule')} | {median_distance(e, 'distance_to_simultaneous')} |"
@@ -476,8 +476,10 @@ def engines_page_text(record: dict[str, Any]) -> str:
             "(`verify.checks.explain`): the paper's rule, the simultaneous law (also with the engine's documented",
             "restitution threshold), and the sequential law (`verify solve --law sequential`: projected Gauss-Seidel",
             "sweeps, exactly) with the engine's documented sweeps, the neighbouring counts, both contact orders and",
-            "its threshold. An answer is explained when the nearest model is within the engine's precision (float32:",
-            "1e-5 of the speed; float64: 1e-9).",
+            "its threshold. An answer is explained when a model is within the engine's precision (float32: 1e-5 of",
+            "the speed; float64: 1e-9); when several are, they give the same answer to that precision, and the first",
+            "of the engine's own kind of solver is named. The last columns are medians over the cases where the law",
+            "exits.",
             "",
             *explained_table(record),
             "",
