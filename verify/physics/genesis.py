@@ -155,6 +155,7 @@ class GenesisAdapter(Adapter):
 
     name: ClassVar[str] = "genesis"
     package: ClassVar[str] = "genesis-world"
+    install: ClassVar[str] = "pip install genesis-world torch (Genesis imports torch without requiring it)"
     module: ClassVar[str] = "genesis"
     walls: ClassVar[bool] = True
     combine_rule: ClassVar[str] = (

@@ -99,6 +99,10 @@ class NimbleAdapter(DartAdapter):
 
     name: ClassVar[str] = "nimblephysics"
     package: ClassVar[str] = "nimblephysics"
+    install: ClassVar[str] = (
+        "it needs numpy < 2: pip install '.[nimble]' in an environment of its own, then "
+        "verify engines --python nimblephysics=ENV/bin/python"
+    )
     module: ClassVar[str] = "nimblephysics"
     combine_rule: ClassVar[str] = (
         "product e_A*e_B of the BodyNodes' restitutions (not sanitised; shape aspects are ignored); "

@@ -86,6 +86,8 @@ class Adapter:
 
     name: ClassVar[str] = "?"  #: the engine's name in reports ("box2d")
     package: ClassVar[str] = "?"  #: the pip package that installs it ("box2d")
+    #: how to install it, when ``pip install PACKAGE`` is not enough ("" for that)
+    install: ClassVar[str] = ""
     module: ClassVar[str] = "?"  #: the Python module it is imported as ("Box2D")
     #: how the engine combines the restitutions of the two bodies of a contact
     combine_rule: ClassVar[str] = "?"
@@ -197,7 +199,7 @@ class Adapter:
             print(f"{cls.name}: cannot run here ({exc})", file=sys.stderr)
             return NOT_INSTALLED
         except NotInstalled as exc:
-            print(f"{cls.name}: not installed ({exc}); pip install {cls.package}", file=sys.stderr)
+            print(f"{cls.name}: not installed ({exc}); {cls.install or 'pip install ' + cls.package}", file=sys.stderr)
             return NOT_INSTALLED
         except ValueError as exc:
             print(f"{cls.name}: {exc}", file=sys.stderr)
