@@ -28,7 +28,7 @@ from concurrent.futures import ThreadPoolExecutor
 from fractions import Fraction
 from typing import Any
 
-from verify.checks.explain import GAIN, Explainer, explain_case, explained_summary
+from verify.checks.explain import GAIN, Explainer, documented, explain_case, explained_summary
 from verify.checks.oracle import approx, golden_cases, golden_results
 from verify.core.format import format_decimal
 from verify.models.corner import corner_geometry, slope_of, velocity_of
@@ -70,7 +70,7 @@ def documented_thresholds() -> dict[str, Fraction]:
         t = adapter.solver.get("threshold", 0)
         t = adapter.settings.get(t, 0) if isinstance(t, str) else t
         if t:
-            out[name] = Fraction(repr(float(t)))  # as the engine documents it: 0.2 is 1/5
+            out[name] = documented(t)
     return out
 
 

@@ -57,8 +57,12 @@ def tolerance_of(solver: dict[str, Any]) -> Fraction:
     return TOLERANCES.get(str(solver.get("precision")), TOLERANCES["float32"])
 
 
-def _exact(x: Any) -> Fraction:
-    """An engine description's number (a JSON float, as the engine documents it: 0.2 is 1/5) exactly."""
+def documented(x: Any) -> Fraction:
+    """An engine description's number (a JSON float, as the engine documents it: 0.2 is 1/5) exactly.
+
+    >>> documented(0.2), documented(8)
+    (Fraction(1, 5), Fraction(8, 1))
+    """
     return Fraction(repr(x)) if isinstance(x, float) else Fraction(x)
 
 
@@ -94,8 +98,8 @@ def models(description: dict[str, Any], case: dict[str, Any]) -> list[Model]:
     last."""
     solver = description.get("solver") or {}
     cors = list(case["restitution"])
-    threshold = _exact(_setting(description, solver.get("threshold", 0)) or 0)
-    floor = _exact(solver.get("cor_floor", 0) or 0)
+    threshold = documented(_setting(description, solver.get("threshold", 0)) or 0)
+    floor = documented(solver.get("cor_floor", 0) or 0)
     exact_cors = [_number(x) for x in cors]
     floored = tuple("0" if floor > 0 and _at_most(e, floor) else str(x) for e, x in zip(exact_cors, cors))
     scale = _speed_scale(case)

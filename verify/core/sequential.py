@@ -46,6 +46,7 @@ from typing import Any, ClassVar
 
 from verify.core.backends import Backend, exact_for
 from verify.core.format import format_exact
+from verify.core.numeric import certified_sign
 from verify.core.outcome import Result, Step
 from verify.core.parse import to_number
 from verify.core.simultaneous import refining
@@ -104,7 +105,7 @@ class Sequential:
             raise InvalidSystem(f"the sequential law's threshold has {len(values)} values for {r} constraints")
         out = [to_number(x, where=f"threshold[{i}]") for i, x in enumerate(values)]
         for i, x in enumerate(out):
-            if exact_for([x]).sign(exact_for([x]).convert(x)) < 0:
+            if certified_sign(x) < 0:
                 raise InvalidSystem(f"the sequential law's threshold[{i}] = {values[i]} is negative")
         return out
 

@@ -160,8 +160,9 @@ class DartAdapter(Adapter):
         world = d.simulation.World()
         world.setGravity([0.0, 0.0, 0.0])
         world.setTimeStep(self.config["time_step"])
-        detector = DETECTORS[int(self.config["collision_detector"])]
-        world.setCollisionDetector(getattr(d.simulation.CollisionDetectorType, detector))
+        if "collision_detector" in self.config:  # (nimblephysics keeps its own detector: no such setting)
+            detector = DETECTORS[int(self.config["collision_detector"])]
+            world.setCollisionDetector(getattr(d.simulation.CollisionDetectorType, detector))
         solver = world.getConstraintSolver()
         pgs = solver.getSecondaryBoxedLcpSolver()  # the PGS fallback (no constructor is bound)
         option = d.constraint.PgsBoxedLcpSolverOption()

@@ -86,7 +86,7 @@ from typing import Any, ClassVar
 
 from verify.physics.combine import product_rule_values
 from verify.physics.dartpy import RADIUS, WALL_BOX, DartAdapter, Wall, wall_frame
-from verify.physics.protocol import CannotRun, import_engine, silenced
+from verify.physics.protocol import CannotRun, import_engine
 
 #: the per-body values and their rule, in a skip's reason
 WHO = "per-body restitutions multiplied (nimblephysics BodyNode values; no per-contact setting)"
@@ -167,21 +167,6 @@ class NimbleAdapter(DartAdapter):
     def body_values(self, cors: list[float]) -> list[float]:
         """The cradle's per-ball restitutions (the product rule, no upper bound; Unsupported if none)."""
         return product_rule_values(cors, WHO, bounded=False)
-
-    # -- the world ---------------------------------------------------------------------
-    def _world(self, d: Any) -> Any:
-        world = d.simulation.World()
-        world.setGravity([0.0, 0.0, 0.0])
-        world.setTimeStep(self.config["time_step"])
-        solver = world.getConstraintSolver()
-        pgs = solver.getSecondaryBoxedLcpSolver()
-        option = d.constraint.PgsBoxedLcpSolverOption()
-        option.mMaxIteration = int(self.config["pgs_iterations"])
-        pgs.setOption(option)
-        if self.config["lcp_solver"] == 1:
-            with silenced(2):
-                solver.setBoxedLcpSolver(pgs)
-        return world
 
     @staticmethod
     def _shape(d: Any, body: Any, shape: Any, restitution: float) -> Any:
