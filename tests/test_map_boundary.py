@@ -167,3 +167,38 @@ def test_the_checkers_sign_of_a_quadratic_irrational_is_exact(a, b, d) -> None:
     x = sp.Rational(a.numerator, a.denominator) + sp.Rational(b.numerator, b.denominator) * sp.sqrt(d)
     expected = 0 if a == b == 0 else int(sp.sign(sp.N(x, 200)))  # a + b sqrt(d) is 0 only when a = b = 0
     assert _Quadratic(x).sign() == expected
+
+
+NORMALS5 = [["-1" if j == i else "1" if j == i + 1 else "0" for j in range(5)] for i in range(4)]
+
+
+def test_five_balls_boundary_is_over_q_sqrt_5_where_the_periods_largest_eigenvalues_meet() -> None:
+    """The period (S1,S3)(S2,S4) of five unit balls: its quartic factor splits over Q(sqrt(5))(eps) only, and
+    its boundary is where the test's own period matrix has a double eigenvalue of modulus eps, beside a complex
+    pair of the same modulus (so no polyhedral cone reaches it, and the map's cones stop short of it)."""
+    from verify.maps.turning import extension, field_collisions
+
+    K = SymbolicBackend(Piece.closed(0, 1), RootCache())
+    M = pattern_map(cradle_system(EPS, 5, backend=K), [(0, 2), (1, 3)])
+    assert collisions(M, Piece.closed(0, 1), RootCache()) == []  # nothing over Q(eps)
+    assert extension(M) == sp.sqrt(5)
+    found = field_collisions(M, sp.sqrt(5), Piece.closed(0, 1))
+    assert len(found) == 1
+    star = found[0][0]
+    # eps* is the root of eps^2 - (22 - 8 sqrt(5)) eps + 1 in (0, 1)
+    expected = 11 - 4 * sp.sqrt(5) - sp.sqrt((11 - 4 * sp.sqrt(5)) ** 2 - 1)
+    assert abs(sp.N(star.expr - expected, 50)) < sp.Float("1e-45")
+    lam = sp.Symbol("lam")
+    P = _period([1] * 5, [[0, 2], [1, 3]])
+    for shift in (-sp.Rational(1, 10**6), sp.Rational(1, 10**6)):
+        at = sp.nsimplify(sp.N(expected, 60) + shift, rational=True)
+        roots = sp.Poly(P.subs(E, at).charpoly(lam).as_expr(), lam).nroots(n=40)
+        top = max(abs(r) for r in roots)
+        if shift < 0:  # below: one real eigenvalue larger than every other modulus
+            largest = [r for r in roots if abs(r) > top - sp.Float("1e-30")]
+            assert len(largest) == 1 and abs(sp.im(largest[0])) < 1e-30
+        else:  # above: none is real, all of modulus eps
+            assert all(abs(sp.im(r)) > 1e-30 and abs(abs(r) - at) < 1e-25 for r in roots)
+    at = sp.N(expected, 80)
+    roots = sp.Poly(P.subs(E, at).charpoly(lam).as_expr(), lam).nroots(n=40, maxsteps=1000)
+    assert all(abs(abs(r) - at) < 1e-15 for r in roots)  # at eps*: all four of modulus eps* (a double root)

@@ -76,15 +76,41 @@ def test_no_point_left_unexplored_is_decided_by_a_single_run(system) -> None:
 
 
 @pytest.mark.slow
-@pytest.mark.xfail(
-    reason="five unit balls (at 20 impulses): below the boundary of the repeating impacts (S1,S3)(S2,S4), a root "
-    "of eps^2 - (22 - 8*sqrt(5)) eps + 1, the period's eigenvectors lie in Q(sqrt(5))(eps), where the map's "
-    "boundary cone is not built, and widening a point's cone is too slow there; verify solve proves some of "
-    "these points never exit",
-    strict=True,
-)
-def test_five_balls_no_point_left_unexplored_is_decided_by_a_single_run() -> None:
-    cap = 20  # the map of the interval that holds all that the whole map leaves unexplored at 20 impulses
-    parts = cradle_map(balls=5, lower="0.222", upper="0.272", max_impulses=cap).parts
-    points = _drawn(parts, POINTS, seed=36)
+def test_five_balls_no_point_left_unexplored_is_decided_by_a_single_run(monkeypatch) -> None:
+    """Five unit balls (at 20 impulses, on the interval that holds all that the whole map leaves unexplored):
+    below the boundary of (S1,S3)(S2,S4), a root of eps^2 - (22 - 8*sqrt(5)) eps + 1, the turning cones over
+    Q(sqrt(5))(eps) (verify.maps.turning) decide up to within 1e-4 of it, their certificates checked without the
+    code that found them; and no point left unexplored is decided by a single run. One map for both (it takes
+    minutes)."""
+    cap = 20
+    m = cradle_map(balls=5, lower="0.222", upper="0.272", max_impulses=cap)
+    _turning_cones_checked(m, monkeypatch)
+    points = _drawn(m.parts, POINTS, seed=36)
     assert _first_decided(_unit_balls(5), _normals(5), points, cap) is None
+
+
+def _turning_cones_checked(m, monkeypatch) -> None:
+    from tests import certificate_check
+    from verify.core.algebraic import RealAlgebraic, poly_from_coeffs
+
+    star = "CRootOf(x**4 - 44*x**3 + 166*x**2 - 44*x + 1, 1)"
+    boundary = RealAlgebraic.roots_in(poly_from_coeffs([1, -44, 166, -44, 1]))[1]
+    cones = [p for p in m.parts if "boundary" in (p.certificate or {})]
+    assert len(cones) >= 2 and all(p.certificate["boundary"]["eps"] == star for p in cones)
+    assert all(p.certificate["boundary"]["reached"] is False for p in cones)
+    # the pieces end at roots of polynomials of degree 40 and more: the first certificate is checked
+    # on the rational interval inside its piece that leaves out 1e-12 at either end (a cone that holds on a piece
+    # holds on every interval inside it)
+    monkeypatch.setattr("verify.core.parse.MAX_LENGTH", 10**5)  # the certificate's numbers, not a user's input
+    for part in [p for p in cones if not p.piece.is_point][:1]:
+        lo, hi = part.piece.lower.narrowed(F(1, 10**12))[1], part.piece.upper.narrowed(F(1, 10**12))[0]
+        assert certificate_check.check_period(
+            part.certificate, ["1"] * 5, _normals(5), interval=(str(lo), str(hi)), restitution=["eps"] * 4
+        ) == []  # fmt: skip
+    # decided up to within 1e-4 of eps*, never at or above it; what is left says where it lies
+    top = max((p.piece.upper for p in m.non_terminating), key=lambda x: (x.lo, x.hi))
+    assert top.cmp(boundary) < 0 and boundary.lo - top.hi < F(1, 10**4)
+    below = [p for p in m.unexplored if p.piece.upper.cmp(boundary) <= 0]
+    assert below and all("below the boundary" in p.reason or "at the boundary" in p.reason for p in below)
+    above = [p for p in m.unexplored if p.piece.lower.cmp(boundary) >= 0 and "boundary" in p.reason]
+    assert above and all("above the boundary" in p.reason for p in above)

@@ -40,7 +40,7 @@ runs exit within the bound.
 
 from __future__ import annotations
 
-from collections.abc import Callable, Sequence
+from collections.abc import Callable, Iterator, Sequence
 from dataclasses import dataclass
 from fractions import Fraction
 from typing import Any
@@ -68,13 +68,15 @@ Build = Callable[[SymbolicBackend], System]
 @dataclass
 class Decided:
     """A part proved never to exit by a boundary cone: the run's impulses up to the cone, their impact sets,
-    the velocity there (SymPy, in eps) and the certificate."""
+    the velocity there (SymPy, in eps), the certificate, and the boundary it stops short of when its cones do
+    not reach it (:mod:`verify.maps.turning`; None when they do)."""
 
     piece: Piece
     iterations: int
     impact_sets: list[tuple[int, ...]]
     velocity: list[Any]
     certificate: dict[str, Any]
+    short_of: RealAlgebraic | None = None
 
 
 @dataclass(frozen=True)
@@ -105,7 +107,12 @@ def pattern_of(impact_sets: Sequence[Sequence[int]], repeats: int = 3) -> Patter
     return None
 
 
-def _sym(K: Any, x: Any) -> Any:
+def sympified(K: Any, x: Any) -> Any:
+    """An element of the backend K as a SymPy expression (in eps on the symbolic backend).
+
+    >>> sympified(SymbolicBackend(Piece.closed(0, 1)), SymbolicBackend(Piece.closed(0, 1)).parameter / 2)
+    eps/2
+    """
     return sp.sympify(K.to_number(x))
 
 
@@ -115,8 +122,8 @@ def pattern_map(system: System, sets: Sequence[Sequence[int]]) -> sp.Matrix | No
     K, r = system.backend, system.r
     if not all(linear_step(system, J) for J in sets):
         return None
-    G = sp.Matrix(r, r, lambda i, j: _sym(K, system.gram[i][j]))
-    e = [_sym(K, x) for x in system.restitution]
+    G = sp.Matrix(r, r, lambda i, j: sympified(K, system.gram[i][j]))
+    e = [sympified(K, x) for x in system.restitution]
     M = sp.eye(r)
     for J in sets:
         A = sp.eye(r)
@@ -126,25 +133,32 @@ def pattern_map(system: System, sets: Sequence[Sequence[int]]) -> sp.Matrix | No
     return M
 
 
+def characteristic(M: sp.Matrix) -> Any:
+    """The numerator of M's characteristic polynomial in lam (a polynomial in lam and eps)."""
+    return sp.Poly(sp.together(M.charpoly(LAM).as_expr()).as_numer_denom()[0], LAM, EPS).as_expr()
+
+
 def _factors(M: sp.Matrix) -> list[sp.Poly]:
-    poly = sp.Poly(sp.together(M.charpoly(LAM).as_expr()).as_numer_denom()[0], LAM, EPS)
-    return [f for f, _ in sp.factor_list(poly.as_expr(), LAM, EPS)[1] if sp.Poly(f, LAM).degree() > 0]
+    return [f for f, _ in sp.factor_list(characteristic(M), LAM, EPS)[1] if sp.Poly(f, LAM).degree() > 0]
+
+
+def quadratics(factors: Sequence[Any], most: int) -> Iterator[tuple[Any, list[Any]]]:
+    """Each factor of degree 2 in lam with the other factors, when none of these has a degree above ``most``."""
+    for q in factors:
+        if sp.Poly(q, LAM).degree() != 2:
+            continue
+        others = [f for f in factors if f is not q]
+        if all(sp.Poly(f, LAM).degree() <= most for f in others):
+            yield q, others
 
 
 def collisions(M: sp.Matrix, piece: Piece, cache: RootCache) -> list[tuple[RealAlgebraic, sp.Poly]]:
     """The points of ``piece`` where the two largest eigenvalues of M meet: (eps*, the quadratic factor q of
     the characteristic polynomial whose double root is there), where q's discriminant changes sign and
     every other factor is linear with roots no larger in modulus at eps*."""
-    factors = _factors(M)
     out = []
-    for q in factors:
-        Q = sp.Poly(q, LAM)
-        if Q.degree() != 2:
-            continue
-        others = [f for f in factors if f is not q]
-        if any(sp.Poly(f, LAM).degree() != 1 for f in others):
-            continue
-        a, b, _ = Q.all_coeffs()
+    for q, others in quadratics(_factors(M), 1):
+        a, b, _ = sp.Poly(q, LAM).all_coeffs()
         disc = sp.Poly(sp.discriminant(q, LAM), EPS)
         for d, times in disc.factor_list()[1]:
             if d.degree() < 1 or times % 2 == 0:  # an irreducible factor: of even multiplicity, no change of sign
@@ -303,7 +317,7 @@ class _Search:
                 return None
             b = list(system.rates(run.exit_velocity))
             for slab in SLABS:
-                gens = boundary_generators(self.frame, self.pattern.sets[0], [_sym(system.backend, x) for x in b],
+                gens = boundary_generators(self.frame, self.pattern.sets[0], [sympified(system.backend, x) for x in b],
                                            slab=slab, sample=sample)  # fmt: skip
                 if gens is None:
                     continue

@@ -39,6 +39,7 @@ from verify.core.rule import solve
 from verify.core.system import System
 from verify.maps import DEFAULT_WIDEN
 from verify.maps.boundary import closed_below, pattern_of
+from verify.maps.turning import closed_below_turning
 from verify.maps.widen import around_point, point_run, without
 
 
@@ -62,6 +63,7 @@ class Part:
             self.stop == other.stop
             and self.impact_sets == other.impact_sets
             and _cone_of(self.certificate) == _cone_of(other.certificate)
+            and self.reason == other.reason
         )
 
 
@@ -201,15 +203,28 @@ def bounded(
     """
     pattern = pattern_of(part.impact_sets)
     decided = closed_below(build, velocity, part.piece, pattern, bound=part.iterations, cache=cache) if pattern else []
+    if pattern and not decided:  # the period's largest eigenvalues meet over a quadratic field, beside a turning pair
+        decided = closed_below_turning(build, list(velocity), part.piece, pattern, bound=part.iterations, cache=cache)
     if not decided:
         return [part]
     symbol = sp.Symbol(part.parameter)
     out = [Part(d.piece, "non_terminating", d.iterations, d.impact_sets, [x.subs(EPS, symbol) for x in d.velocity],
                 d.certificate, parameter=part.parameter) for d in decided]  # fmt: skip
     boundary = decided[-1].certificate["boundary"]
-    for piece in uncovered(part.piece, [d.piece for d in decided]):
+    star = decided[-1].short_of  # a boundary the cones stop short of: what lies between is below it
+    left = uncovered(part.piece, [d.piece for d in decided])
+    if star is not None:
+        left = [q for piece in left for q in (piece.cut([star]) if piece.contains(star) else [piece])]
+    for piece in left:
         reason = ""
-        if piece.lower.cmp(decided[-1].piece.upper) >= 0:  # above the boundary
+        if star is not None and piece.upper.cmp(star) <= 0 and piece.lower.cmp(decided[-1].piece.upper) >= 0:
+            where = "at" if piece.is_point else "below"
+            reason = (f"still impacting after {part.iterations} impulses; {where} the boundary eps = "
+                      f"{boundary['eps']} of the repeating impacts {pattern}, where the two largest eigenvalues of "
+                      "their period meet beside a complex pair of the same modulus: no polyhedral cone is mapped "
+                      "into itself at the boundary, and the turning cones tried do not close this close to it; "
+                      "not decided")  # fmt: skip
+        elif piece.lower.cmp(decided[-1].piece.upper) >= 0:  # above the boundary
             why = (
                 (
                     ", where the two eigenvalues of their period that meet there are not real and its spectral "

@@ -863,13 +863,26 @@ def boundary_lines(parts: Sequence[Any], name: str) -> list[str]:
     from verify.core.parse import parse_number
 
     seen: dict[str, dict[str, Any]] = {}
+    highest: dict[str, Any] = {}
     for part in parts:
         b = (part.certificate or {}).get("boundary")
         if b is not None and b["eps"] not in seen:
             seen[b["eps"]] = b
+        if b is not None:
+            highest[b["eps"]] = part.piece.upper
     out = []
     for star, b in seen.items():
         value = format_decimal(RealAlgebraic.from_number(parse_number(star)), 20)
+        if b.get("reached") is False:  # turning cones (verify.maps.turning) stop short of the boundary
+            out += [
+                "",
+                f"Boundary of the repeating impacts {b['pattern']}: {name} = {star} = {value}, where the two largest "
+                "eigenvalues of their period meet beside a complex pair of the same modulus (over "
+                f"Q({b.get('extension', 'sqrt(d)')})). Cones that the period turns into themselves prove never-exits "
+                f"up to {format_decimal(highest[star], 12)}; no polyhedral cone holds at the boundary itself, and the "
+                "rest below it stays undecided.",
+            ]
+            continue
         out += [
             "",
             f"Boundary of never-exits: {name} = {star} = {value}: up to and at it the impacts {b['pattern']} repeat",
