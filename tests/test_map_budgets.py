@@ -137,7 +137,7 @@ def test_a_real_ctrl_c_gives_the_map_decided_so_far() -> None:
 
 
 BAD = [("--time-limit", "0"), ("--time-limit", "nan"), ("--time-limit", "-1"), ("--max-parts", "-1")]
-BAD += [("--max-parts", "x")]
+BAD += [("--max-parts", "x"), ("--halvings", "-1"), ("--halvings", "41"), ("--halvings", "1.5")]
 
 
 @pytest.mark.parametrize(("option", "value"), BAD)
@@ -199,3 +199,39 @@ def _length(piece) -> F:
             y.refine()
         ends.append(y.lo)
     return ends[1] - ends[0]
+
+
+class _StopsAt(Watch):
+    """A watch whose budget runs out at its ``calls``-th check: a stop at a chosen place, whatever the machine's
+    speed."""
+
+    def __init__(self, calls: int) -> None:
+        super().__init__()
+        self.calls = calls
+
+    def check(self) -> bool:
+        self.calls -= 1
+        if self.calls <= 0 and not self.stopped:
+            self.stopped = "the test's budget ran out"
+        return bool(self.stopped)
+
+
+@pytest.mark.slow
+@pytest.mark.parametrize("calls", [2, 20])
+def test_a_budget_stops_the_search_for_turning_cones_and_keeps_what_it_proved(calls) -> None:
+    """Five unit balls below their boundary eps* (verify.maps.turning): the search for cones checks the map's budget
+    before each piece. Stopped at its first piece, the whole interval is left, saying so; stopped later, the cones
+    found are kept (each certificate the search would give), and only what lies between them and eps* is left."""
+    m = cradle_map(balls=5, lower="0.23", upper="0.2597", max_impulses=20, watch=_StopsAt(calls))
+    assert m.stopped == "the test's budget ran out" and _covers_once(m.parts)
+    left = [p for p in m.parts if p.stopped_by]
+    assert left and all(p.reason.endswith("the search for cones stopped: the test's budget ran out") for p in left)
+    proved = m.non_terminating
+    if calls == 2:
+        assert not proved and len(m.parts) == 1
+        return
+    assert proved and proved[0].piece.lower == RealAlgebraic.rational(F(23, 100))
+    assert all(p.certificate["boundary"]["reached"] is False for p in proved)
+    star = proved[0].certificate["boundary"]["eps"]
+    assert left[0].piece.lower == proved[-1].piece.upper and str(left[0].piece.upper) == star
+    assert [p.reason.split("; ")[1].split(" the boundary")[0] for p in m.parts[-2:]] == ["at", "above"]

@@ -131,7 +131,9 @@ def _turning_cones_checked(m, monkeypatch) -> None:
     # decided up to within 1e-4 of eps*, never at or above it; what is left says where it lies
     top = max((p.piece.upper for p in m.non_terminating), key=lambda x: (x.lo, x.hi))
     assert top.cmp(boundary) < 0 and boundary.lo - top.hi < F(1, 10**4)
-    below = [p for p in m.unexplored if p.piece.upper.cmp(boundary) <= 0]
-    assert below and all("below the boundary" in p.reason or "at the boundary" in p.reason for p in below)
-    above = [p for p in m.unexplored if p.piece.lower.cmp(boundary) >= 0 and "boundary" in p.reason]
+    at = [p for p in m.unexplored if p.piece.contains(boundary)]
+    assert len(at) == 1 and at[0].piece.is_point and "at the boundary" in at[0].reason
+    below = [p for p in m.unexplored if p.piece.upper.cmp(boundary) <= 0 and p is not at[0]]
+    assert below and all("below the boundary" in p.reason for p in below)
+    above = [p for p in m.unexplored if p.piece.lower.cmp(boundary) >= 0 and p is not at[0] and "boundary" in p.reason]
     assert above and all("above the boundary" in p.reason for p in above)

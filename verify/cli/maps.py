@@ -76,6 +76,12 @@ def map_budget_options(p: argparse.ArgumentParser) -> None:
                    help="try up to N rational points of each unexplored interval: where the run at a point is "
                         "proved never to exit by a cone, the cone is checked for the widest interval around "
                         f"the point (default {DEFAULT_WIDEN}; 0: none)")  # fmt: skip
+    from verify.maps import DEFAULT_HALVINGS, MAX_HALVINGS
+
+    p.add_argument("--halvings", type=BoundedInt(0, MAX_HALVINGS), default=DEFAULT_HALVINGS, metavar="N",
+                   help="below a boundary where only cones that the period turns into themselves can hold, halve "
+                        f"a piece on which none closes at most N times (default {DEFAULT_HALVINGS}): more takes "
+                        "them nearer the boundary, and longer")  # fmt: skip
     p.add_argument("--quiet", action="store_true", help="no progress line on stderr")
 
 
@@ -85,7 +91,8 @@ def map_watch(args: argparse.Namespace, label: str) -> tuple[Any, StatusLine]:
 
     status = StatusLine.for_args(args)
     progress = (lambda line: status.show(f"{label} {line}")) if status.enabled else None
-    return Watch(seconds=args.time_limit, max_parts=args.max_parts, progress=progress), status
+    watch = Watch(seconds=args.time_limit, max_parts=args.max_parts, progress=progress, halvings=args.halvings)
+    return watch, status
 
 
 def cradle_map_options(p: argparse.ArgumentParser) -> None:

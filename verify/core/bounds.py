@@ -110,6 +110,11 @@ BOUNDS: dict[str, Bound] = {
         "bits of exact rates in a field of algebraic numbers a cone is looked for from",
         "no cone is looked for from them",
     ),
+    "turning_halvings": Bound(
+        "verify.maps:DEFAULT_HALVINGS",
+        "halvings of a piece below a boundary on which no turning cone closes (``--halvings``)",
+        "the search for turning cones ends there, and what lies above is left unexplored",
+    ),
     "run_bits": Bound(
         "verify.checks.properties.verdicts:CENSUS_BITS",
         "bits of the exact numbers of a run under a size budget (the verdicts' and the census': this one)",

@@ -13,3 +13,8 @@ MAX_LINES = 65
 #: default and the most
 DEFAULT_WIDEN = 1
 MAX_WIDEN = 1000
+#: how many times the search for turning cones below a boundary halves a piece on which no cone closes
+#: (``--halvings``; each halving takes the cones nearer the boundary, at the cost of a longer search): the default
+#: and the most
+DEFAULT_HALVINGS = 8
+MAX_HALVINGS = 40

@@ -37,7 +37,7 @@ from verify.core.backends.symbolic import EPS, Piece, RootCache, Split, Symbolic
 from verify.core.format import format_decimal
 from verify.core.rule import solve
 from verify.core.system import System
-from verify.maps import DEFAULT_WIDEN
+from verify.maps import DEFAULT_HALVINGS, DEFAULT_WIDEN
 from verify.maps.boundary import closed_below, pattern_of
 from verify.maps.turning import closed_below_turning
 from verify.maps.widen import around_point, point_run, without
@@ -76,7 +76,8 @@ def _cone_of(certificate: dict[str, Any] | None) -> tuple:
 @dataclass
 class Watch:
     """The budgets and the progress of one map, shared by its lines: a wall-clock budget (``seconds``), a
-    size budget (``max_parts``: parts decided, over all lines), a ``progress`` callback (a line of text:
+    size budget (``max_parts``: parts decided, over all lines), the depth of the search for turning cones
+    (``halvings``), a ``progress`` callback (a line of text:
     parts done, the measure decided so far, the deepest impulse) and, on Ctrl-C, the map decided so far.
     When the map stops early, ``stopped`` says why and every part not yet run is unexplored, with that
     reason; ``interrupted`` is True after Ctrl-C.
@@ -91,6 +92,8 @@ class Watch:
     seconds: float | None = None
     max_parts: int | None = None
     progress: Callable[[str], None] | None = None
+    #: how many times the search for turning cones below a boundary halves a piece (:mod:`verify.maps.turning`)
+    halvings: int = DEFAULT_HALVINGS
     started: float = field(default_factory=time.monotonic)
     parts: int = 0
     decided: Fraction = Fraction(0)
@@ -161,7 +164,7 @@ def line_parts(
                     raise RuntimeError(f"cutting {piece} made no progress ({split})") from None
                 work.extend(cuts)
                 continue
-            found = bounded(build, velocity, part, cache) if _unexplored(part) else [part]
+            found = bounded(build, velocity, part, cache, watch=watch) if _unexplored(part) else [part]
             found = [x for one in found for x in (widened(build, velocity, one, cache, max_points=widen, watch=watch)
                                                    if _unexplored(one) else [one])]  # fmt: skip
             done.extend(found)
@@ -182,7 +185,12 @@ def line_parts(
 
 
 def bounded(
-    build: Callable[[SymbolicBackend], System], velocity: Sequence[Any], part: Part, cache: RootCache
+    build: Callable[[SymbolicBackend], System],
+    velocity: Sequence[Any],
+    part: Part,
+    cache: RootCache,
+    *,
+    watch: Watch | None = None,
 ) -> list[Part]:
     """The unexplored interval ``part`` with what a cone of its own repeating impacts decides up to the boundary
     where the two largest eigenvalues of their period meet (:mod:`verify.maps.boundary`): the parts proved
@@ -204,9 +212,12 @@ def bounded(
     pattern = pattern_of(part.impact_sets)
     decided = closed_below(build, velocity, part.piece, pattern, bound=part.iterations, cache=cache) if pattern else []
     if pattern and not decided:  # the period's largest eigenvalues meet over a quadratic field, beside a turning pair
-        decided = closed_below_turning(build, list(velocity), part.piece, pattern, bound=part.iterations, cache=cache)
+        decided = closed_below_turning(build, list(velocity), part.piece, pattern, bound=part.iterations, cache=cache,
+                                       stop=watch.check if watch is not None else None,
+                                       halvings=watch.halvings if watch is not None else DEFAULT_HALVINGS)  # fmt: skip
+    stopped = watch.stopped if watch is not None else ""  # the budget ran out during the search for cones
     if not decided:
-        return [part]
+        return [_stopped(part, stopped) if stopped else part]
     symbol = sp.Symbol(part.parameter)
     out = [Part(d.piece, "non_terminating", d.iterations, d.impact_sets, [x.subs(EPS, symbol) for x in d.velocity],
                 d.certificate, parameter=part.parameter) for d in decided]  # fmt: skip
@@ -235,10 +246,19 @@ def bounded(
             )
             reason = (f"still impacting after {part.iterations} impulses; above the boundary eps = {boundary['eps']} "
                       f"of the repeating impacts {pattern}{why}; not decided")  # fmt: skip
-        out.append(Part(piece, part.stop, part.iterations, part.impact_sets, part.exit_velocity, reason=reason,
-                        parameter=part.parameter))  # fmt: skip
+        left_part = Part(piece, part.stop, part.iterations, part.impact_sets, part.exit_velocity, reason=reason,
+                         parameter=part.parameter)  # fmt: skip
+        below_star = star is not None and piece.upper.cmp(star) <= 0 and not piece.is_point  # eps*: no cone at all
+        out.append(_stopped(left_part, stopped) if stopped and below_star else left_part)
     out.sort(key=lambda p: (p.piece.lower, not p.piece.is_point))
     return out
+
+
+def _stopped(part: Part, stopped: str) -> Part:
+    """``part``, left by a search for cones that the map's budget (or Ctrl-C) stopped: its reason says so."""
+    reason = f"still impacting after {part.iterations} impulses; the search for cones stopped: {stopped}"
+    return Part(part.piece, part.stop, part.iterations, part.impact_sets, part.exit_velocity, reason=reason,
+                parameter=part.parameter, stopped_by=stopped)  # fmt: skip
 
 
 def _unexplored(part: Part) -> bool:

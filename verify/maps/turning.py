@@ -37,6 +37,7 @@ sqrt(5)
 from __future__ import annotations
 
 import math
+from collections.abc import Callable
 from dataclasses import dataclass, field
 from fractions import Fraction
 from typing import Any
@@ -44,10 +45,12 @@ from typing import Any
 import sympy as sp
 from sympy.polys.matrices import DomainMatrix
 
+from verify.core import bounds
 from verify.core.algebraic import RealAlgebraic, X
 from verify.core.backends.field import NumberFieldBackend
 from verify.core.backends.symbolic import EPS, Piece, RootCache, Split, SymbolicBackend
 from verify.core.rule import solve
+from verify.maps import DEFAULT_HALVINGS
 from verify.maps.boundary import LAM, Build, Decided, Pattern, characteristic, pattern_map, quadratics, sympified
 from verify.maps.cells import Roots
 from verify.maps.widen import closed_cone, short_point
@@ -57,8 +60,6 @@ Y = sp.Symbol("y")
 DIGITS = 18
 #: (impulses before the cone, at least; points of the orbit of the U-part) tried, in order
 TRIES = ((10, 3), (14, 3), (18, 4), (22, 4))
-#: how many times a piece on which no cone closes is halved (towards the boundary the cones need narrower pieces)
-HALVINGS = 8
 
 
 def extension(M: sp.Matrix) -> Any | None:
@@ -302,15 +303,18 @@ class _Search:
     roots: Roots
     built: dict[Any, Any] = field(default_factory=dict)
     easiest: int = 0  #: the first of TRIES worth trying: the one that closed the last piece
+    stop: Callable[[], bool] | None = None  #: whether the map's budget says stop, asked before each piece
+    halvings: int = DEFAULT_HALVINGS  #: how many times a piece without a cone is halved
 
     def decide(self, piece: Piece) -> list[Decided]:
         """The parts of ``piece`` with a turning cone, from its lower end up: cut where a sign of the check changes,
         halved (at a rational of least denominator in its middle third, the lower half first) where no cone
-        closes, at most :data:`HALVINGS` times; the first part still without a cone then ends the search (the
-        cones only get harder towards the boundary), and what lies above it is left out."""
+        closes, at most ``halvings`` times (towards the boundary the cones need narrower pieces); the first part
+        still without a cone then ends the search (the cones only get harder towards the boundary), and what lies
+        above it is left out. When ``stop()`` says so (the map's budget), the search stops there too."""
         out: list[Decided] = []
         work = [(piece, 0)]
-        while work:
+        while work and not (self.stop is not None and self.stop()):
             part, depth = work.pop(0)
             system = self.build(SymbolicBackend(part, self.roots))
             sample = part.lower.lo if part.is_point else part.sample()
@@ -321,12 +325,14 @@ class _Search:
                 work[:0] = [(c, depth) for c in cuts]
                 continue
             if found is not None:
+                bounds.use("turning_halvings", depth)
                 run = solve(system, self.velocity, max_iterations=found[0], trace=False, certify=False)
                 shown = [sp.sympify(system.backend.to_number(x)) for x in run.exit_velocity]
                 out.append(Decided(part, found[0], list(run.impact_sets), shown, found[1]))
-            elif depth < HALVINGS and not part.is_point:
+            elif depth < self.halvings and not part.is_point:
                 work[:0] = [(c, depth + 1) for c in part.cut([RealAlgebraic.rational(short_point(part))])]
             else:
+                bounds.reached("turning_halvings")
                 break
         return out
 
@@ -361,11 +367,20 @@ def _key(p: sp.Poly) -> tuple[Fraction, ...]:
 
 
 def closed_below_turning(
-    build: Build, velocity: list[Any], piece: Piece, pattern: Pattern, *, bound: int, cache: RootCache
+    build: Build,
+    velocity: list[Any],
+    piece: Piece,
+    pattern: Pattern,
+    *,
+    bound: int,
+    cache: RootCache,
+    stop: Callable[[], bool] | None = None,
+    halvings: int = DEFAULT_HALVINGS,
 ) -> list[Decided]:
     """The parts of ``piece`` below a boundary over Q(sqrt(d)) proved never to exit by a turning cone of
     ``pattern`` (see the module), in order; each certificate names the boundary (``"boundary"``), which the
-    cones do not reach (``"reached": False``)."""
+    cones do not reach (``"reached": False``). The search stops where ``stop()`` (the map's budget) says so, and
+    halves a piece without a cone at most ``halvings`` times."""
     p = len(pattern.sets)
     found: list[Decided] = []
     for j in range(p):
@@ -379,7 +394,7 @@ def closed_below_turning(
             if f is None or piece.lower.cmp(star) >= 0:
                 continue
             below = Piece(piece.lower, star, piece.lower_closed, False)
-            decided = _Search(build, velocity, phase, f, bound, Roots()).decide(below)
+            decided = _Search(build, velocity, phase, f, bound, Roots(), stop=stop, halvings=halvings).decide(below)
             for d in decided:
                 d.short_of = star
                 d.certificate["boundary"] = {
