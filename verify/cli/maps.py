@@ -82,6 +82,10 @@ def map_budget_options(p: argparse.ArgumentParser) -> None:
                    help="below a boundary where only cones that the period turns into themselves can hold, halve "
                         f"a piece on which none closes at most N times (default {DEFAULT_HALVINGS}): more takes "
                         "them nearer the boundary, and longer")  # fmt: skip
+    p.add_argument("--leaving", action="store_true",
+                   help="where the runs repeat a period whose eigenvalues all have modulus eps (above a boundary of "
+                        "never-exits), prove that every eps exits: the rates leave the period, and exit where they "
+                        "leave it (exact cells of eps and a slope; minutes)")  # fmt: skip
     p.add_argument("--quiet", action="store_true", help="no progress line on stderr")
 
 
@@ -183,7 +187,8 @@ def cmd_cradle_map(args: argparse.Namespace) -> int:
     watch, status = map_watch(args, "cradle-map:")
     try:
         cmap = cradle_map(args.balls, masses, velocity, v0=args.v0, lower=interval[0], upper=interval[1],
-                          max_impulses=args.max_impulses, watch=watch, widen=args.widen)  # fmt: skip
+                          max_impulses=args.max_impulses, watch=watch, widen=args.widen,
+                          leaving=args.leaving)  # fmt: skip
     finally:
         status.close()
     if args.json:
@@ -249,7 +254,7 @@ def cmd_map(args: argparse.Namespace) -> int:
     watch, status = map_watch(args, "map:")
     try:
         m = case_map(args.case, args.case_id, _parameters(args), lines=args.lines, max_impulses=args.max_impulses,
-                     watch=watch, widen=args.widen, cells=args.cells)  # fmt: skip
+                     watch=watch, widen=args.widen, cells=args.cells, leaving=args.leaving)  # fmt: skip
     finally:
         status.close()
     sys.stdout.write(dumps(eps_map_json(m)) if args.json else eps_map_text(m, exact_in="--json"))

@@ -97,6 +97,7 @@ def cradle_map(
     max_impulses: int = DEFAULT_MAX_IMPULSES,
     watch: Watch | None = None,
     widen: int = DEFAULT_WIDEN,
+    leaving: bool = False,
 ) -> CradleMap:
     """The cradle for every eps in [lower, upper] (one COR for all contacts); ``balls`` by default the
     length of ``masses`` or ``velocity``, else 3.
@@ -107,6 +108,8 @@ def cradle_map(
     names the values. ``watch`` (:class:`~verify.maps.line.Watch`) gives a wall-clock and a size budget
     and a progress callback; a map stopped by one (or by Ctrl-C) says why in ``stopped``. ``widen``: the points
     of each unexplored interval at which a single run's cone is widened (:func:`~verify.maps.line.widened`).
+    ``leaving``: prove, where the runs repeat a period whose eigenvalues all have modulus eps (above a boundary),
+    that every eps exits (:mod:`verify.maps.leaving`; minutes for four balls).
 
     >>> cradle_map(lower="0.5", upper="0.2")
     Traceback (most recent call last):
@@ -125,10 +128,10 @@ def cradle_map(
     cache = RootCache()
     domain = Piece.closed(lo, hi)
     parts = line_parts(lambda K: cradle_system(EPS, balls, masses, backend=K), v, domain, max_impulses, cache,
-                       watch=watch, widen=widen)  # fmt: skip
+                       watch=watch, widen=widen, leaving=leaving)  # fmt: skip
     system0 = cradle_system("1", balls, masses)
     for part in parts:
-        if part.stop == "max_iterations" and not part.stopped_by:
+        if part.stop == "max_iterations" and not part.stopped_by and not part.exits_beyond_bound:
             reason, part.exits_beyond_bound = _unexplored_reason(part, balls, masses, cache)
             part.reason = reason if part.exits_beyond_bound or not part.reason else part.reason
     return CradleMap(

@@ -192,6 +192,7 @@ def eps_map(
     watch: Watch | None = None,
     widen: int = DEFAULT_WIDEN,
     cells: bool = False,
+    leaving: bool = False,
 ) -> EpsMap:
     """The rule on ``system`` from ``velocity`` for every value of the parameters of ``restitution``.
 
@@ -203,7 +204,8 @@ def eps_map(
     never to exit, is unexplored. ``watch`` (:class:`~verify.maps.line.Watch`) gives budgets and progress
     shared by every line; a map stopped by one (or by Ctrl-C) says why in ``stopped``. ``widen`` is the number
     of rational points of each unexplored interval at which a single run's cone is widened
-    (:func:`~verify.maps.line.widened`). With ``cells`` and two parameters, the map is the box cut into exact
+    (:func:`~verify.maps.line.widened`); ``leaving`` proves exits above boundaries on lines
+    (:func:`~verify.maps.line.line_parts`). With ``cells`` and two parameters, the map is the box cut into exact
     cells instead of a grid of lines (:mod:`verify.maps.plane`): every rational point of the box is mapped.
 
     >>> m = eps_map(System([[1, 0], [0, 1]], [[-1, 1]], [1]), ["1", "0"], ["e"], {"e": ("1/2", "1")})
@@ -246,7 +248,7 @@ def eps_map(
         others = [n for n in names if n != free]
         for values in itertools.product(*(grid[n] for n in others)):
             fixed = dict(zip(others, values))
-            out.lines.append(_line(out, free, fixed, cache, watch=watch, widen=widen))
+            out.lines.append(_line(out, free, fixed, cache, watch=watch, widen=widen, leaving=leaving))
     out.stopped = watch.stopped if watch is not None else ""
     return out
 
@@ -298,6 +300,7 @@ def _check_cors(m: EpsMap, cors: list[Any], domain: Piece, where: str, cache: Ro
 def _line(
     m: EpsMap, free: str, fixed: dict[str, Fraction], cache: RootCache, *, watch: Watch | None = None,
     widen: int = DEFAULT_WIDEN,
+    leaving: bool = False,
 ) -> Line:  # fmt: skip
     subs = {sp.Symbol(n): sp.Rational(v.numerator, v.denominator) for n, v in fixed.items()}
     cors = [sp.sympify(c).subs({**subs, sp.Symbol(free): EPS}, simultaneous=True) for c in m.restitution]
@@ -314,7 +317,8 @@ def _line(
     domain = Piece.closed(lo, hi)
     shown = ", ".join(f"{n} = {format_exact(v)}" for n, v in fixed.items())
     _check_cors(m, cors, domain, f"{free} in {domain}" + (f", {shown}" if shown else ""), cache)
-    parts = line_parts(build, m.velocity, domain, m.max_impulses, cache, parameter=free, watch=watch, widen=widen)
+    parts = line_parts(build, m.velocity, domain, m.max_impulses, cache, parameter=free, watch=watch, widen=widen,
+                       leaving=leaving)  # fmt: skip
     for part in parts:
         if part.stop == "max_iterations" and not part.stopped_by and not part.reason:
             part.reason = f"still impacting after {part.iterations} impulses; not proved never to exit"
@@ -356,10 +360,11 @@ def case_map(
     watch: Watch | None = None,
     widen: int = DEFAULT_WIDEN,
     cells: bool = False,
+    leaving: bool = False,
 ) -> EpsMap:
     """:func:`eps_map` of a case in a case file (``docs/records.md``) whose ``restitution`` strings name
     parameters (``["e1", "e2"]``); ``case_id`` picks the case (needed when the file has several);
-    ``watch``, ``widen`` and ``cells`` as for :func:`eps_map`.
+    ``watch``, ``widen``, ``cells`` and ``leaving`` as for :func:`eps_map`.
 
     >>> import json, os, tempfile
     >>> path = os.path.join(tempfile.mkdtemp(), "case.json")
@@ -392,6 +397,6 @@ def case_map(
     case = case_from_record({**record, "restitution": ["1"] * len(cors)}, where)  # the geometry, validated
     try:
         return eps_map(case.system, record["velocity"], cors, parameters, lines=lines, max_impulses=max_impulses,
-                       watch=watch, widen=widen, cells=cells)  # fmt: skip
+                       watch=watch, widen=widen, cells=cells, leaving=leaving)  # fmt: skip
     except InvalidInput as exc:
         raise type(exc)(f"{where}: {exc}") from None

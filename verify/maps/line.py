@@ -25,21 +25,23 @@ part, decided exactly; the union is the whole piece.
 
 from __future__ import annotations
 
-import time
 from collections.abc import Callable, Sequence
-from dataclasses import dataclass, field
+from dataclasses import dataclass
 from fractions import Fraction
 from typing import Any
 
 import sympy as sp
 
+from verify.core.algebraic import RealAlgebraic
 from verify.core.backends.symbolic import EPS, Piece, RootCache, Split, SymbolicBackend
 from verify.core.format import format_decimal
 from verify.core.rule import solve
 from verify.core.system import System
 from verify.maps import DEFAULT_HALVINGS, DEFAULT_WIDEN
-from verify.maps.boundary import closed_below, pattern_of
+from verify.maps.boundary import Pattern, closed_below, pattern_of
+from verify.maps.leaving import GAP, exits_above
 from verify.maps.turning import closed_below_turning
+from verify.maps.watch import Watch
 from verify.maps.widen import around_point, point_run, without
 
 
@@ -73,57 +75,6 @@ def _cone_of(certificate: dict[str, Any] | None) -> tuple:
     return c.get("mu"), c.get("generators"), c.get("images"), c.get("strict")
 
 
-@dataclass
-class Watch:
-    """The budgets and the progress of one map, shared by its lines: a wall-clock budget (``seconds``), a
-    size budget (``max_parts``: parts decided, over all lines), the depth of the search for turning cones
-    (``halvings``), a ``progress`` callback (a line of text:
-    parts done, the measure decided so far, the deepest impulse) and, on Ctrl-C, the map decided so far.
-    When the map stops early, ``stopped`` says why and every part not yet run is unexplored, with that
-    reason; ``interrupted`` is True after Ctrl-C.
-
-    >>> from verify.core.system import System
-    >>> one = lambda K: System([[1, 0], [0, 1]], [[-1, 1]], [EPS], backend=K)
-    >>> w = Watch(max_parts=0)
-    >>> [(str(p.piece), p.stop, p.reason) for p in line_parts(one, ["1", "0"], Piece.closed(0, 1), 5, watch=w)]
-    [('[0, 1]', 'max_iterations', 'not explored: the size budget of 0 parts was reached')]
-    """
-
-    seconds: float | None = None
-    max_parts: int | None = None
-    progress: Callable[[str], None] | None = None
-    #: how many times the search for turning cones below a boundary halves a piece (:mod:`verify.maps.turning`)
-    halvings: int = DEFAULT_HALVINGS
-    started: float = field(default_factory=time.monotonic)
-    parts: int = 0
-    decided: Fraction = Fraction(0)
-    deepest: int = 0
-    stopped: str = ""
-    interrupted: bool = False
-
-    def check(self) -> bool:
-        """Whether the map must stop now (and ``stopped`` says why)."""
-        if not self.stopped and self.max_parts is not None and self.parts >= self.max_parts:
-            self.stopped = f"the size budget of {self.max_parts} parts was reached"
-        if not self.stopped and self.seconds is not None and time.monotonic() - self.started >= self.seconds:
-            shown = format_decimal(Fraction(self.seconds).limit_denominator(1000), 12)
-            self.stopped = f"the wall-clock budget of {shown} s ran out"
-        return bool(self.stopped)
-
-    def done(self, part: Part) -> None:
-        """Count a decided part (its length, a lower bound within 2e-9 of it)."""
-        self.parts += 1
-        self.deepest = max(self.deepest, part.iterations)
-        if part.stop != "max_iterations":
-            width = Fraction(1, 10**9)
-            lower, upper = part.piece.lower.narrowed(width), part.piece.upper.narrowed(width)
-            self.decided += max(Fraction(0), upper[0] - lower[1])
-        if self.progress is not None:
-            elapsed = round(time.monotonic() - self.started)  # the clock: a float, shown to the second
-            self.progress(f"map: {self.parts} parts, decided a length of {format_decimal(self.decided, 6)}, "
-                          f"deepest impulse {self.deepest}, {elapsed} s")  # fmt: skip
-
-
 def line_parts(
     build: Callable[[SymbolicBackend], System],
     velocity: Sequence[Any],
@@ -134,6 +85,7 @@ def line_parts(
     parameter: str = "eps",
     watch: Watch | None = None,
     widen: int = DEFAULT_WIDEN,
+    leaving: bool = False,
 ) -> list[Part]:
     """The parts of ``domain``, in order: ``build(K)`` is the system on the symbolic backend ``K`` (its
     parameter, :data:`~verify.core.backends.symbolic.EPS`, ranging over one piece), ``velocity`` the
@@ -141,7 +93,9 @@ def line_parts(
     ``parameter`` (see the module's example). A point part the parametric run leaves at the bound is
     run again as :func:`~verify.core.rule.solve` runs it at that value (:func:`~verify.maps.widen.point_run`),
     and an interval it leaves there is tried at up to ``widen`` rational points of it, each run's cone widened
-    to the largest interval around its point on which it holds (:func:`widened`).
+    to the largest interval around its point on which it holds (:func:`widened`). With ``leaving``, an interval
+    whose runs repeat a period of eigenvalues all of modulus eps is proved to exit there
+    (:mod:`verify.maps.leaving`; minutes where it applies).
 
     >>> from verify.core.system import System
     >>> one = lambda K: System([[1, 0], [0, 1]], [[-1, 1]], [EPS], backend=K)
@@ -164,7 +118,7 @@ def line_parts(
                     raise RuntimeError(f"cutting {piece} made no progress ({split})") from None
                 work.extend(cuts)
                 continue
-            found = bounded(build, velocity, part, cache, watch=watch) if _unexplored(part) else [part]
+            found = bounded(build, velocity, part, cache, watch=watch, leaving=leaving) if _unexplored(part) else [part]
             found = [x for one in found for x in (widened(build, velocity, one, cache, max_points=widen, watch=watch)
                                                    if _unexplored(one) else [one])]  # fmt: skip
             done.extend(found)
@@ -191,6 +145,7 @@ def bounded(
     cache: RootCache,
     *,
     watch: Watch | None = None,
+    leaving: bool = False,
 ) -> list[Part]:
     """The unexplored interval ``part`` with what a cone of its own repeating impacts decides up to the boundary
     where the two largest eigenvalues of their period meet (:mod:`verify.maps.boundary`): the parts proved
@@ -216,8 +171,16 @@ def bounded(
                                        stop=watch.check if watch is not None else None,
                                        halvings=watch.halvings if watch is not None else DEFAULT_HALVINGS)  # fmt: skip
     stopped = watch.stopped if watch is not None else ""  # the budget ran out during the search for cones
-    if not decided:
-        return [_stopped(part, stopped) if stopped else part]
+    if stopped and not decided:
+        return [_stopped(part, stopped)]
+    if pattern is None:
+        return [part]
+    if not decided and not leaving:
+        return [part]
+    if not decided:  # no boundary here: it may lie above one, where every eps exits
+        undecided = part.reason or f"still impacting after {part.iterations} impulses"
+        later = _exits_later(build, velocity, part, part.piece, pattern=pattern, undecided=undecided, cache=cache)
+        return later if later is not None else [part]
     symbol = sp.Symbol(part.parameter)
     out = [Part(d.piece, "non_terminating", d.iterations, d.impact_sets, [x.subs(EPS, symbol) for x in d.velocity],
                 d.certificate, parameter=part.parameter) for d in decided]  # fmt: skip
@@ -235,23 +198,70 @@ def bounded(
                       "their period meet beside a complex pair of the same modulus: no polyhedral cone is mapped "
                       "into itself at the boundary, and the turning cones tried do not close this close to it; "
                       "not decided")  # fmt: skip
+        elif leaving and star is None and piece.lower.cmp(decided[-1].piece.upper) >= 0 and not piece.is_point:
+            undecided = _above_reason(part.iterations, pattern, boundary)
+            later = _exits_later(build, velocity, part, piece, pattern=pattern, undecided=undecided, cache=cache)
+            out += later if later is not None else [Part(piece, part.stop, part.iterations, part.impact_sets,
+                                                         part.exit_velocity, reason=undecided + "; not decided",
+                                                         parameter=part.parameter)]  # fmt: skip
+            continue
         elif piece.lower.cmp(decided[-1].piece.upper) >= 0:  # above the boundary
-            why = (
-                (
-                    ", where the two eigenvalues of their period that meet there are not real and its spectral "
-                    "radius is not an eigenvalue, so no cone is mapped into itself by it"
-                )
-                if boundary["no_cone_beyond"]
-                else ""
-            )
-            reason = (f"still impacting after {part.iterations} impulses; above the boundary eps = {boundary['eps']} "
-                      f"of the repeating impacts {pattern}{why}; not decided")  # fmt: skip
+            reason = _above_reason(part.iterations, pattern, boundary) + "; not decided"
         left_part = Part(piece, part.stop, part.iterations, part.impact_sets, part.exit_velocity, reason=reason,
                          parameter=part.parameter)  # fmt: skip
         below_star = star is not None and piece.upper.cmp(star) <= 0 and not piece.is_point  # eps*: no cone at all
         out.append(_stopped(left_part, stopped) if stopped and below_star else left_part)
     out.sort(key=lambda p: (p.piece.lower, not p.piece.is_point))
     return out
+
+
+def _exits_later(
+    build: Callable[[SymbolicBackend], System],
+    velocity: Sequence[Any],
+    part: Part,
+    piece: Piece,
+    *,
+    pattern: Pattern,
+    undecided: str,
+    cache: RootCache,
+) -> list[Part] | None:
+    """The unexplored ``piece`` (of ``part``), whose runs repeat ``pattern``, with what
+    :func:`~verify.maps.leaving.exits_above` proves there: every eps exits, but in a gap just above a boundary and at
+    the irrational eps it lists, which keep ``undecided`` (the reason that says where they lie); None without a
+    proof."""
+    found = exits_above(build, velocity, piece, pattern, cache)
+    if found is None:
+        return None
+
+    def left(p: Piece, reason: str, certificate: dict[str, Any] | None = None) -> Part:
+        return Part(p, part.stop, part.iterations, part.impact_sets, part.exit_velocity, certificate, reason,
+                    certificate is not None, parameter=part.parameter)  # fmt: skip
+
+    start = RealAlgebraic.rational(found.lower)
+    exits = (f"every eps here exits, after more than {part.iterations} impulses: every eigenvalue of the period of "
+             f"{pattern} has modulus eps here and none is eps, so the rates leave the pattern, and from every point "
+             f"of the two ellipses its periods keep them on, the run exits within one impulse of leaving it (checked "
+             f"on {found.certificate['cells']} exact cells of eps and a slope; verify.maps.leaving)")  # fmt: skip
+    out = []
+    for p in piece.cut([x for x in [start, *found.not_run] if piece.contains(x)]):
+        if p.lower.cmp(start) < 0:
+            out.append(left(p, undecided + f"; within {format_decimal(GAP, 12)} of it, not decided"))
+        elif p.is_point and any(p.lower.cmp(x) == 0 for x in found.not_run):
+            out.append(left(p, undecided + "; the exact cells of the proof that every eps here exits are not run at "
+                                           "this irrational eps (a line of measure 0); not decided"))  # fmt: skip
+        else:
+            out.append(left(p, exits, found.certificate))
+    return out
+
+
+def _above_reason(bound: int, pattern: Pattern, boundary: dict[str, Any]) -> str:
+    """Where a part above the boundary of ``pattern`` lies, and what is known there (without the verdict)."""
+    reason = (f"still impacting after {bound} impulses; above the boundary eps = {boundary['eps']} of the repeating "
+              f"impacts {pattern}")  # fmt: skip
+    if boundary["no_cone_beyond"]:
+        reason += (", where the two eigenvalues of their period that meet there are not real and its spectral "
+                   "radius is not an eigenvalue, so no cone is mapped into itself by it")  # fmt: skip
+    return reason
 
 
 def _stopped(part: Part, stopped: str) -> Part:
@@ -262,7 +272,12 @@ def _stopped(part: Part, stopped: str) -> Part:
 
 
 def _unexplored(part: Part) -> bool:
-    return part.stop == "max_iterations" and not part.piece.is_point and not part.stopped_by
+    return (
+        part.stop == "max_iterations"
+        and not part.piece.is_point
+        and not part.stopped_by
+        and not part.exits_beyond_bound
+    )
 
 
 def widened(
@@ -422,7 +437,11 @@ def parts_json(parts: Sequence[Part], *, name: str | None = None) -> dict[str, A
             for p in parts
             if p.stop == "non_terminating"
         ],
-        "unexplored": [{**piece_json(p.piece), "reason": p.reason} for p in parts if p.stop == "max_iterations"],
+        "unexplored": [
+            {**piece_json(p.piece), "reason": p.reason, **({"certificate": p.certificate} if p.certificate else {})}
+            for p in parts
+            if p.stop == "max_iterations"
+        ],
         "undecided_measure": [str(x) for x in undecided_length(parts)],
     }
 

@@ -38,7 +38,7 @@ from verify.core.rule import solve
 from verify.core.system import System
 from verify.errors import InvalidInput
 from verify.maps.cells import Box, Cell, Roots, decompose, refine, set_areas
-from verify.maps.line import Watch
+from verify.maps.watch import Watch
 
 
 @dataclass
@@ -116,13 +116,16 @@ def plane_parts(
     arithmetic: str | None = None,
     watch: Watch | None = None,
     number_field: Any = None,
+    velocities: bool = True,
 ) -> PlaneMap:
     """The map of the box: ``build(K)`` is the system on the plane backend ``K`` (its CORs written in the
     two parameters ``names``), ``velocity`` the exact entrance velocity (see the module's example). ``watch``
     (:class:`~verify.maps.line.Watch`) gives a wall-clock and a size budget (cells run) and the progress; when
     the map stops early (a budget, or Ctrl-C with a watch), the cells not run are unexplored, with the reason,
     and ``stopped`` says why. ``number_field`` is the number field of the system's numbers when they are not all
-    rational (a :class:`~verify.core.backends.field.NumberFieldBackend`)."""
+    rational (a :class:`~verify.core.backends.field.NumberFieldBackend`). ``velocities=False`` leaves out each cell's
+    exit velocity as a SymPy expression (``exit_velocity``; ``velocity`` is kept), for a map read only for its
+    impact sets and stops."""
     P = polys(arithmetic)
     tower = Tower.over(P, number_field) if number_field is not None else None
     cache = Roots()
@@ -136,7 +139,7 @@ def plane_parts(
             cell, known = work.pop()
             try:
                 part = _run_cell(build, velocity, cell, (P, known, names), max_impulses, deadline=deadline,
-                                 tower=tower)  # fmt: skip
+                                 tower=tower, velocities=velocities)  # fmt: skip
             except OutOfTime:
                 work.append((cell, known))
                 watch.check()  # type: ignore[union-attr]
@@ -177,6 +180,7 @@ def _run_cell(
     *,
     deadline: float | None = None,
     tower: Tower | None = None,
+    velocities: bool = True,
 ) -> CellPart:
     """The part of one cell (raises :class:`NewCurves` when its run asks a sign the cell does not decide);
     ``known`` is the polynomials' arithmetic, the keys of the curves with one sign on it and the parameters."""
@@ -186,7 +190,7 @@ def _run_cell(
     K = PlaneBackend(P, cell.sample, set(keys), names, point=cell.dim == 0, deadline=deadline, tower=tower)
     # no proofs of never-exits yet: a cone search asks signs of high degree, each a new curve that cuts the cell
     r = solve(build(K), velocity, max_iterations=max_impulses, trace=False, certify=False)
-    v = [K.to_number(x) for x in r.exit_velocity]
+    v = [K.to_number(x) for x in r.exit_velocity] if velocities else []
     reason = f"still impacting after {r.iterations} impulses" if r.stop == "max_iterations" else ""
     return CellPart(cell, r.stop, r.iterations, list(r.impact_sets), v, reason, list(r.exit_velocity))
 

@@ -43,6 +43,10 @@ FLINT_POLYS = FLINT
 X, Y = sp.symbols("x y")
 
 
+#: the most SymPy expressions (and resultants, discriminants) a :class:`Polys` keeps (it starts again past it)
+CONVERTED = 4096
+
+
 class Polys:
     """Polynomials in (x, y) over the rationals: flint's ``fmpq_mpoly`` (``name="flint"``) or SymPy's
     ``Poly`` (``name="sympy"``). Each method takes and returns this arithmetic's polynomials.
@@ -56,6 +60,9 @@ class Polys:
     def __init__(self, name: str):
         self.name = name
         self._shown: dict[tuple, str] = {}
+        #: SymPy expressions already converted (a map converts the same velocity on each of its cells)
+        self.converted: dict[tuple, Any] = {}
+        self._projections: dict[tuple, Any] = {}  #: resultants and discriminants already computed
         if name == "flint":
             self.ctx = flint.fmpq_mpoly_ctx.get(("x", "y"))
             self.x, self.y = self.ctx.gens()
@@ -135,16 +142,32 @@ class Polys:
         return [self.monic(f) for f in found if not self.is_constant(f)]
 
     def resultant(self, p: Any, q: Any) -> Any:
-        """The resultant of p and q in y (a polynomial in x)."""
-        if self.name == "flint":
-            return p.resultant(q, "y")
-        return sp.Poly(sp.resultant(p.as_expr(), q.as_expr(), Y), X, Y, domain="QQ")
+        """The resultant of p and q in y (a polynomial in x); each pair is computed once (a decomposition meets the
+        same pairs of curves on many cells)."""
+        key = ("resultant", self.key(p), self.key(q))
+        if key not in self._projections:
+            if self.name == "flint":
+                found = p.resultant(q, "y")
+            else:
+                found = sp.Poly(sp.resultant(p.as_expr(), q.as_expr(), Y), X, Y, domain="QQ")
+            self._remember(key, found)
+        return self._projections[key]
 
     def discriminant(self, p: Any) -> Any:
-        """The discriminant of p in y (a polynomial in x)."""
-        if self.name == "flint":
-            return p.discriminant("y")
-        return sp.Poly(sp.discriminant(p.as_expr(), Y), X, Y, domain="QQ")
+        """The discriminant of p in y (a polynomial in x), computed once for each p."""
+        key = ("discriminant", self.key(p))
+        if key not in self._projections:
+            if self.name == "flint":
+                found = p.discriminant("y")
+            else:
+                found = sp.Poly(sp.discriminant(p.as_expr(), Y), X, Y, domain="QQ")
+            self._remember(key, found)
+        return self._projections[key]
+
+    def _remember(self, key: tuple, value: Any) -> None:
+        if len(self._projections) >= CONVERTED:
+            self._projections.clear()
+        self._projections[key] = value
 
     def derivative_x(self, p: Any) -> Any:
         return p.derivative("x") if self.name == "flint" else p.diff(X)
@@ -317,11 +340,18 @@ class PlaneBackend(Backend):
                 raise BadNumber(
                     f"{value}: not a rational function of the parameters over {self.tower.field_of.label()}"
                 ) from None
+        key = (self.names, e)
+        if key in self.P.converted:
+            return self.P.converted[key]
         n, d = sp.fraction(sp.cancel(sp.together(e.subs({a: X, b: Y}, simultaneous=True))))
         try:
-            return Frac(self.P, self.P.from_expr(n), self.P.from_expr(d))
+            out = Frac(self.P, self.P.from_expr(n), self.P.from_expr(d))
         except sp.PolynomialError:
             raise BadNumber(f"{value}: a map needs rational functions of the parameters") from None
+        if len(self.P.converted) >= CONVERTED:
+            self.P.converted.clear()
+        self.P.converted[key] = out
+        return out
 
     def factors_of(self, p: Any) -> list[Any]:
         key = self.P.key(p)
