@@ -117,9 +117,12 @@ def _negative_on(expr: Any, piece: Piece, cache: RootCache) -> bool:
         return False
 
 
-def ellipse_velocities(system: System, M: sp.Matrix, q: Any, x0: sp.Matrix) -> list[list[Any]] | None:
+def ellipse_velocities(
+    system: System, M: sp.Matrix, q: Any, x0: sp.Matrix, *, box: Piece, cache: RootCache
+) -> list[list[Any]] | None:
     """The velocities whose rates run over E+ and E- (see the module), rational in eps and :data:`T`, one list per
-    chart and sign; None when M has no frame for q or A keeps no form."""
+    chart and sign; None when M has no frame for q, A keeps no form, or a velocity is not defined on all of
+    ``box`` x [-1, 1] (:func:`_defined`)."""
     f = frame(M, q)
     if f is None:
         return None
@@ -137,14 +140,42 @@ def ellipse_velocities(system: System, M: sp.Matrix, q: Any, x0: sp.Matrix) -> l
     Ginv = G.inv()
     out = []
     for d in (sp.Matrix([1, T]), sp.Matrix([T, 1])):
-        s = sp.cancel(-2 * (w0.T * Q * d)[0] / (d.T * Q * d)[0])
+        qdd = sp.cancel((d.T * Q * d)[0])
+        s = sp.cancel(-2 * (w0.T * Q * d)[0] / qdd)
         w = (w0 + s * d).applyfunc(sp.cancel)
         for sign in (1, -1):
             z = w[0] * f.W[0] + w[1] * f.W[1] + sign * cu
             y = Ginv * z  # the impulse magnitudes whose rates are z: the velocity sum_j y_j U_j
             v = sum((y[j] * shapes[j] for j in range(system.r)), sp.zeros(system.n, 1)).applyfunc(sp.cancel)
+            if not _defined(list(v), qdd, box, cache):
+                return None
             out.append(list(v))
     return out
+
+
+def _defined(v: Sequence[Any], qdd: Any, box: Piece, cache: RootCache) -> bool:
+    """Whether ``v`` is defined on all of ``box`` x [-1, 1], exactly: every factor of its denominators that is a
+    polynomial in eps alone keeps one sign on the box, and every other one divides the numerator of Q(d, d), which
+    does not vanish there (Q is definite where q's roots are not real, d is not 0, and the denominator of Q(d, d)
+    is checked as the others)."""
+    qn, qd = sp.fraction(sp.cancel(qdd))
+    factors = [f for x in [*v, qdd] for f, _ in sp.factor_list(sp.fraction(sp.cancel(x))[1], EPS, T)[1]]
+    for f in factors:
+        if T not in f.free_symbols:
+            if EPS in f.free_symbols and not _one_sign_on(f, box, cache):
+                return False
+        elif sp.div(qn, f, EPS, T)[1] != 0 or T in qd.free_symbols:
+            return False
+    return True
+
+
+def _one_sign_on(expr: Any, piece: Piece, cache: RootCache) -> bool:
+    """Whether the polynomial ``expr`` in eps keeps one sign on all of ``piece``, exactly."""
+    K = SymbolicBackend(piece, cache)
+    try:
+        return K.sign(K.convert(expr)) != 0
+    except Split:
+        return False
 
 
 def leaves_then_exits(impact_sets: Sequence[Sequence[int]], stop: str, sets: Sequence[tuple[int, ...]]) -> bool:
@@ -224,7 +255,7 @@ def _ellipses(
     except Split:
         return None
     x0 = sp.Matrix([sympified(system.backend, x) for x in system.rates(run.exit_velocity)])
-    families = ellipse_velocities(system, M, q, x0)
+    families = ellipse_velocities(system, M, q, x0, box=box, cache=cache)
     if families is None:
         return None
     e = box.sample()
