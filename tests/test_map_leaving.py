@@ -25,11 +25,12 @@ CASES = {
 }
 
 
-@pytest.mark.parametrize("masses", [[1, 1, 1, 1], [2, 1, 1, 2]])
-def test_above_the_boundary_every_eigenvalue_of_the_period_has_modulus_eps(masses) -> None:
+@pytest.mark.parametrize("system", list(CASES))
+def test_above_the_boundary_every_eigenvalue_of_the_period_has_modulus_eps(system) -> None:
     """The premise of the proof, from the test's own period (S1,S3)(S2): its characteristic polynomial is
     (lam + eps) q(lam) with q(0) = eps^2 (times q's leading coefficient), and q's roots are not real above the
     boundary, so all three have modulus eps there."""
+    masses, _, star = CASES[system]
     M = _period(masses, [[0, 2], [1]])
     p = sp.Poly(M.charpoly(LAM).as_expr(), LAM)
     q, r = sp.div(p, sp.Poly(LAM + E, LAM))
@@ -37,7 +38,6 @@ def test_above_the_boundary_every_eigenvalue_of_the_period_has_modulus_eps(masse
     a2, a1, a0 = q.all_coeffs()
     assert sp.simplify(a0 / a2 - E**2) == 0
     disc = sp.factor(a1**2 - 4 * a2 * a0)
-    star = {"1111": 3 - 2 * sp.sqrt(2), "2112": 2 - sp.sqrt(3)}["".join(map(str, masses))]
     for above in (star + sp.Rational(1, 10**6), star + sp.Rational(1, 100)):
         assert disc.subs(E, above) < 0
     assert disc.subs(E, star - sp.Rational(1, 10**6)) > 0

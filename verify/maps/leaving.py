@@ -108,13 +108,13 @@ def invariant_form(B: sp.Matrix) -> sp.Matrix | None:
     return Q
 
 
-def _negative_on(expr: Any, piece: Piece, cache: RootCache) -> bool:
-    """Whether the rational function ``expr`` of eps is negative on all of ``piece``, exactly."""
+def _sign_on(expr: Any, piece: Piece, cache: RootCache) -> int | None:
+    """The sign of the rational function ``expr`` of eps on all of ``piece``, exactly; None when it changes there."""
     K = SymbolicBackend(piece, cache)
     try:
-        return bool(K.sign(K.convert(sp.cancel(expr))) < 0)
+        return K.sign(K.convert(sp.cancel(expr)))
     except Split:
-        return False
+        return None
 
 
 def ellipse_velocities(
@@ -162,20 +162,11 @@ def _defined(v: Sequence[Any], qdd: Any, box: Piece, cache: RootCache) -> bool:
     factors = [f for x in [*v, qdd] for f, _ in sp.factor_list(sp.fraction(sp.cancel(x))[1], EPS, T)[1]]
     for f in factors:
         if T not in f.free_symbols:
-            if EPS in f.free_symbols and not _one_sign_on(f, box, cache):
+            if EPS in f.free_symbols and _sign_on(f, box, cache) in (None, 0):
                 return False
         elif sp.div(qn, f, EPS, T)[1] != 0 or T in qd.free_symbols:
             return False
     return True
-
-
-def _one_sign_on(expr: Any, piece: Piece, cache: RootCache) -> bool:
-    """Whether the polynomial ``expr`` in eps keeps one sign on all of ``piece``, exactly."""
-    K = SymbolicBackend(piece, cache)
-    try:
-        return K.sign(K.convert(expr)) != 0
-    except Split:
-        return False
 
 
 def leaves_then_exits(impact_sets: Sequence[Sequence[int]], stop: str, sets: Sequence[tuple[int, ...]]) -> bool:
@@ -248,7 +239,7 @@ def _ellipses(
         return None
     q = found[0]
     a2, a1, a0 = sp.Poly(q, LAM).all_coeffs()
-    if not _negative_on(a1**2 - 4 * a2 * a0, box, cache):  # the eigenvalues of q are not real on all of it
+    if _sign_on(a1**2 - 4 * a2 * a0, box, cache) != -1:  # the eigenvalues of q are not real on all of it
         return None
     try:
         run = solve(system, list(velocity), max_iterations=pattern.start, trace=False, certify=False)
