@@ -34,6 +34,7 @@ import sympy as sp
 
 from verify.core.algebraic import RealAlgebraic
 from verify.core.backends.base import Backend, NotConstant
+from verify.core.backends.eliminate import discriminant_y, resultant_y
 from verify.core.backends.ratfunc import FLINT, as_fraction, flint
 from verify.errors import BadNumber
 
@@ -147,7 +148,7 @@ class Polys:
         key = ("resultant", self.key(p), self.key(q))
         if key not in self._projections:
             if self.name == "flint":
-                found = p.resultant(q, "y")
+                found = resultant_y(p, q)
             else:
                 found = sp.Poly(sp.resultant(p.as_expr(), q.as_expr(), Y), X, Y, domain="QQ")
             self._remember(key, found)
@@ -158,7 +159,7 @@ class Polys:
         key = ("discriminant", self.key(p))
         if key not in self._projections:
             if self.name == "flint":
-                found = p.discriminant("y")
+                found = discriminant_y(p)
             else:
                 found = sp.Poly(sp.discriminant(p.as_expr(), Y), X, Y, domain="QQ")
             self._remember(key, found)
