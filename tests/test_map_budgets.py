@@ -235,3 +235,46 @@ def test_a_budget_stops_the_search_for_turning_cones_and_keeps_what_it_proved(ca
     star = proved[0].certificate["boundary"]["eps"]
     assert left[0].piece.lower == proved[-1].piece.upper and str(left[0].piece.upper) == star
     assert [p.reason.split("; ")[1].split(" the boundary")[0] for p in m.parts[-2:]] == ["at", "above"]
+
+
+def test_a_wall_clock_budget_that_runs_out_while_a_cell_is_cut_stops_there(monkeypatch: pytest.MonkeyPatch) -> None:
+    """A map of cells (verify.maps.plane) checks its wall-clock budget while it cuts a cell too (between projections,
+    and inside long resultants), not only between signs: a clock that jumps past the budget at the third cut stops
+    the map there. That cell is left whole and unexplored, saying why; the cells decided before are the full map's;
+    the cells still cover the box."""
+    from verify.maps import plane
+    from verify.maps import watch as watch_module
+    from verify.maps.general import case_map
+
+    case = "docs/examples/corner-map.json"
+    full = case_map(case, cells=True, max_impulses=4)
+    jump = [0.0]
+
+    class Clock:
+        @staticmethod
+        def monotonic() -> float:
+            return time.monotonic() + jump[0]
+
+    monkeypatch.setattr(plane, "time", Clock)
+    monkeypatch.setattr(watch_module, "time", Clock)
+    cuts = []
+    real_refine = plane.refine
+
+    def refine(*args, **kwargs):
+        cuts.append(1)
+        if len(cuts) == 3:
+            jump[0] = 10.0**6
+        return real_refine(*args, **kwargs)
+
+    monkeypatch.setattr(plane, "refine", refine)
+    m = case_map(case, cells=True, max_impulses=4, watch=Watch(seconds=3600))
+    assert len(cuts) == 3 and m.stopped == "the wall-clock budget of 3600 s ran out"
+    parts = m.plane.parts
+    left = [p for p in parts if p.reason == f"not explored: {m.stopped}"]
+    assert left and len(parts) < len(full.plane.parts)
+    for p in parts:
+        if p.stop == "exit":
+            twin = full.at(dict(zip(full.plane.names, p.cell.sample)))[0]
+            assert (twin.stop, twin.impact_sets) == (p.stop, p.impact_sets)
+    low, high = sum(p.cell.area[0] for p in parts), sum(p.cell.area[1] for p in parts)
+    assert low <= 1 <= high

@@ -73,6 +73,23 @@ def _eval_interval(coeffs: Sequence[Any], lo: Any, hi: Any) -> tuple[Any, Any]:
     return a, b
 
 
+Interval = tuple[Fraction, Fraction]
+
+
+def interval_value(coeffs: Sequence[Interval], lo: Fraction, hi: Fraction) -> Interval:
+    """An enclosure of {p(t) : lo <= t <= hi} for a polynomial whose coefficients (highest degree first) are known to
+    lie in intervals ``(low, high)`` of rationals (interval Horner, exact).
+
+    >>> interval_value([(Fraction(1), Fraction(1)), (Fraction(-1), Fraction(1))], Fraction(2), Fraction(3))
+    (Fraction(1, 1), Fraction(4, 1))
+    """
+    a = b = Fraction(0)
+    for c_lo, c_hi in coeffs:
+        products = (a * lo, a * hi, b * lo, b * hi)
+        a, b = min(products) + c_lo, max(products) + c_hi
+    return a, b
+
+
 def _halved(value_at: Any, lo: Any, hi: Any) -> tuple[Any, Any]:
     """The half of [lo, hi] that holds the root of the polynomial ``value_at`` evaluates (exact bisection;
     the root itself when it is the midpoint)."""

@@ -39,6 +39,7 @@ from typing import Any
 import sympy as sp
 
 from verify.core.algebraic import RealAlgebraic, X
+from verify.core.backends.eliminate import Stop
 from verify.core.backends.plane import Polys
 from verify.core.backends.ratfunc import FLINT, flint
 from verify.core.backends.symbolic import RootCache
@@ -188,8 +189,11 @@ def _roots(
     return out
 
 
-def critical_x(P: Polys, polys: Sequence[Any], box: Box, cache: RootCache) -> list[RealAlgebraic]:
-    """The critical x of ``polys`` in [a, b] (see the module), in increasing order, a and b among them."""
+def critical_x(P: Polys, polys: Sequence[Any], box: Box, cache: RootCache, stop: Stop = None) -> list[RealAlgebraic]:
+    """The critical x of ``polys`` in [a, b] (see the module), in increasing order, a and b among them. ``stop`` is
+    called between the projections and inside the long ones (it may raise: a map's wall-clock budget)."""
+    if stop is not None:
+        stop()
     a, b, c, d = box
     projected: list[tuple[Fraction, ...]] = []
     curves = [f for f in polys if P.degree_y(f) > 0]
@@ -197,12 +201,14 @@ def critical_x(P: Polys, polys: Sequence[Any], box: Box, cache: RootCache) -> li
         if P.degree_y(f) == 0:
             projected.append(P.in_x(f))
             continue
-        projected += [P.leading_in_y(f), P.at_y(f, c), P.at_y(f, d), P.in_x(P.resultant(f, P.derivative_x(f)))]
+        projected += [P.leading_in_y(f), P.at_y(f, c), P.at_y(f, d), P.in_x(P.resultant(f, P.derivative_x(f), stop))]
         if P.degree_y(f) >= 2:
-            projected.append(P.in_x(P.discriminant(f)))
+            projected.append(P.in_x(P.discriminant(f, stop)))
     for i, f in enumerate(curves):
         for g in curves[i + 1 :]:
-            projected.append(P.in_x(P.resultant(f, g)))
+            if stop is not None:
+                stop()
+            projected.append(P.in_x(P.resultant(f, g, stop)))
     found = [RealAlgebraic.rational(a), RealAlgebraic.rational(b)]
     for coeffs in dict.fromkeys(_trim(p) for p in projected):
         found += _roots(cache, coeffs, a, b, open_=True)
@@ -271,10 +277,12 @@ def _lift(
     return out
 
 
-def refine(P: Polys, cell: Cell, polys: Sequence[Any], box: Box, cache: RootCache | None = None) -> list[Cell]:
+def refine(
+    P: Polys, cell: Cell, polys: Sequence[Any], box: Box, cache: RootCache | None = None, *, stop: Stop = None
+) -> list[Cell]:
     """The cell cut by the zero sets of ``polys`` (irreducible) into cells on which each of them has one sign,
     and its own sides keep theirs (a point, or a cell of irrational x, comes back whole). The parts' areas
-    are not set (:func:`set_areas`: once the cells are final).
+    are not set (:func:`set_areas`: once the cells are final). ``stop`` as for :func:`critical_x`.
 
     >>> from verify.core.backends.plane import polys, X, Y
     >>> P = polys()
@@ -310,7 +318,7 @@ def refine(P: Polys, cell: Cell, polys: Sequence[Any], box: Box, cache: RootCach
                 out.append(Cell(v, v, side, side, sample, zero, 0))
         return out
     curves = [*polys, *(s.poly for s in (cell.y_lo, cell.y_hi) if s.poly is not None)]
-    xs = [r for r in critical_x(P, curves, box, cache) if cell.x_lo.cmp(r) < 0 < cell.x_hi.cmp(r)]
+    xs = [r for r in critical_x(P, curves, box, cache, stop) if cell.x_lo.cmp(r) < 0 < cell.x_hi.cmp(r)]
     ends = [cell.x_lo, *xs, cell.x_hi]
     out = []
     for i in range(len(ends) - 1):

@@ -132,6 +132,11 @@ def plane_parts(
     curves: dict[tuple, Any] = {}
     started = shown = time.monotonic()
     deadline = watch.started + watch.seconds if watch is not None and watch.seconds is not None else None
+
+    def stop() -> None:
+        if deadline is not None and time.monotonic() > deadline:
+            raise OutOfTime("the map's wall-clock budget ran out while a cell was cut")
+
     work: list[tuple[Cell, frozenset[tuple]]] = [(c, frozenset()) for c in reversed(decompose(P, [], box, cache))]
     parts: list[CellPart] = []
     try:
@@ -146,8 +151,13 @@ def plane_parts(
                 break
             except NewCurves as found:
                 new = {P.key(f): f for f in found.polys}
+                try:
+                    children = refine(P, cell, list(new.values()), box, cache, stop=stop)
+                except OutOfTime:  # the cell stays whole and unexplored
+                    work.append((cell, known))
+                    watch.check()  # type: ignore[union-attr]
+                    break
                 curves.update(new)
-                children = refine(P, cell, list(new.values()), box, cache)
                 known = known | frozenset(new)
                 work += [(child, known) for child in reversed(children)]
                 continue

@@ -93,6 +93,24 @@ def velocity_of(phi: Any, v0: Any = "100") -> list[Number]:
     return [to_number(sp.expand(s_expr * sp.cos(p_expr))), to_number(sp.expand(s_expr * sp.sin(p_expr))), Fraction(0)]
 
 
+def direction_of(phi: Any) -> list[Number]:
+    """``(1, tan phi, 0)``, the velocity of speed 1/cos(phi) in the direction phi (|phi| < pi/2), as exact numbers.
+    The rule is positively homogeneous in the velocity (its signs and its beta do not change when the velocity is
+    scaled by a positive number), so every speed in that direction has these impact sets and stops, and exit
+    velocities scaled by the same factor; these numbers often lie in a smaller field than ``velocity_of``'s
+    (the paper's phi = pi/12: Q(sqrt(3)) instead of Q(sqrt(2), sqrt(3))).
+
+    >>> [str(v) for v in direction_of("pi/12")]
+    ['1', '2 - sqrt(3)', '0']
+    """
+    sp = _sympy()
+    p = to_number(phi, where="phi")
+    p_expr = sp.Rational(p.numerator, p.denominator) if isinstance(p, Fraction) else p
+    if certified_sign(sp.pi / 2 - sp.Abs(p_expr)) <= 0:
+        raise InvalidSystem(f"phi = {phi} must lie strictly between -pi/2 and pi/2")
+    return [Fraction(1), to_number(sp.expand(sp.tan(p_expr))), Fraction(0)]
+
+
 def corner_geometry(k: Any) -> tuple[list[list[Fraction]], list[list[Any]]]:
     """The corner of slope ``k`` in coordinates (x, y, theta): the unit mass matrix and the
     normals (-k, 1, 0) of S1 and (-k, -1, 0) of S2, as exact numbers (``k`` as given).

@@ -200,7 +200,7 @@ def _corner_maps_section(out: Path, maps: Any, text: str) -> str:
         "(`verify.checks.paper.corner_map`; the line is also\n"
         "`verify map docs/examples/paper-corner-map.json --max-impulses 12`):\n\n"
         + _block(text)
-        + "\n![the square of both CORs as exact cells, up to two impulses](corner-cors-plane.png)\n"
+        + "\n![the square of both CORs as exact cells, up to three impulses](corner-cors-plane.png)\n"
     )
 
 

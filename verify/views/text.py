@@ -901,6 +901,25 @@ def boundary_lines(parts: Sequence[Any], name: str) -> list[str]:
 SHOWN_CURVES = 12
 
 
+def behaviour_lines(m: Any) -> list[str]:
+    """The area of each behaviour of a map of cells (:class:`verify.maps.plane.PlaneMap`), exact bounds: one line
+    per stop and impact sequence (what :func:`plane_lines` shows before its cells)."""
+    from verify.maps.plane import describe_area
+
+    out = ["Area of each behaviour (exact bounds):"]
+    kinds: dict[tuple, list[Any]] = {}
+    for p in m.parts:
+        key = (p.stop, p.iterations, tuple(p.impact_sets), "") if p.stop == "exit" else (p.stop, 0, (), p.reason)
+        kinds.setdefault(key, []).append(p)
+    for (stop, n, sets, _), parts in kinds.items():
+        low, high = m.bounds_of(parts)
+        shown = " ".join("(" + ",".join(str(j) for j in J) + ")" for J in sets)
+        unrun = f"unexplored ({parts[0].reason})" if stop == "max_iterations" else f"not run ({parts[0].reason})"
+        what = f"{stop} after {n} impulses {shown}" if stop == "exit" else unrun
+        out.append(f"  {what}: {len(parts)} cells, area {describe_area((low, high))}")
+    return out
+
+
 def plane_lines(m: Any) -> list[str]:
     """A map of cells (:class:`verify.maps.plane.PlaneMap`) in words: the curves, the area of each behaviour
     (exact bounds) and one row per cell.
@@ -917,7 +936,6 @@ def plane_lines(m: Any) -> list[str]:
     The box cut into 29 exact cells (6 open regions, 14 arcs, 9 points) by 8 curves:
       e1 = 0; e1 - 1 = 0; e2 = 0; e2 - 1 = 0; e1 - 2*e2/5 + 2/13 = 0; ...
     """
-    from verify.maps.plane import describe_area
 
     dims = Counter(p.cell.dim for p in m.parts)
     curves = (
@@ -927,17 +945,7 @@ def plane_lines(m: Any) -> list[str]:
     )
     counts = f"{dims[2]} open regions, {dims[1]} arcs, {dims[0]} points"
     out = ["", f"The box cut into {len(m.parts)} exact cells ({counts}) by {len(m.curves)} curves:", f"  {curves}", "",
-           "Area of each behaviour (exact bounds):"]  # fmt: skip
-    kinds: dict[tuple, list[Any]] = {}
-    for p in m.parts:
-        key = (p.stop, p.iterations, tuple(p.impact_sets), "") if p.stop == "exit" else (p.stop, 0, (), p.reason)
-        kinds.setdefault(key, []).append(p)
-    for (stop, n, sets, _), parts in kinds.items():
-        low, high = m.bounds_of(parts)
-        shown = " ".join("(" + ",".join(str(j) for j in J) + ")" for J in sets)
-        unrun = f"unexplored ({parts[0].reason})" if stop == "max_iterations" else f"not run ({parts[0].reason})"
-        what = f"{stop} after {n} impulses {shown}" if stop == "exit" else unrun
-        out.append(f"  {what}: {len(parts)} cells, area {describe_area((low, high))}")
+           *behaviour_lines(m)]  # fmt: skip
     out += [
         "",
         "Cells (x, then y; root k: the k-th real root in y in the box, counted from below; an irrational x "
@@ -957,19 +965,24 @@ def corner_map_text(found: Any) -> str:
     from verify.maps.plane import describe_area
 
     pieces = " and ".join(str(p) for p in found.repeated_pieces()) or "no value"
+    velocity = ", ".join(format_exact(v) for v in found.plane.velocity)
     plane = found.plane.plane
     curves = sorted({plane.P.show(side.poly, plane.names) for p in found.repeated_plane
                      for side in (p.cell.y_lo, p.cell.y_hi) if getattr(side, "poly", None) is not None})  # fmt: skip
     return (
         eps_map_text(found.line, exact_in="verify.checks.paper.corner_map")
         + f"\nRepeated multiple impacts (the first two impulses both on both walls) on this line: exactly for eps1 in "
-        f"{pieces}.\n\nBoth CORs over [0, 1]^2 as exact cells, up to {found.plane.max_impulses} impulses (two decide "
-        f"it): {len(plane.parts)} cells; the first two impulses are multiple impacts on {len(found.repeated_plane)} of "
+        f"{pieces}.\n\nBoth CORs over [0, 1]^2 as exact cells, up to {found.plane.max_impulses} impulses, from "
+        f"velocity ({velocity}) (the paper's direction; the speed changes no "
+        f"impact set or stop): {len(plane.parts)} cells; the first two impulses (two decide it) are multiple impacts "
+        f"on {len(found.repeated_plane)} of "
         f"them, of area {describe_area(found.repeated_area())} (exact bounds), for eps1 from "
         f"{min((p.cell.x_lo for p in found.repeated_plane), default='-')} to "
         f"{max((p.cell.x_hi for p in found.repeated_plane), default='-')}, bounded below and above by "
         + ("; ".join(f"{c} = 0" for c in curves) or "the box")
-        + ".\n"
+        + ".\n\n"
+        + "\n".join(behaviour_lines(plane))
+        + "\n"
     )
 
 

@@ -1,11 +1,14 @@
 """The paper's corner (Sect. 4.2: alpha = pi/6, entered at phi = pi/12) mapped over its CORs: where its statement
 that repeated multiple impacts occur when the CORs are very different holds, with exact boundaries.
 
-The maps are :func:`verify.maps.general.eps_map` over the number field of the corner's numbers
-(Q(sqrt(2), sqrt(3))): the line eps2 = 1/1000 (the paper's eps2) with eps1 over [0, 1], and the square of both
-CORs as exact cells. A run has *repeated multiple impacts* when its first two impulses are both on both walls
-(the paper's example: Z12 -> Z12 -> Z2 -> Z0). Two impulses decide it, so the cells need only two; the cells
-left still impacting after them have had both impulses, and count.
+The maps are :func:`verify.maps.general.eps_map` over the number field of the corner's numbers: the line
+eps2 = 1/1000 (the paper's eps2) with eps1 over [0, 1], from the paper's velocity (cos(pi/12), sin(pi/12), 0), over
+Q(sqrt(2), sqrt(3)); and the square of both CORs as exact cells, from (1, tan(pi/12), 0) = (1, 2 - sqrt(3), 0), the
+same direction at the speed 1/cos(pi/12) (:func:`verify.models.corner.direction_of`: the rule is positively
+homogeneous, so the impact sets and stops are the paper's), over Q(sqrt(3)), where the cells cost a third of the time.
+A run has *repeated multiple impacts* when its first two impulses are both on both walls (the paper's example:
+Z12 -> Z12 -> Z2 -> Z0). Two impulses decide it; the cells run three, which decide where all but a sliver of the
+square exits.
 
 >>> found = corner_maps(line_impulses=4, plane_impulses=1)
 >>> [str(piece) for piece in found.repeated_pieces()], found.repeated_plane
@@ -20,12 +23,12 @@ from typing import Any
 
 from verify.core.backends.symbolic import Piece
 from verify.maps.general import EpsMap, eps_map
-from verify.models.corner import corner_system, slope_of, velocity_of
+from verify.models.corner import corner_system, direction_of, slope_of, velocity_of
 
 #: the paper's corner and entrance direction (Sect. 4.2) and its eps2
 ALPHA, PHI, EPS2 = "pi/6", "pi/12", "1/1000"
 #: impulses of the line's runs, and of the cells' (two decide whether the first two are multiple impacts)
-LINE_IMPULSES, PLANE_IMPULSES = 12, 2
+LINE_IMPULSES, PLANE_IMPULSES = 12, 3
 
 
 def repeated(impact_sets: list[tuple[int, ...]]) -> bool:
@@ -59,11 +62,10 @@ class CornerMaps:
 
 
 def corner_maps(*, line_impulses: int = LINE_IMPULSES, plane_impulses: int = PLANE_IMPULSES) -> CornerMaps:
-    """The paper's corner mapped over eps1 (eps2 = 1/1000) and over the square of both CORs."""
+    """The paper's corner mapped over eps1 (eps2 = 1/1000) and over the square of both CORs (see the module)."""
     system = corner_system(slope_of(alpha=ALPHA), "1", "1")
-    velocity = velocity_of(PHI, "1")
-    line = eps_map(system, velocity, ["eps1", EPS2], max_impulses=line_impulses)
-    plane = eps_map(system, velocity, ["eps1", "eps2"], max_impulses=plane_impulses, cells=True)
+    line = eps_map(system, velocity_of(PHI, "1"), ["eps1", EPS2], max_impulses=line_impulses)
+    plane = eps_map(system, direction_of(PHI), ["eps1", "eps2"], max_impulses=plane_impulses, cells=True)
     assert plane.plane is not None
     return CornerMaps(
         line,

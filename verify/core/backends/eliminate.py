@@ -27,16 +27,20 @@ The result is the polynomial flint's own gives, coefficient for coefficient (the
 
 from __future__ import annotations
 
+from collections.abc import Callable
 from math import factorial, lcm
 from typing import Any
+
+#: called between evaluations; it may raise to stop a long elimination (a map's wall-clock budget)
+Stop = Callable[[], None] | None
 
 #: the least degree bound (points to interpolate) from which interpolation is used; below, flint's own is faster
 THRESHOLD = 60
 
 
-def resultant_y(p: Any, q: Any, *, threshold: int = THRESHOLD) -> Any:
+def resultant_y(p: Any, q: Any, *, threshold: int = THRESHOLD, stop: Stop = None) -> Any:
     """The resultant in y of two ``fmpq_mpoly`` in (x, y), a polynomial in x (same context), as
-    ``p.resultant(q, "y")`` gives it."""
+    ``p.resultant(q, "y")`` gives it; ``stop`` is called every 32 evaluations."""
     d, e = _degree_y(p), _degree_y(q)
     if d < 1 or e < 1:
         return p.resultant(q, "y")
@@ -44,15 +48,15 @@ def resultant_y(p: Any, q: Any, *, threshold: int = THRESHOLD) -> Any:
     if bound < threshold:
         return p.resultant(q, "y")
     (P, cp), (Q, cq) = _integer_rows(p), _integer_rows(q)
-    found = _interpolated(lambda a, b: a.resultant(b), P, Q, bound)
+    found = _interpolated(lambda a, b: a.resultant(b), P, Q, bound, stop)
     if found is None:
         return p.resultant(q, "y")
     return _in_context(p, found, cp**e * cq**d)
 
 
-def discriminant_y(p: Any, *, threshold: int = THRESHOLD) -> Any:
+def discriminant_y(p: Any, *, threshold: int = THRESHOLD, stop: Stop = None) -> Any:
     """The discriminant in y of an ``fmpq_mpoly`` in (x, y) of degree at least 2 in y, as
-    ``p.discriminant("y")`` gives it."""
+    ``p.discriminant("y")`` gives it; ``stop`` as for :func:`resultant_y`."""
     d = _degree_y(p)
     if d < 2:
         return p.discriminant("y")
@@ -61,7 +65,7 @@ def discriminant_y(p: Any, *, threshold: int = THRESHOLD) -> Any:
     if bound < threshold:
         return p.discriminant("y")
     P, cp = _integer_rows(p)
-    found = _interpolated(lambda a, _: a.discriminant(), P, None, bound)
+    found = _interpolated(lambda a, _: a.discriminant(), P, None, bound, stop)
     if found is None:
         return p.discriminant("y")
     return _in_context(p, found, cp ** (2 * d - 2))
@@ -93,7 +97,7 @@ def _integer_rows(p: Any) -> tuple[list[Any], int]:
     return out, c
 
 
-def _interpolated(op: Any, P: list[Any], Q: list[Any] | None, bound: int) -> Any:
+def _interpolated(op: Any, P: list[Any], Q: list[Any] | None, bound: int, stop: Stop = None) -> Any:
     """The polynomial in x (``fmpz_poly``) of degree at most ``bound`` whose value at each integer x is
     ``op(P(x, y), Q(x, y))``, or None when the check at one more point fails."""
     import flint
@@ -104,6 +108,8 @@ def _interpolated(op: Any, P: list[Any], Q: list[Any] | None, bound: int) -> Any
         start += bound + 2
 
     def value(x: int) -> int:
+        if stop is not None and x % 32 == 0:
+            stop()
         a = flint.fmpz_poly([c(x) for c in P])
         b = flint.fmpz_poly([c(x) for c in Q]) if Q is not None else None
         return int(op(a, b))

@@ -117,11 +117,15 @@ class NumberFieldBackend(Backend):
             found = self._norms[p] = p.norm()
         return found
 
-    def sign_at(self, p: sp.Poly, r: RealAlgebraic) -> int:
+    def sign_at(self, p: sp.Poly, r: RealAlgebraic, *, conjugates: bool = True) -> int:
         """The sign of p (a polynomial over the field, in one symbol) at the real algebraic number r, exactly.
 
         r's isolating interval is refined until it holds no root of p's norm other than r; p has no root
         there but perhaps r, and r is one when the square-free part of p changes sign across the interval.
+        Where r is a root of the norm (the product of p's conjugates), it is first tried on the conjugates
+        (``conjugates``, when every conjugate of the field's generator is real): an exact interval evaluation of p
+        at r that excludes 0 gives the sign, and one that excludes 0 for every other conjugate of p proves
+        p(r) = 0; only when neither is reached is the square-free part over the field formed (slow in SymPy).
 
         >>> import sympy as sp
         >>> from verify.core.algebraic import RealAlgebraic, poly_from_coeffs
@@ -142,12 +146,54 @@ class NumberFieldBackend(Backend):
             while count_roots(N, r.lo, r.hi) > 0:
                 r.refine()
             return self.sign(self.value(p, r.lo))
+        found = self._sign_by_conjugates(p, r) if conjugates else None
+        if found is not None:
+            return found
         while count_roots(N, r.lo, r.hi) != 1 or not N.eval(_rational(r.lo)) or not N.eval(_rational(r.hi)):
             r.refine()
         s = p.sqf_part()
         if self.sign(self.value(s, r.lo)) * self.sign(self.value(s, r.hi)) < 0:
             return 0
         return self.sign(self.value(p, r.lo))
+
+    def _sign_by_conjugates(self, p: sp.Poly, r: RealAlgebraic) -> int | None:
+        """The sign of p at r, a root of p's norm, from interval values of p and of its conjugates at r (see
+        :meth:`sign_at`), or None when the field has complex conjugates or 2^-256 wide intervals do not decide."""
+        from verify.core.algebraic import interval_value
+
+        thetas = self._conjugates
+        if thetas is None:
+            return None
+        coeffs = [[Fraction(int(q.numerator), int(q.denominator)) for q in c.to_list()] for c in p.rep.to_list()]
+        for bits in (64, 128, 256):
+            width = Fraction(1, 2**bits)
+            lo, hi = r.narrowed(width)
+            values = []
+            for t in thetas:
+                t_lo, t_hi = t.narrowed(width)
+                points = [(Fraction(0), Fraction(0)) if not c else interval_value([(q, q) for q in c], t_lo, t_hi)
+                          for c in coeffs]  # fmt: skip
+                values.append(interval_value(points, lo, hi))
+            (own_lo, own_hi), others = values[0], values[1:]
+            if own_lo > 0 or own_hi < 0:
+                return 1 if own_lo > 0 else -1
+            if all(a > 0 or b < 0 for a, b in others):
+                return 0
+        return None
+
+    @functools.cached_property
+    def _conjugates(self) -> list[RealAlgebraic] | None:
+        """The field's generator theta and then its other conjugates, when they are all real; else None."""
+        import sympy as sp
+
+        from verify.core.algebraic import RealAlgebraic, X
+
+        mod = sp.Poly([sp.Rational(int(c.numerator), int(c.denominator)) for c in self.field.mod.to_list()], X)
+        roots = RealAlgebraic.roots_in(mod)
+        own = [t for t in roots if t.cmp(self.theta) == 0]
+        if len(roots) != mod.degree() or len(own) != 1:
+            return None
+        return own + [t for t in roots if t.cmp(self.theta) != 0]
 
     def value(self, p: sp.Poly, q: Fraction) -> Any:
         """p (one symbol, over the field) at the rational q: a field element."""

@@ -34,7 +34,7 @@ import sympy as sp
 
 from verify.core.algebraic import RealAlgebraic
 from verify.core.backends.base import Backend, NotConstant
-from verify.core.backends.eliminate import discriminant_y, resultant_y
+from verify.core.backends.eliminate import Stop, discriminant_y, resultant_y
 from verify.core.backends.ratfunc import FLINT, as_fraction, flint
 from verify.errors import BadNumber
 
@@ -142,24 +142,26 @@ class Polys:
         found = [f for f, _ in (p.factor() if self.name == "flint" else p.factor_list())[1]]
         return [self.monic(f) for f in found if not self.is_constant(f)]
 
-    def resultant(self, p: Any, q: Any) -> Any:
+    def resultant(self, p: Any, q: Any, stop: Stop = None) -> Any:
         """The resultant of p and q in y (a polynomial in x); each pair is computed once (a decomposition meets the
-        same pairs of curves on many cells)."""
+        same pairs of curves on many cells). ``stop`` may end a long one by raising (with flint; see
+        :mod:`~verify.core.backends.eliminate`)."""
         key = ("resultant", self.key(p), self.key(q))
         if key not in self._projections:
             if self.name == "flint":
-                found = resultant_y(p, q)
+                found = resultant_y(p, q, stop=stop)
             else:
                 found = sp.Poly(sp.resultant(p.as_expr(), q.as_expr(), Y), X, Y, domain="QQ")
             self._remember(key, found)
         return self._projections[key]
 
-    def discriminant(self, p: Any) -> Any:
-        """The discriminant of p in y (a polynomial in x), computed once for each p."""
+    def discriminant(self, p: Any, stop: Stop = None) -> Any:
+        """The discriminant of p in y (a polynomial in x), computed once for each p; ``stop`` as for
+        :meth:`resultant`."""
         key = ("discriminant", self.key(p))
         if key not in self._projections:
             if self.name == "flint":
-                found = discriminant_y(p)
+                found = discriminant_y(p, stop=stop)
             else:
                 found = sp.Poly(sp.discriminant(p.as_expr(), Y), X, Y, domain="QQ")
             self._remember(key, found)
