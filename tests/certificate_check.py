@@ -685,3 +685,21 @@ def _box_in_cone(box: dict, gens: list[list[sp.Expr]], strict: list[bool]) -> li
             if not found:
                 failures.append(f"no strict generator center {'+' if sign > 0 else '-'} a e_{i} with a >= k radius_{i}")
     return failures
+
+
+def at_point(cert: dict, values: dict[str, object]) -> dict:
+    """A certificate written in parameters (a cell of ``verify map --cells``), with the parameters' exact
+    ``values`` (name: a Fraction) put in: a certificate of numbers, for :func:`check`."""
+    symbols = {name: sp.Symbol(name) for name in values}
+    subs = {symbols[name]: sp.sympify(str(v)) for name, v in values.items()}
+
+    def put(x: str) -> str:
+        value = parse_number(x, symbols=symbols)
+        expr = sp.Rational(value.numerator, value.denominator) if hasattr(value, "denominator") else value
+        return str(sp.radsimp(sp.sympify(expr).subs(subs)))
+
+    out = dict(cert)
+    for key in ("rates", "restitution", "mu"):
+        out[key] = [put(x) for x in cert[key]]
+    out["gram"] = [[put(x) for x in row] for row in cert["gram"]]
+    return out

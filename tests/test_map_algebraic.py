@@ -13,6 +13,7 @@ from typing import Any
 import pytest
 import sympy as sp
 
+from tests import certificate_check
 from verify.cli import main
 from verify.core.algebraic import RealAlgebraic, poly_from_coeffs
 from verify.core.backends import NumberFieldBackend
@@ -154,8 +155,8 @@ def test_no_float_enters_the_field_arithmetic() -> None:
 
 
 def test_the_command_line_maps_the_paper_corner(tmp_path, capsys) -> None:
-    """verify map on the paper's corner: JSON with algebraic ends; and its cells, at 2 impulses, with exit
-    velocities over the field."""
+    """verify map on the paper's corner: JSON with algebraic ends; and its cells, at 2 impulses on the square
+    [1/2, 1]^2, with exit velocities over the field."""
     assert main(["map", CASE, "--json", "--max-impulses", "6"]) == 0
     out = json.loads(capsys.readouterr().out)
     pieces = out["lines"][0]["pieces"]
@@ -165,7 +166,8 @@ def test_the_command_line_maps_the_paper_corner(tmp_path, capsys) -> None:
     path = tmp_path / "plane.json"
     with open(path, "w") as fh:
         json.dump({"cases": [case]}, fh)
-    assert main(["map", str(path), "--cells", "--max-impulses", "2", "--json"]) == 0
+    box = ["--parameter", "eps1=1/2,1", "--parameter", "eps2=1/2,1"]  # where the cells exit, few curves
+    assert main(["map", str(path), "--cells", "--max-impulses", "2", "--json", *box]) == 0
     cells = json.loads(capsys.readouterr().out)["cells"]
     assert any("sqrt" in v for c in cells["cells"] for v in c["exit_velocity"])
 
@@ -180,7 +182,8 @@ SQRT3_CORNER = {"mass_matrix": [["1", "0", "0"], ["0", "1", "0"], ["0", "0", "1"
 def _cells_against_single_runs(velocity: list[str], cap: int, seed: int) -> tuple[set[str], Any]:
     """The corner of slope sqrt(3)/3 over (e1, e2) in [0, 1]^2 as cells, from ``velocity``: 100 rational points (90
     drawn, 10 on the curves between cells) give a single exact run's stop, impact sets and exit velocity where the
-    cell is decided, and a single run that does not exit within the cap where it is unexplored."""
+    cell exits, a certificate that the tests' checker passes at the point where it never exits, and a single run
+    that does not exit within the cap where it is unexplored or never exits."""
     from tests.test_map_plane import _on_curves
     from verify.maps.general import eps_map
 
@@ -197,6 +200,10 @@ def _cells_against_single_runs(velocity: list[str], cap: int, seed: int) -> tupl
         if part.stop == "exit":
             assert (part.impact_sets, run.stop) == (list(run.impact_sets), "exit"), (x, y)
             assert [run.backend.convert(v) for v in at] == list(run.exit_velocity), (x, y)
+        elif part.stop == "non_terminating":  # its certificate at the point, by the tests' own checker
+            cert = certificate_check.at_point(part.certificate, {"e1": x, "e2": y})
+            assert certificate_check.check(cert, ["1", "1", "1"], SQRT3_CORNER["normals"]) == [], (x, y)
+            assert run.stop != "exit", (x, y)
         else:
             assert part.stop == "max_iterations" and run.stop != "exit", (x, y)
     low = sum(p.cell.area[0] for p in m.plane.parts)

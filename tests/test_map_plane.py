@@ -217,3 +217,35 @@ def test_a_cell_run_past_the_deadline_stops() -> None:
     m = plane_parts(_corner, VELOCITY, BOX, NAMES, 40, watch=watch)
     assert m.stopped.startswith("the wall-clock budget") and watch.calls == 2
     assert {p.reason for p in m.parts} == {f"not explored: {m.stopped}"}
+
+
+def test_cells_proved_never_to_exit_carry_a_certificate_that_holds_at_their_points() -> None:
+    """The corner of slope 1/10 entered at (1, 1/20, 0) (the geometry of the golden case
+    corner-slope-1/10-never-exits) over [0, 1]^2 at 4 impulses: cells proved never to exit carry an alternating
+    invariant cone, written in the parameters. At every drawn rational point that lands in one, the certificate
+    with the point's values passes the tests' own checker (tests/certificate_check.py), and a single exact run
+    there does not exit within 200 impulses; the golden case's point (1/10, 1/50) lies in such a cell."""
+    from tests import certificate_check
+    from verify.maps.general import eps_map
+
+    system = corner_system("1/10", "1", "1")
+    m = eps_map(system, ["1", "1/20", "0"], ["e1", "e2"], max_impulses=4, cells=True)
+    proved = [p for p in m.plane.parts if p.stop == "non_terminating"]
+    assert proved and all(p.certificate["kind"] == "alternating invariant cone" for p in proved)
+    masses = ["1", "1", "1"]
+    normals = [["-1/10", "1", "0"], ["-1/10", "-1", "0"]]
+    rng = random.Random(110)
+    points = [(Fraction(1, 10), Fraction(1, 50))]
+    points += [(Fraction(rng.randint(0, 400), 1000), Fraction(rng.randint(0, 500), 1000)) for _ in range(60)]
+    checked = 0
+    for x, y in points:
+        part, _ = m.at({"e1": x, "e2": y})
+        if part.stop != "non_terminating":
+            assert (x, y) != points[0]
+            continue
+        cert = certificate_check.at_point(part.certificate, {"e1": x, "e2": y})
+        assert certificate_check.check(cert, masses, normals) == [], (x, y)
+        run = solve(corner_system("1/10", x, y), ["1", "1/20", "0"], max_iterations=200)
+        assert run.stop != "exit", (x, y)
+        checked += 1
+    assert checked >= 10

@@ -270,7 +270,7 @@ def _cells_checked(
     cells, not_run = 0, []
     for v in families:
         m = plane_parts(build, v, (lower, upper, Fraction(-1), Fraction(1)), names, 2 * len(pattern.sets),
-                        velocities=False)  # fmt: skip
+                        velocities=False, certify=False)  # fmt: skip
         for part in m.parts:
             if part.stop == "not_run":
                 not_run.append(part.cell.x_lo)

@@ -36,6 +36,7 @@ from verify.core.backends.tower import Tower
 from verify.core.format import format_decimal, format_exact
 from verify.core.rule import solve
 from verify.core.system import System
+from verify.core.termination import cone_halt
 from verify.errors import InvalidInput
 from verify.maps.cells import Box, Cell, Roots, decompose, refine, set_areas
 from verify.maps.watch import Watch
@@ -46,12 +47,13 @@ class CellPart:
     """One cell and what the rule does on all of it."""
 
     cell: Cell
-    stop: str  # "exit", "max_iterations" (unexplored) or "not_run" (a line of irrational x)
+    stop: str  # "exit", "non_terminating" (proved), "max_iterations" (unexplored) or "not_run" (irrational x)
     iterations: int
     impact_sets: list[tuple[int, ...]]
     exit_velocity: list[Any]  # SymPy expressions in the two parameters (the last velocity when not "exit")
     reason: str = ""
     velocity: list[Frac] = field(default_factory=list, repr=False)  # the exit velocity as rational functions
+    certificate: dict[str, Any] | None = None  # a proof of never-exits, valid on the whole cell
 
 
 @dataclass
@@ -117,6 +119,7 @@ def plane_parts(
     watch: Watch | None = None,
     number_field: Any = None,
     velocities: bool = True,
+    certify: bool = True,
 ) -> PlaneMap:
     """The map of the box: ``build(K)`` is the system on the plane backend ``K`` (its CORs written in the
     two parameters ``names``), ``velocity`` the exact entrance velocity (see the module's example). ``watch``
@@ -125,7 +128,11 @@ def plane_parts(
     and ``stopped`` says why. ``number_field`` is the number field of the system's numbers when they are not all
     rational (a :class:`~verify.core.backends.field.NumberFieldBackend`). ``velocities=False`` leaves out each cell's
     exit velocity as a SymPy expression (``exit_velocity``; ``velocity`` is kept), for a map read only for its
-    impact sets and stops."""
+    impact sets and stops. With ``certify`` (the default) a cell of a system of two constraints still impacting at
+    ``max_impulses`` is tried for a proof of never-exits: its rates there in an alternating invariant cone
+    (:mod:`verify.core.termination`). The cone's conditions are signs on the cell like the rule's, so a cell proved
+    never to exit (stop ``non_terminating``) is proved on all of it, and carries the certificate. Systems of three or
+    more constraints are not searched (their cones of periods ask signs of too high a degree on a cell)."""
     P = polys(arithmetic)
     tower = Tower.over(P, number_field) if number_field is not None else None
     cache = Roots()
@@ -144,7 +151,7 @@ def plane_parts(
             cell, known = work.pop()
             try:
                 part = _run_cell(build, velocity, cell, (P, known, names), max_impulses, deadline=deadline,
-                                 tower=tower, velocities=velocities)  # fmt: skip
+                                 tower=tower, velocities=velocities, certify=certify)  # fmt: skip
             except OutOfTime:
                 work.append((cell, known))
                 watch.check()  # type: ignore[union-attr]
@@ -191,6 +198,7 @@ def _run_cell(
     deadline: float | None = None,
     tower: Tower | None = None,
     velocities: bool = True,
+    certify: bool = True,
 ) -> CellPart:
     """The part of one cell (raises :class:`NewCurves` when its run asks a sign the cell does not decide);
     ``known`` is the polynomials' arithmetic, the keys of the curves with one sign on it and the parameters."""
@@ -198,11 +206,21 @@ def _run_cell(
     if cell.sample is None:
         return CellPart(cell, "not_run", 0, [], [], reason="an irrational abscissa: no rational point, measure 0")
     K = PlaneBackend(P, cell.sample, set(keys), names, point=cell.dim == 0, deadline=deadline, tower=tower)
-    # no proofs of never-exits yet: a cone search asks signs of high degree, each a new curve that cuts the cell
-    r = solve(build(K), velocity, max_iterations=max_impulses, trace=False, certify=False)
+    system = build(K)
+    r = solve(system, velocity, max_iterations=max_impulses, trace=False, certify=False)
+    stop, certificate = r.stop, None
+    if certify and stop == "max_iterations" and system.r == 2:
+        # the rates at the cap in an invariant cone (verify.core.termination): its conditions are signs asked on the
+        # cell like the rule's, so the proof holds on all of it; at the cap only, since a cone is invariant (rates
+        # that enter it earlier are in it at the cap), and each condition asked earlier would be one more curve
+        found = cone_halt(system)(system, list(r.exit_velocity))
+        if found:
+            stop, certificate = found
     v = [K.to_number(x) for x in r.exit_velocity] if velocities else []
-    reason = f"still impacting after {r.iterations} impulses" if r.stop == "max_iterations" else ""
-    return CellPart(cell, r.stop, r.iterations, list(r.impact_sets), v, reason, list(r.exit_velocity))
+    reason = {"max_iterations": f"still impacting after {r.iterations} impulses",
+              "non_terminating": f"never exits: {(certificate or {}).get('kind', 'proved')}, on the whole cell, "
+                                 f"from impulse {r.iterations} on"}.get(stop, "")  # fmt: skip
+    return CellPart(cell, stop, r.iterations, list(r.impact_sets), v, reason, list(r.exit_velocity), certificate)
 
 
 def plane_json(m: PlaneMap) -> dict[str, Any]:
@@ -237,6 +255,7 @@ def plane_json(m: PlaneMap) -> dict[str, Any]:
                 "impact_sets": [list(J) for J in p.impact_sets],
                 "exit_velocity": [str(sp.factor(v)) for v in p.exit_velocity] if p.stop == "exit" else [],
                 "reason": p.reason,
+                "certificate": p.certificate,
             }
             for p in m.parts
         ],

@@ -638,8 +638,9 @@ def plane_legend(m: Any) -> list[tuple[tuple, str]]:
         low, high = plane.bounds_of(parts)
         stop, n, sets = key
         so_far = f", {_named_sequence(list(sets), names)} so far" if sets else ""
-        what = (f"exit after {n}: {_named_sequence(list(sets), names)}" if stop == "exit"
-                else f"unexplored: still impacting after {n} impulses{so_far}")  # fmt: skip
+        what = {"exit": f"exit after {n}: {_named_sequence(list(sets), names)}",
+                "non_terminating": f"never exits (proved) after {n} impulses{so_far}"}.get(
+            stop, f"unexplored: still impacting after {n} impulses{so_far}")  # fmt: skip
         out.append((key, f"{what}, area {_x(low):.3g}-{_x(high):.3g}"))
     return out
 
@@ -678,8 +679,7 @@ def plane_plot(m: Any) -> Any:
             xs = _xs(cell)
             low = [_x(bound_at(plane.P, cell.y_lo, x, plane.box, cache)) for x in xs]
             high = [_x(bound_at(plane.P, cell.y_hi, x, plane.box, cache)) for x in xs]
-            style = ({"hatch": "xx", "facecolor": "0.85", "edgecolor": colour} if part.stop == "max_iterations"
-                     else {"color": colour})  # fmt: skip
+            style = _plane_style(part.stop, colour)
             ax.fill_between([_x(x) for x in xs], low, high, lw=0, **style)
         elif cell.dim == 1 and not cell.on_line:
             xs = _xs(cell)
@@ -695,11 +695,19 @@ def plane_plot(m: Any) -> Any:
     ax.set_ylabel(yname)
     cors = ", ".join(f"{n} = {c}" for n, c in zip(m.system.names, m.restitution))
     ax.set_title(f"{len(plane.parts)} exact cells; CORs {cors}", fontsize=9)
-    handles = [Patch(color=colours[key], label=label) if key[0] == "exit"
-               else Patch(facecolor="0.85", edgecolor=colours[key], hatch="xx", label=label)
-               for key, label in legend]  # fmt: skip
+    handles = [Patch(label=label, **_plane_style(key[0], colours[key])) for key, label in legend]
     ax.legend(handles=handles, fontsize=7, loc="upper center", bbox_to_anchor=(0.5, -0.12), ncol=1)
     return fig
+
+
+def _plane_style(stop: str, colour: Any) -> dict[str, Any]:
+    """How a cell of this stop is filled: exits in their colour, never-exits dotted in theirs, unexplored cells hatched
+    in the colour of their impact sequence so far."""
+    if stop == "exit":
+        return {"color": colour}
+    if stop == "non_terminating":
+        return {"hatch": "..", "facecolor": colour, "edgecolor": "black", "alpha": 0.6}
+    return {"hatch": "xx", "facecolor": "0.85", "edgecolor": colour}
 
 
 def plane_figure(m: Any, path: str | Path) -> Path:

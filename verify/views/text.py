@@ -909,13 +909,18 @@ def behaviour_lines(m: Any) -> list[str]:
     out = ["Area of each behaviour (exact bounds):"]
     kinds: dict[tuple, list[Any]] = {}
     for p in m.parts:
-        key = (p.stop, p.iterations, tuple(p.impact_sets), "") if p.stop == "exit" else (p.stop, 0, (), p.reason)
+        if p.stop == "exit":
+            key = (p.stop, p.iterations, tuple(p.impact_sets), "")
+        else:
+            kind = (p.certificate or {}).get("kind", "") if p.stop == "non_terminating" else p.reason
+            key = (p.stop, 0, (), kind)
         kinds.setdefault(key, []).append(p)
-    for (stop, n, sets, _), parts in kinds.items():
+    for (stop, n, sets, kind), parts in kinds.items():
         low, high = m.bounds_of(parts)
         shown = " ".join("(" + ",".join(str(j) for j in J) + ")" for J in sets)
-        unrun = f"unexplored ({parts[0].reason})" if stop == "max_iterations" else f"not run ({parts[0].reason})"
-        what = f"{stop} after {n} impulses {shown}" if stop == "exit" else unrun
+        what = {"exit": f"{stop} after {n} impulses {shown}",
+                "non_terminating": f"never exits (proved on each cell: {kind})",
+                "max_iterations": f"unexplored ({kind})"}.get(stop, f"not run ({kind})")  # fmt: skip
         out.append(f"  {what}: {len(parts)} cells, area {describe_area((low, high))}")
     return out
 
@@ -953,8 +958,8 @@ def plane_lines(m: Any) -> list[str]:
     ]
     for p in m.parts:
         shown = " ".join("(" + ",".join(str(j) for j in J) + ")" for J in p.impact_sets)
-        what = (f"{p.stop} after {p.iterations}: {shown}" if p.stop == "exit"
-                else f"unexplored: {p.reason}" if p.stop == "max_iterations" else f"not run: {p.reason}")  # fmt: skip
+        what = {"exit": f"{p.stop} after {p.iterations}: {shown}", "non_terminating": f"{p.reason}: {shown}",
+                "max_iterations": f"unexplored: {p.reason}"}.get(p.stop, f"not run: {p.reason}")  # fmt: skip
         out.append(f"  {p.cell.describe(m.P, m.names, digits=12)}: {what}")
     return out
 
