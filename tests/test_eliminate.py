@@ -16,7 +16,7 @@ pytestmark = pytest.mark.skipif(not FLINT_POLYS, reason="python-flint is not ins
 if FLINT_POLYS:
     import flint
 
-    from verify.core.backends.eliminate import discriminant_y, resultant_y
+    from verify.core.backends.eliminate import THRESHOLD, discriminant_y, resultant_y
 
 coefficients = st.fractions(min_value=-20, max_value=20, max_denominator=12)
 terms = st.dictionaries(st.tuples(st.integers(0, 7), st.integers(0, 7)), coefficients, min_size=1, max_size=14)
@@ -55,6 +55,8 @@ def test_large_curves_take_the_interpolation_and_agree() -> None:
         lead = lead * (x - r)
     p = dense * dense + lead * y**7
     q = p.derivative("x") + y * dense
-    assert p.total_degree() * q.total_degree() >= 60  # past the threshold: the interpolation runs
+    total, dx, dy = p.total_degree(), int(p.degrees()[0]), int(p.degrees()[1])
+    assert min(total * (total - 1), (2 * dy - 1) * dx) >= THRESHOLD  # past it: the interpolation runs for both
+    assert min(total * q.total_degree(), dy * int(q.degrees()[0]) + int(q.degrees()[1]) * dx) >= THRESHOLD
     assert discriminant_y(p) == p.discriminant("y")
     assert resultant_y(p, q) == p.resultant(q, "y")

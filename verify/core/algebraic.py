@@ -67,10 +67,7 @@ def _eval_interval(coeffs: Sequence[Any], lo: Any, hi: Any) -> tuple[Any, Any]:
         for c in coeffs:
             a, b = (a * lo if a >= 0 else a * hi) + c, (b * hi if b >= 0 else b * lo) + c
         return a, b
-    for c in coeffs:
-        products = (a * lo, a * hi, b * lo, b * hi)
-        a, b = min(products) + c, max(products) + c
-    return a, b
+    return interval_value([(c, c) for c in coeffs], lo, hi)
 
 
 Interval = tuple[Fraction, Fraction]
@@ -78,12 +75,12 @@ Interval = tuple[Fraction, Fraction]
 
 def interval_value(coeffs: Sequence[Interval], lo: Fraction, hi: Fraction) -> Interval:
     """An enclosure of {p(t) : lo <= t <= hi} for a polynomial whose coefficients (highest degree first) are known to
-    lie in intervals ``(low, high)`` of rationals (interval Horner, exact).
+    lie in intervals ``(low, high)`` of rationals (interval Horner, exact; Fractions or flint's fmpq).
 
     >>> interval_value([(Fraction(1), Fraction(1)), (Fraction(-1), Fraction(1))], Fraction(2), Fraction(3))
     (Fraction(1, 1), Fraction(4, 1))
     """
-    a = b = Fraction(0)
+    a = b = lo - lo
     for c_lo, c_hi in coeffs:
         products = (a * lo, a * hi, b * lo, b * hi)
         a, b = min(products) + c_lo, max(products) + c_hi

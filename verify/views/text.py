@@ -941,7 +941,6 @@ def plane_lines(m: Any) -> list[str]:
     The box cut into 29 exact cells (6 open regions, 14 arcs, 9 points) by 8 curves:
       e1 = 0; e1 - 1 = 0; e2 = 0; e2 - 1 = 0; e1 - 2*e2/5 + 2/13 = 0; ...
     """
-
     dims = Counter(p.cell.dim for p in m.parts)
     curves = (
         "; ".join(f"{m.P.show(f, m.names)} = 0" for f in m.curves)
