@@ -175,7 +175,10 @@ def test_a_budget_leaves_the_rest_unexplored() -> None:
 def test_four_balls_each_drawn_point_as_a_single_run() -> None:
     """Four balls of masses 2, 1, 1, 2 with CORs (e_out, e_mid, e_out) (docs/examples/balls-2112-cors.json) at 8
     impulses: at 60 drawn rational points, a cell that exits gives verify solve's impact sets and exit
-    velocity, and where a cell is unexplored the single run does not exit within the cap either."""
+    velocity, and where a cell is unexplored the single run does not exit within the cap either. The cells that
+    are rational points are decided as verify solve decides them: where it proves never-exits (e_out = 0 with
+    e_mid = 0 or 1, and (1/2, 0)), the cell carries the certificate, and the tests' own checker passes it."""
+    from tests import certificate_check
     from verify.core.system import System
     from verify.maps.general import case_map
 
@@ -184,16 +187,23 @@ def test_four_balls_each_drawn_point_as_a_single_run() -> None:
     masses = [["2", "0", "0", "0"], ["0", "1", "0", "0"], ["0", "0", "1", "0"], ["0", "0", "0", "2"]]
     normals = [["-1", "1", "0", "0"], ["0", "-1", "1", "0"], ["0", "0", "-1", "1"]]
     stops = set()
-    for _ in range(60):
-        x, y = Fraction(rng.randint(0, 1000), 1000), Fraction(rng.randint(0, 1000), 1000)
+    points = [(Fraction(0), Fraction(0)), (Fraction(0), Fraction(1)), (Fraction(1, 2), Fraction(0))]
+    points += [(Fraction(rng.randint(0, 1000), 1000), Fraction(rng.randint(0, 1000), 1000)) for _ in range(60)]
+    for x, y in points:
         part, velocity = m.at({"e_out": x, "e_mid": y})
         run = solve(System(masses, normals, [x, y, x]), ["1", "0", "0", "0"], max_iterations=8)
         stops.add(part.stop)
         if part.stop == "exit":
             assert (part.impact_sets, velocity) == (list(run.impact_sets), list(run.exit_velocity)), (x, y)
+        elif part.stop == "non_terminating":
+            assert part.cell.dim == 0 and run.stop == "non_terminating", (x, y)
+            assert (part.iterations, part.certificate["kind"]) == (run.iterations, run.certificate["kind"])
+            assert part.certificate["kind"] == "repeating direction"
+            assert certificate_check.check_repeating(part.certificate, ["2", "1", "1", "2"], normals) == [], (x, y)
         else:
             assert part.stop == "max_iterations" and run.stop in ("max_iterations", "non_terminating"), (x, y)
-    assert stops == {"exit", "max_iterations"}
+    assert stops == {"exit", "max_iterations", "non_terminating"}
+    assert [p.cell.sample for p in m.plane.parts if p.stop == "non_terminating"] == points[:3]
 
 
 def test_a_cell_run_past_the_deadline_stops() -> None:

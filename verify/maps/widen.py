@@ -24,7 +24,7 @@ a number of points (``--widen``).
 
 from __future__ import annotations
 
-from collections.abc import Callable, Sequence
+from collections.abc import Callable, Mapping, Sequence
 from fractions import Fraction
 from typing import Any
 
@@ -52,8 +52,20 @@ def at_point(system: System, point: RealAlgebraic) -> System | None:
     quadratic irrational), or None for a point of higher degree."""
     if not (point.is_rational or point.poly.degree() == 2):
         return None
-    src, value = system.source, str(point)
-    cors = [sp.sympify(e).subs(EPS, sp.sympify(value)) if getattr(e, "free_symbols", None) else e
+    return at_values(system, {EPS: sp.sympify(str(point))})
+
+
+def at_values(system: System, values: Mapping[sp.Symbol, Any]) -> System | None:
+    """The system with its parameters (SymPy symbols) replaced by exact values (SymPy numbers), or None when
+    that is not a system (a COR outside [0, 1] there, say).
+
+    >>> from verify.models.cradle import cradle_system
+    >>> system = cradle_system(EPS, 3, backend=SymbolicBackend(Piece.closed(0, 1)))
+    >>> [str(e) for e in at_values(system, {EPS: sp.Rational(1, 2)}).restitution]
+    ['1/2', '1/2']
+    """
+    src = system.source
+    cors = [sp.sympify(e).subs(values, simultaneous=True) if getattr(e, "free_symbols", None) else e
             for e in src["restitution"]]  # fmt: skip
     try:
         return System(src["mass_matrix"], src["normals"], [str(e) for e in cors], src["time_terms"],
