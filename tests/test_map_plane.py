@@ -204,6 +204,11 @@ def test_four_balls_each_drawn_point_as_a_single_run() -> None:
             assert part.stop == "max_iterations" and run.stop in ("max_iterations", "non_terminating"), (x, y)
     assert stops == {"exit", "max_iterations", "non_terminating"}
     assert [p.cell.sample for p in m.plane.parts if p.stop == "non_terminating"] == points[:3]
+    for part in m.plane.parts:  # every cell that is a rational point: proved exactly where a single exact run is
+        if part.cell.dim == 0 and part.cell.sample is not None and isinstance(part.cell.sample[1], Fraction):
+            x, y = part.cell.sample
+            run = solve(System(masses, normals, [x, y, x]), ["1", "0", "0", "0"], max_iterations=8)
+            assert (part.stop == "non_terminating") == (run.stop == "non_terminating"), (x, y)
 
 
 def test_a_cell_run_past_the_deadline_stops() -> None:

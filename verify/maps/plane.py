@@ -24,7 +24,7 @@ velocity that is one rational function of the two parameters. Each cell ends
 from __future__ import annotations
 
 import time
-from collections.abc import Callable, Mapping, Sequence
+from collections.abc import Callable, Sequence
 from dataclasses import dataclass, field
 from fractions import Fraction
 from typing import Any
@@ -37,10 +37,10 @@ from verify.core.format import format_decimal, format_exact
 from verify.core.rule import solve
 from verify.core.system import System
 from verify.core.termination import cone_halt
-from verify.errors import InvalidInput, Undecided
+from verify.errors import InvalidInput
 from verify.maps.cells import Box, Cell, Roots, decompose, refine, set_areas
 from verify.maps.watch import Watch
-from verify.maps.widen import at_values
+from verify.maps.widen import at_values, run_at
 
 
 @dataclass
@@ -133,9 +133,9 @@ def plane_parts(
     ``max_impulses`` is tried for a proof of never-exits: its rates there in an alternating invariant cone
     (:mod:`verify.core.termination`). The cone's conditions are signs on the cell like the rule's, so a cell proved
     never to exit (stop ``non_terminating``) is proved on all of it, and carries the certificate. A cell that is a
-    rational point is decided as :func:`~verify.core.rule.solve` decides it there (:func:`point_run`). Other cells of
-    systems of three or more constraints are not searched: a cone of a period found at a cell's sample and checked on
-    the whole cell asks signs of too high a degree there (a cell's checks took seconds to minutes each)."""
+    rational point is decided as :func:`~verify.core.rule.solve` decides it there
+    (:func:`~verify.maps.widen.run_at`). Other cells of systems of three or more constraints are not searched: a cone
+    of a period found at a cell's sample and checked on the whole cell asks signs of too high a degree there."""
     P = polys(arithmetic)
     tower = Tower.over(P, number_field) if number_field is not None else None
     cache = Roots()
@@ -220,8 +220,10 @@ def _run_cell(
         if found:
             stop, certificate = found
     proved = r
-    if certify and stop == "max_iterations" and cell.dim == 0:
-        at = point_run(system, dict(zip(names, cell.sample)), velocity, max_impulses)
+    x, y = cell.sample
+    if certify and stop == "max_iterations" and cell.dim == 0 and isinstance(y, Fraction):
+        values = {sp.Symbol(n): sp.Rational(v.numerator, v.denominator) for n, v in zip(names, (x, y))}
+        at = run_at(at_values(system, values), velocity, max_impulses)
         if at is not None and at.stop == "non_terminating":
             stop, certificate, proved = at.stop, at.certificate, at
     v = [proved.backend.to_number(x) for x in proved.exit_velocity] if velocities else []
@@ -230,31 +232,6 @@ def _run_cell(
                                  f"from impulse {proved.iterations} on"}.get(stop, "")  # fmt: skip
     return CellPart(cell, stop, proved.iterations, list(proved.impact_sets), v, reason, list(r.exit_velocity),
                     certificate)  # fmt: skip
-
-
-def point_run(system: System, values: Mapping[str, Any], velocity: Sequence[Any], max_impulses: int) -> Any:
-    """The run at a cell that is a rational point (``values``: the parameters' names and values), as
-    :func:`~verify.core.rule.solve` runs it on the exact numbers there, with every proof of never-exits it has
-    (repeating directions and cones of periods, which a run on a cell does not look for), or None (an irrational
-    point, or a run that fails there).
-
-    >>> from verify.models.cradle import cradle_system
-    >>> e, f = sp.symbols("e f")
-    >>> K = PlaneBackend(polys(), (Fraction(0), Fraction(1, 2)), set(), ("e", "f"), point=True)
-    >>> system = cradle_system([e, f, e], 4, backend=K)
-    >>> r = point_run(system, {"e": Fraction(0), "f": Fraction(1, 2)}, ["1", "0", "0", "0"], 8)
-    >>> r.stop, r.iterations, r.certificate["kind"]
-    ('non_terminating', 3, 'repeating direction')
-    """
-    if not all(isinstance(v, Fraction) for v in values.values()):
-        return None
-    exact = at_values(system, {sp.Symbol(n): sp.Rational(v.numerator, v.denominator) for n, v in values.items()})
-    if exact is None:
-        return None
-    try:
-        return solve(exact, velocity, max_iterations=max_impulses, trace=False)
-    except (InvalidInput, Undecided):
-        return None
 
 
 def plane_json(m: PlaneMap) -> dict[str, Any]:

@@ -76,17 +76,29 @@ def at_values(system: System, values: Mapping[sp.Symbol, Any]) -> System | None:
 
 def point_run(system: System, velocity: Sequence[Any], point: RealAlgebraic, max_impulses: int) -> Any:
     """The run at one value of the parameter as :func:`~verify.core.rule.solve` makes it on the exact
-    numbers of that value (:func:`at_point`), with every proof of non-termination it has (repeating
-    directions among them, which the parametric run does not look for): its result when it decides what
-    the parametric run left undecided, else None."""
-    exact = at_point(system, point)
+    numbers of that value (:func:`at_point`, :func:`run_at`): its result when it decides what the parametric
+    run left undecided, else None."""
+    r = run_at(at_point(system, point), velocity, max_impulses)
+    return r if r is not None and r.stop != "max_iterations" else None
+
+
+def run_at(exact: System | None, velocity: Sequence[Any], max_impulses: int) -> Any:
+    """The run on a system of exact numbers (a map's system at one point: :func:`at_point`, :func:`at_values`) as
+    :func:`~verify.core.rule.solve` makes it, with every proof of non-termination it has (repeating directions
+    and cones of periods, which a parametric run does not look for), or None (no system, or a run that fails).
+
+    >>> from verify.models.cradle import cradle_system
+    >>> system = cradle_system(EPS, 4, backend=SymbolicBackend(Piece.closed(0, 1)))
+    >>> r = run_at(at_values(system, {EPS: 0}), ["1", "0", "0", "0"], 8)
+    >>> r.stop, r.iterations, r.certificate["kind"]
+    ('non_terminating', 3, 'repeating direction')
+    """
     if exact is None:
         return None
     try:
-        r = solve(exact, velocity, max_iterations=max_impulses, trace=False)
+        return solve(exact, velocity, max_iterations=max_impulses, trace=False)
     except (InvalidInput, Undecided):
         return None
-    return r if r.stop != "max_iterations" else None
 
 
 def without(piece: Piece, inner: Piece) -> list[Piece]:
