@@ -40,6 +40,28 @@ def test_feasible_agrees_with_the_independent_linear_program(kind: str, problem:
         assert [sum((w * gens[k][i] for k, w in weights.items()), Fraction(0)) for i in range(len(y))] == y
 
 
+class _General(RationalBackend):
+    """The same rationals, not declared as such: :func:`feasible` takes its general simplex (the backend's own
+    arithmetic, inverse of the basis and all) instead of the fraction-free one."""
+
+    rationals = False
+
+
+@pytest.mark.parametrize("kind", ["python", "gmpy2", "flint"])
+@given(problem=problems())
+def test_the_fraction_free_simplex_pivots_as_the_general_one(kind: str, problem: tuple) -> None:
+    """Over the rationals the simplex runs on integers (each column and y scaled, the inverse as adjugate over
+    determinant); it must make the general simplex's pivots, as many of them (counted by the budget), and give
+    its coefficients, of the backend's type."""
+    y, gens = problem
+    runs = []
+    for K in (RationalBackend(kind), _General(kind)):
+        with pivot_budget(10**6) as left:
+            d = feasible(K, [K.convert(x) for x in y], [[K.convert(x) for x in g] for g in gens])
+        runs.append((left[1] - left[0], None if d is None else {k: (type(x), x) for k, x in d.items()}))
+    assert runs[0] == runs[1]
+
+
 def test_feasible_takes_no_float_of_its_values() -> None:
     K = RationalBackend("python")
     gens = [[Poison(1), Poison(0), Poison(2)], [Poison(0), Poison(1), Poison(-1)], [Poison(1), Poison(1), Poison(1)]]

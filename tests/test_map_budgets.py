@@ -237,17 +237,12 @@ def test_a_budget_stops_the_search_for_turning_cones_and_keeps_what_it_proved(ca
     assert [p.reason.split("; ")[1].split(" the boundary")[0] for p in m.parts[-2:]] == ["at", "above"]
 
 
-def test_a_wall_clock_budget_that_runs_out_while_a_cell_is_cut_stops_there(monkeypatch: pytest.MonkeyPatch) -> None:
-    """A map of cells (verify.maps.plane) checks its wall-clock budget while it cuts a cell too (between projections,
-    and inside long resultants), not only between signs: a clock that jumps past the budget at the third cut stops
-    the map there. That cell is left whole and unexplored, saying why; the cells decided before are the full map's;
-    the cells still cover the box."""
+def _jumping_clock(monkeypatch: pytest.MonkeyPatch) -> list[float]:
+    """The clock of the maps of cells and of their watch, ahead of the real one by ``jump[0]`` seconds (the list
+    returned: a test sets it to jump past a budget)."""
     from verify.maps import plane
     from verify.maps import watch as watch_module
-    from verify.maps.general import case_map
 
-    case = "docs/examples/corner-map.json"
-    full = case_map(case, cells=True, max_impulses=4)
     jump = [0.0]
 
     class Clock:
@@ -257,6 +252,20 @@ def test_a_wall_clock_budget_that_runs_out_while_a_cell_is_cut_stops_there(monke
 
     monkeypatch.setattr(plane, "time", Clock)
     monkeypatch.setattr(watch_module, "time", Clock)
+    return jump
+
+
+def test_a_wall_clock_budget_that_runs_out_while_a_cell_is_cut_stops_there(monkeypatch: pytest.MonkeyPatch) -> None:
+    """A map of cells (verify.maps.plane) checks its wall-clock budget while it cuts a cell too (between projections,
+    and inside long resultants), not only between signs: a clock that jumps past the budget at the third cut stops
+    the map there. That cell is left whole and unexplored, saying why; the cells decided before are the full map's;
+    the cells still cover the box."""
+    from verify.maps import plane
+    from verify.maps.general import case_map
+
+    case = "docs/examples/corner-map.json"
+    full = case_map(case, cells=True, max_impulses=4)
+    jump = _jumping_clock(monkeypatch)
     cuts = []
     real_refine = plane.refine
 
@@ -278,3 +287,32 @@ def test_a_wall_clock_budget_that_runs_out_while_a_cell_is_cut_stops_there(monke
             assert (twin.stop, twin.impact_sets) == (p.stop, p.impact_sets)
     low, high = sum(p.cell.area[0] for p in parts), sum(p.cell.area[1] for p in parts)
     assert low <= 1 <= high
+
+
+@pytest.mark.parametrize("how", ["clock", "ctrl-c"])
+def test_a_budget_or_ctrl_c_stops_the_proof_that_every_eps_above_the_boundary_exits(monkeypatch, how) -> None:
+    """``--leaving`` checks its proof on exact cells of (eps, t) (verify.maps.leaving): the map's wall-clock budget and
+    Ctrl-C stop those cells too. A clock that jumps past the budget (or a Ctrl-C) at the first cut of a cell of the
+    proof stops the map there: the part above the boundary is left unexplored, saying that the proof stopped and why,
+    with no certificate; the parts decided before are kept and the interval is still covered once."""
+    from verify.maps import plane
+
+    jump = _jumping_clock(monkeypatch)
+    cuts = []
+
+    def refine(*args, **kwargs):
+        cuts.append(1)
+        if how == "ctrl-c":
+            raise KeyboardInterrupt
+        jump[0] = 10.0**6
+        raise plane.OutOfTime("the clock jumped")
+
+    monkeypatch.setattr(plane, "refine", refine)
+    watch = Watch(seconds=3600)
+    m = cradle_map(4, lower="0.1715", upper="0.1729", max_impulses=40, widen=0, leaving=True, watch=watch)
+    stopped = "interrupted (Ctrl-C)" if how == "ctrl-c" else "the wall-clock budget of 3600 s ran out"
+    assert cuts == [1] and m.stopped == stopped and watch.interrupted == (how == "ctrl-c")
+    assert _covers_once(m.parts) and m.non_terminating
+    left = [p for p in m.parts if p.stopped_by]
+    assert left and all(p.reason.endswith(f"the proof that it exits stopped: {stopped}") for p in left)
+    assert not any((p.certificate or {}).get("kind") == "leaves and exits" for p in m.parts)

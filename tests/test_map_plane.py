@@ -133,6 +133,27 @@ def test_case_map_of_cells_answers_any_point() -> None:
     assert (part.stop, part.impact_sets, velocity) == (run.stop, list(run.impact_sets), list(run.exit_velocity))
 
 
+def test_the_text_names_the_contacts_as_the_legend_and_the_line_maps_do() -> None:
+    """A map of cells in words names each impact set by the contacts' names (S1, S2), as the figure's legend and
+    the one-parameter tables do: each row's sequence is the one of its cell, and the legend's sequences are the
+    areas' lines'."""
+    from verify.maps.general import case_map
+    from verify.views.figures import plane_legend
+    from verify.views.text import eps_map_text
+
+    m = case_map("docs/examples/corner-map.json", cells=True, max_impulses=4)
+    text = eps_map_text(m)
+    rows = text.split("Cells (x, then y")[1].splitlines()[1:]
+    names = m.system.names
+    assert len(rows) == len(m.plane.parts)
+    for row, part in zip(rows, m.plane.parts):
+        shown = "".join("(" + ",".join(names[j] for j in J) + ")" for J in part.impact_sets)
+        assert row.endswith(f"exit after {part.iterations}: {shown}"), row
+    areas = text.split("Area of each behaviour")[1].split("Cells (x")[0]
+    for _, label in plane_legend(m):
+        assert label.split(": ")[1].split(", area")[0] + ":" in areas
+
+
 def test_cells_from_the_command_line(tmp_path, capsys) -> None:
     """``verify map --cells``: JSON with every cell, a figure; one parameter is refused with exit code 2."""
     import json

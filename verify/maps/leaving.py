@@ -52,6 +52,7 @@ from verify.core.rule import solve
 from verify.core.system import System
 from verify.maps.boundary import LAM, Pattern, characteristic, frame, pattern_map, sympified
 from verify.maps.plane import plane_parts
+from verify.maps.watch import Watch
 
 #: the largest length left undecided between the boundary and the interval the argument covers
 GAP = Fraction(1, 10**9)
@@ -187,14 +188,21 @@ def leaves_then_exits(impact_sets: Sequence[Sequence[int]], stop: str, sets: Seq
 
 
 def exits_above(
-    build: Build, velocity: Sequence[Any], piece: Piece, pattern: Pattern, cache: RootCache | None = None
+    build: Build,
+    velocity: Sequence[Any],
+    piece: Piece,
+    pattern: Pattern,
+    cache: RootCache | None = None,
+    *,
+    watch: Watch | None = None,
 ) -> Leaving | None:
     """The proof (see the module) that every eps of ``piece``, whose runs follow ``pattern`` up to the map's bound,
     exits; None when the period is not of that kind there or a cell breaks fact 2. The proof covers ``piece``
     whole, or, when its lower end is the boundary where the eigenvalues of the period turn non-real, all but a gap
     below :data:`GAP` above it; the irrational eps where a cell of the check lies (not run) are listed. Each phase of
     the period is tried (the one whose last impact set the rates leave after), the phases that a few exact runs
-    refute first left out."""
+    refute first left out. With a ``watch`` (:class:`~verify.maps.watch.Watch`), its wall-clock budget and Ctrl-C
+    also stop the cells of the check: then there is no proof (None), and ``watch.stopped`` says why."""
     cache = cache or RootCache()
     p = len(pattern.sets)
     upper = piece.upper.narrowed(GAP)[1]
@@ -207,7 +215,9 @@ def exits_above(
         if not ready:
             continue
         for phase, families, M in ready:
-            found = _cells_checked(build, box, phase, families)
+            found = _cells_checked(build, box, phase, families, watch)
+            if watch is not None and watch.stopped:
+                return None
             if found is not None:
                 cells, not_run = found
                 certificate = {
@@ -261,16 +271,21 @@ def _ellipses(
 
 
 def _cells_checked(
-    build: Build, box: Piece, pattern: Pattern, families: list[list[Any]]
+    build: Build, box: Piece, pattern: Pattern, families: list[list[Any]], watch: Watch | None = None
 ) -> tuple[int, list[RealAlgebraic]] | None:
     """Fact 2 on the exact cells of (eps, t) over ``box`` x [-1, 1], for each family of points: (the cells, the
-    irrational eps of the cells not run), or None when a cell breaks it."""
+    irrational eps of the cells not run), or None when a cell breaks it or ``watch``'s clock or Ctrl-C stops the
+    cells (``watch.stopped`` then says why; the cells are not counted as the map's parts)."""
     names = (str(EPS), str(T))
     lower, upper = box.lower.lo, box.upper.lo
     cells, not_run = 0, []
     for v in families:
+        inner = Watch(seconds=watch.seconds, started=watch.started) if watch is not None else None
         m = plane_parts(build, v, (lower, upper, Fraction(-1), Fraction(1)), names, 2 * len(pattern.sets),
-                        velocities=False, certify=False)  # fmt: skip
+                        velocities=False, certify=False, watch=inner)  # fmt: skip
+        if watch is not None and inner is not None and inner.stopped:
+            watch.stopped, watch.interrupted = inner.stopped, inner.interrupted
+            return None
         for part in m.parts:
             if part.stop == "not_run":
                 not_run.append(part.cell.x_lo)

@@ -179,7 +179,8 @@ def bounded(
         return [part]
     if not decided:  # no boundary here: it may lie above one, where every eps exits
         undecided = part.reason or f"still impacting after {part.iterations} impulses"
-        later = _exits_later(build, velocity, part, part.piece, pattern=pattern, undecided=undecided, cache=cache)
+        later = _exits_later(build, velocity, part, part.piece, pattern=pattern, undecided=undecided, cache=cache,
+                             watch=watch)  # fmt: skip
         return later if later is not None else [part]
     symbol = sp.Symbol(part.parameter)
     out = [Part(d.piece, "non_terminating", d.iterations, d.impact_sets, [x.subs(EPS, symbol) for x in d.velocity],
@@ -200,7 +201,8 @@ def bounded(
                       "not decided")  # fmt: skip
         elif leaving and star is None and piece.lower.cmp(decided[-1].piece.upper) >= 0 and not piece.is_point:
             undecided = _above_reason(part.iterations, pattern, boundary)
-            later = _exits_later(build, velocity, part, piece, pattern=pattern, undecided=undecided, cache=cache)
+            later = _exits_later(build, velocity, part, piece, pattern=pattern, undecided=undecided, cache=cache,
+                                 watch=watch)  # fmt: skip
             out += later if later is not None else [Part(piece, part.stop, part.iterations, part.impact_sets,
                                                          part.exit_velocity, reason=undecided + "; not decided",
                                                          parameter=part.parameter)]  # fmt: skip
@@ -224,12 +226,16 @@ def _exits_later(
     pattern: Pattern,
     undecided: str,
     cache: RootCache,
+    watch: Watch | None = None,
 ) -> list[Part] | None:
     """The unexplored ``piece`` (of ``part``), whose runs repeat ``pattern``, with what
     :func:`~verify.maps.leaving.exits_above` proves there: every eps exits, but in a gap just above a boundary and at
     the irrational eps it lists, which keep ``undecided`` (the reason that says where they lie); None without a
-    proof."""
-    found = exits_above(build, velocity, piece, pattern, cache)
+    proof. When ``watch``'s budget or Ctrl-C stops the proof's cells, ``piece`` is unexplored with that reason."""
+    found = exits_above(build, velocity, piece, pattern, cache, watch=watch)
+    if found is None and watch is not None and watch.stopped:
+        whole = Part(piece, part.stop, part.iterations, part.impact_sets, part.exit_velocity, parameter=part.parameter)
+        return [_stopped(whole, watch.stopped, "the proof that it exits")]
     if found is None:
         return None
 
@@ -264,9 +270,9 @@ def _above_reason(bound: int, pattern: Pattern, boundary: dict[str, Any]) -> str
     return reason
 
 
-def _stopped(part: Part, stopped: str) -> Part:
-    """``part``, left by a search for cones that the map's budget (or Ctrl-C) stopped: its reason says so."""
-    reason = f"still impacting after {part.iterations} impulses; the search for cones stopped: {stopped}"
+def _stopped(part: Part, stopped: str, what: str = "the search for cones") -> Part:
+    """``part``, left by a search (``what``) that the map's budget (or Ctrl-C) stopped: its reason says so."""
+    reason = f"still impacting after {part.iterations} impulses; {what} stopped: {stopped}"
     return Part(part.piece, part.stop, part.iterations, part.impact_sets, part.exit_velocity, reason=reason,
                 parameter=part.parameter, stopped_by=stopped)  # fmt: skip
 

@@ -901,9 +901,10 @@ def boundary_lines(parts: Sequence[Any], name: str) -> list[str]:
 SHOWN_CURVES = 12
 
 
-def behaviour_lines(m: Any) -> list[str]:
+def behaviour_lines(m: Any, contacts: Sequence[str] | None = None) -> list[str]:
     """The area of each behaviour of a map of cells (:class:`verify.maps.plane.PlaneMap`), exact bounds: one line
-    per stop and impact sequence (what :func:`plane_lines` shows before its cells)."""
+    per stop and impact sequence (what :func:`plane_lines` shows before its cells); impact sets by index, or by
+    the ``contacts``' names."""
     from verify.maps.plane import describe_area
 
     out = ["Area of each behaviour (exact bounds):"]
@@ -917,17 +918,16 @@ def behaviour_lines(m: Any) -> list[str]:
         kinds.setdefault(key, []).append(p)
     for (stop, n, sets, kind), parts in kinds.items():
         low, high = m.bounds_of(parts)
-        shown = " ".join("(" + ",".join(str(j) for j in J) + ")" for J in sets)
-        what = {"exit": f"{stop} after {n} impulses {shown}",
+        what = {"exit": f"{stop} after {n} impulses {_sequence(list(sets), contacts)}",
                 "non_terminating": f"never exits (proved on each cell: {kind})",
                 "max_iterations": f"unexplored ({kind})"}.get(stop, f"not run ({kind})")  # fmt: skip
         out.append(f"  {what}: {len(parts)} cells, area {describe_area((low, high))}")
     return out
 
 
-def plane_lines(m: Any) -> list[str]:
+def plane_lines(m: Any, contacts: Sequence[str] | None = None) -> list[str]:
     """A map of cells (:class:`verify.maps.plane.PlaneMap`) in words: the curves, the area of each behaviour
-    (exact bounds) and one row per cell.
+    (exact bounds) and one row per cell; impact sets by index, or by the ``contacts``' names.
 
     >>> import sympy as sp
     >>> from fractions import Fraction
@@ -949,14 +949,14 @@ def plane_lines(m: Any) -> list[str]:
     )
     counts = f"{dims[2]} open regions, {dims[1]} arcs, {dims[0]} points"
     out = ["", f"The box cut into {len(m.parts)} exact cells ({counts}) by {len(m.curves)} curves:", f"  {curves}", "",
-           *behaviour_lines(m)]  # fmt: skip
+           *behaviour_lines(m, contacts)]  # fmt: skip
     out += [
         "",
         "Cells (x, then y; root k: the k-th real root in y in the box, counted from below; an irrational x "
         "to 12 digits, exact in the JSON):",
     ]
     for p in m.parts:
-        shown = " ".join("(" + ",".join(str(j) for j in J) + ")" for J in p.impact_sets)
+        shown = _sequence(p.impact_sets, contacts)
         what = {"exit": f"{p.stop} after {p.iterations}: {shown}", "non_terminating": f"{p.reason}: {shown}",
                 "max_iterations": f"unexplored: {p.reason}"}.get(p.stop, f"not run: {p.reason}")  # fmt: skip
         out.append(f"  {p.cell.describe(m.P, m.names, digits=12)}: {what}")
@@ -985,7 +985,7 @@ def corner_map_text(found: Any) -> str:
         f"{max((p.cell.x_hi for p in found.repeated_plane), default='-')}, bounded below and above by "
         + ("; ".join(f"{c} = 0" for c in curves) or "the box")
         + ".\n\n"
-        + "\n".join(behaviour_lines(plane))
+        + "\n".join(behaviour_lines(plane, found.plane.system.names))
         + "\n"
     )
 
@@ -1016,7 +1016,7 @@ def eps_map_text(m: Any, *, exact_in: str = "eps_map_json(m)") -> str:
         *_stopped_line(m.stopped),
     ]
     if m.plane is not None:
-        return "\n".join(lines + plane_lines(m.plane)) + "\n"
+        return "\n".join(lines + plane_lines(m.plane, m.system.names)) + "\n"
     if m.layout != "interval":
         grid = "; ".join(f"{n}: {', '.join(format_exact(x) for x in xs)}" for n, xs in m.grid.items())
         lines.append(

@@ -20,12 +20,13 @@ True
 
 from __future__ import annotations
 
-from collections.abc import Iterator, Sequence
+import math
+from collections.abc import Callable, Iterator, Sequence
 from contextlib import contextmanager
 from contextvars import ContextVar
 from typing import Any
 
-from verify.core.linalg import dot, matvec
+from verify.core.linalg import matvec
 from verify.errors import Undecided
 
 #: [pivots left, pivots allowed] to the search under way (:func:`pivot_budget`), or None: no bound
@@ -100,6 +101,8 @@ def feasible(K: Any, y: Sequence[Any], gens: Sequence[Sequence[Any]]) -> dict[in
     >>> sorted((k, str(d)) for k, d in feasible(K, [K.zero, K.convert(Fraction(2))], g).items())
     [(0, '2'), (1, '2')]
     """
+    if getattr(K, "rationals", False):
+        return _feasible_integers(K, y, gens)
     n, m = len(y), len(gens)
     zero, one = K.zero, K.one
     # each row i is multiplied by -1 where y_i < 0, so that the right-hand side starts >= 0
@@ -109,7 +112,7 @@ def feasible(K: Any, y: Sequence[Any], gens: Sequence[Sequence[Any]]) -> dict[in
     inverse = [[one if k == i else zero for k in range(n)] for i in range(n)]
     basis = [m + i for i in range(n)]  # the artificial variables start in the basis
     while True:
-        entering = _entering(K, cols, inverse, basis)
+        entering = _entering(cols, inverse, basis, one, lambda c: K.sign(c) < 0)
         if entering is None:
             break
         a = matvec(K, inverse, cols[entering]) if entering < m else [row[entering - m] for row in inverse]
@@ -135,12 +138,74 @@ def feasible(K: Any, y: Sequence[Any], gens: Sequence[Sequence[Any]]) -> dict[in
     return {basis[i]: rhs[i] for i in range(n) if basis[i] < m and rhs[i] != zero}
 
 
-def _entering(K: Any, cols: list[list[Any]], inverse: list[list[Any]], basis: list[int]) -> int | None:
+def _integers(values: Sequence[Any]) -> tuple[list[Any], int]:
+    """Integers ``L * values`` and ``L``, the least common denominator (a positive factor). The integers are
+    the backend's own (``int``, gmpy2's ``mpz``, flint's ``fmpz``: exact, and GMP's for long ones)."""
+    denominators = [int(v.denominator) for v in values]
+    common = math.lcm(*denominators) if denominators else 1
+    return [v.numerator * (common // d) for v, d in zip(values, denominators)], common
+
+
+def _feasible_integers(K: Any, y: Sequence[Any], gens: Sequence[Sequence[Any]]) -> dict[int, Any] | None:
+    """:func:`feasible` over the rationals, fraction-free: the same pivots, the same coefficients.
+
+    Each generator and y are scaled to integers by positive factors (which changes no sign of a reduced cost
+    and no order of the ratios, only the coefficients, scaled back at the end). The inverse of the basis is
+    kept as its adjugate over its determinant D (> 0: each pivot is positive), with the right-hand side over
+    the same D; a pivot updates them by integer steps whose division by the old D is exact (Bareiss), so no
+    gcd is taken until the end."""
+    n, m = len(y), len(gens)
+    flip = [K.sign(x) < 0 for x in y]
+    b, rhs_scale = _integers(y)
+    rhs = [-v if f else v for v, f in zip(b, flip)]
+    cols, scales = [], []
+    for g in gens:
+        column, scale = _integers(g)
+        cols.append([-v if f else v for v, f in zip(column, flip)])
+        scales.append(scale)
+    adjugate = [[1 if k == i else 0 for k in range(n)] for i in range(n)]
+    det = 1
+    basis = [m + i for i in range(n)]  # the artificial variables start in the basis
+    while (entering := _entering(cols, adjugate, basis, det, lambda c: c < 0)) is not None:
+        if entering < m:
+            a = [sum(u * v for u, v in zip(row, cols[entering])) for row in adjugate]
+        else:
+            a = [row[entering - m] for row in adjugate]
+        leave = None
+        for i in range(n):  # the least ratio rhs_i / a_i over a_i > 0, ties to the least basic index (Bland)
+            if a[i] > 0:
+                if leave is None:
+                    leave = i
+                    continue
+                this, best = rhs[i] * a[leave], rhs[leave] * a[i]
+                if this < best or (this == best and basis[i] < basis[leave]):
+                    leave = i
+        if leave is None:  # unbounded: cannot happen in phase one (the objective is bounded below)
+            return None
+        _spend()
+        piv, row, r = a[leave], adjugate[leave], rhs[leave]
+        for i in range(n):
+            if i != leave:
+                adjugate[i] = [(u * piv - a[i] * w) // det for u, w in zip(adjugate[i], row)]
+                rhs[i] = (rhs[i] * piv - a[i] * r) // det
+        det = piv
+        basis[leave] = entering
+    if any(basis[i] >= m and rhs[i] != 0 for i in range(n)):
+        return None  # an artificial variable stays positive: no combination
+    return {basis[i]: K.from_integers(rhs[i] * scales[basis[i]], det * rhs_scale)
+            for i in range(n) if basis[i] < m and rhs[i] != 0}  # fmt: skip
+
+
+def _entering(
+    cols: list[list[Any]], inverse: list[list[Any]], basis: list[int], one: Any, negative: Callable[[Any], bool]
+) -> int | None:
     """The first column whose reduced cost for minimising the sum of the artificial variables is negative
-    (Bland's rule), or None: the cost of column j is ``-pi . a_j``, plus 1 for an artificial one, where
-    pi sums the rows of the inverse whose basic variable is artificial."""
+    (Bland's rule), or None: the cost of column j is ``-pi . a_j``, plus ``one`` for an artificial one, where
+    pi sums the rows of the inverse whose basic variable is artificial. On the fraction-free tableau of
+    :func:`_feasible_integers` the inverse is the adjugate and ``one`` the determinant: every cost times it."""
     n, m = len(inverse), len(cols)
-    pi = [K.zero] * n
+    zero = one - one
+    pi = [zero] * n
     for i in range(n):
         if basis[i] >= m:
             pi = [p + r for p, r in zip(pi, inverse[i])]
@@ -148,8 +213,8 @@ def _entering(K: Any, cols: list[list[Any]], inverse: list[list[Any]], basis: li
     for j in range(m + n):
         if j in basic:
             continue
-        cost = (K.zero - dot(K, pi, cols[j])) if j < m else (K.one - pi[j - m])
-        if K.sign(cost) < 0:
+        cost = (zero - sum((p * a for p, a in zip(pi, cols[j])), zero)) if j < m else (one - pi[j - m])
+        if negative(cost):
             return j
     return None
 
