@@ -49,6 +49,16 @@ def test_both_arithmetics_give_the_same_functions(program, q) -> None:
 
 
 @given(programs)
+def test_both_arithmetics_factor_to_the_same_text(program) -> None:
+    """The text of a function in a certificate (``SymbolicBackend.to_exact``) is its factored form: from flint's
+    factorisation on one side, SymPy's ``factor`` of the expression on the other; the same characters."""
+    fl, sy = _run(arithmetic("flint"), program), _run(arithmetic("sympy"), program)
+    for a, b in zip(fl, sy):
+        assert str(arithmetic("flint").factored(a)) == str(sp.factor(arithmetic("flint").expr(a)))
+        assert str(arithmetic("flint").factored(a)) == str(arithmetic("sympy").factored(b))
+
+
+@given(programs)
 def test_equal_functions_are_equal_elements_with_equal_hashes(program) -> None:
     A = arithmetic("flint")
     for x in _run(A, program):

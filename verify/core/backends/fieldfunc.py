@@ -181,3 +181,7 @@ class FieldArithmetic:
         """x as a SymPy expression in :data:`EPS` (radicals in the coefficients)."""
         n, d = x.n.as_expr(), x.d.as_expr()
         return n / d if d != 1 else n
+
+    def factored(self, x: FieldFunc) -> Any:
+        """x as a factored SymPy expression in :data:`EPS` (``sp.factor`` of :meth:`expr`)."""
+        return sp.factor(self.expr(x))

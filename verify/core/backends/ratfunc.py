@@ -24,6 +24,7 @@ from typing import Any
 
 import sympy as sp
 from sympy import QQ
+from sympy.core.mul import _keep_coeff
 from sympy.polys.fields import field
 
 flint: Any
@@ -185,6 +186,11 @@ class RatFunc:
 _ONE = flint.fmpq_poly([1]) if FLINT else None
 
 
+def _integer_expr(p: Any) -> Any:
+    """An ``fmpz_poly`` as a SymPy expression in :data:`EPS`."""
+    return sp.Add(*[sp.Integer(int(c)) * EPS**k for k, c in enumerate(p.coeffs()) if c != 0])
+
+
 def _integers(p: Any) -> tuple[int, ...]:
     """An fmpq_poly times its (positive) common denominator, as integers, lowest degree first."""
     return tuple(int(c) for c in p.numer().coeffs())
@@ -236,6 +242,24 @@ class FlintArithmetic:
         n, d = (sum(sp.Rational(int(c.p), int(c.q)) * EPS**k for k, c in enumerate(p.coeffs())) for p in (x.n, x.d))
         return n / d if d != 1 else sp.sympify(n)
 
+    def factored(self, x: RatFunc) -> Any:
+        """``sp.factor(self.expr(x))``, the same expression, from flint's factorisation: the content over the
+        common denominators times each irreducible factor (primitive, positive leading coefficient) to its
+        power, negative for the denominator's, put together as SymPy's ``factor`` does (``_keep_coeff``).
+
+        >>> A = FlintArithmetic()
+        >>> A.factored((A.parameter * 2 - A.one * 2) / (A.parameter * A.parameter * 3 + A.parameter * 3))
+        2*(eps - 1)/(3*eps*(eps + 1))
+        """
+        if x.n.is_zero():
+            return sp.Integer(0)
+        coeff, factors = sp.Integer(1), []
+        for poly, sign in ((x.n, 1), (x.d, -1)):
+            content, found = poly.numer().factor()
+            coeff *= sp.Rational(int(content), int(poly.denom())) ** sign
+            factors += [_integer_expr(f) ** (k * sign) for f, k in found]
+        return _keep_coeff(coeff, sp.Mul(*factors))
+
 
 class SympyArithmetic:
     """The rational functions as elements of SymPy's ``FracField`` (pure Python)."""
@@ -283,6 +307,10 @@ class SympyArithmetic:
     def expr(self, x: Any) -> Any:
         """x as a SymPy expression in :data:`EPS`."""
         return x.as_expr()
+
+    def factored(self, x: Any) -> Any:
+        """x as a factored SymPy expression in :data:`EPS` (``sp.factor``)."""
+        return sp.factor(x.as_expr())
 
 
 _ARITHMETICS: dict[str, Any] = {}

@@ -253,7 +253,7 @@ class SymbolicBackend(Backend):
         return value
 
     def to_exact(self, x: Any) -> str:
-        return str(sp.factor(self.arithmetic.expr(x)))
+        return str(self.arithmetic.factored(x))
 
     def to_decimal(self, x: Any, digits: int = 30) -> str:
         return self.to_exact(x)
