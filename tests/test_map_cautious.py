@@ -137,3 +137,23 @@ def _turning_cones_checked(m, monkeypatch) -> None:
     assert below and all("below the boundary" in p.reason for p in below)
     above = [p for p in m.unexplored if p.piece.lower.cmp(boundary) >= 0 and p is not at[0] and "boundary" in p.reason]
     assert above and all("above the boundary" in p.reason for p in above)
+
+
+@pytest.mark.slow
+def test_an_interval_below_the_boundary_gets_the_turning_cones_of_the_boundary_above_it(monkeypatch) -> None:
+    """Five unit balls on [0.255, 0.2595], below eps* but not holding it: the turning cones of the boundary above the
+    interval decide all of it, as they decide it in a map that holds eps* (before, the whole interval was left
+    unexplored, while verify solve proves its lower end never exits). The certificate names that boundary, not
+    reached, and holds at a point of the interval (the checker's exact point mode)."""
+    from tests import certificate_check
+
+    m = cradle_map(balls=5, lower="0.255", upper="0.2595", max_impulses=14)
+    assert [p.stop for p in m.parts] == ["non_terminating"]
+    cert = m.parts[0].certificate
+    assert cert["boundary"]["eps"] == "CRootOf(x**4 - 44*x**3 + 166*x**2 - 44*x + 1, 1)"
+    assert cert["boundary"]["reached"] is False
+    run = solve(System(_unit_balls(5), _normals(5), ["51/200"] * 4), ["1", "0", "0", "0", "0"], max_iterations=14)
+    assert run.stop == "non_terminating"
+    q = F(257, 1000)
+    monkeypatch.setattr("verify.core.parse.MAX_LENGTH", 10**5)  # the certificate's numbers, not a user's input
+    assert certificate_check.check_period(_at(cert, q), ["1"] * 5, _normals(5), restitution=[str(q)] * 4) == []

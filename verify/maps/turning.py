@@ -149,6 +149,16 @@ def field_collisions(M: sp.Matrix, ext: Any, piece: Piece) -> list[tuple[RealAlg
     return out
 
 
+def _nearest_above(M: sp.Matrix, ext: Any, piece: Piece) -> list[tuple[RealAlgebraic, Any]]:
+    """The first of :func:`field_collisions` above ``piece`` (up to eps = 1), when none lies in it: the piece lies
+    below that boundary, where the same turning frame gives the cones (each is checked on its own part)."""
+    one = RealAlgebraic.rational(Fraction(1))
+    if piece.upper.cmp(one) >= 0:
+        return []
+    above = field_collisions(M, ext, Piece(piece.upper, one, False, True))
+    return [min(above, key=lambda c: (c[0].lo, c[0].hi))] if above else []
+
+
 def _sign(K: NumberFieldBackend, expr: Any, x: RealAlgebraic) -> int:
     """The sign at x of a rational function of eps over the field, exactly."""
     n, d = sp.fraction(sp.cancel(sp.together(expr)))
@@ -389,11 +399,11 @@ def closed_below_turning(
         ext = extension(M) if M is not None else None
         if M is None or ext is None:
             return []
-        for star, q in field_collisions(M, ext, piece):
+        for star, q in field_collisions(M, ext, piece) or _nearest_above(M, ext, piece):
             f = turning_frame(M, q, ext)
             if f is None or piece.lower.cmp(star) >= 0:
                 continue
-            below = Piece(piece.lower, star, piece.lower_closed, False)
+            below = Piece(piece.lower, star, piece.lower_closed, False) if piece.contains(star) else piece
             decided = _Search(build, velocity, phase, f, bound, Roots(), stop=stop, halvings=halvings).decide(below)
             for d in decided:
                 d.short_of = star
