@@ -150,12 +150,13 @@ def field_collisions(M: sp.Matrix, ext: Any, piece: Piece) -> list[tuple[RealAlg
 
 
 def _nearest_above(M: sp.Matrix, ext: Any, piece: Piece) -> list[tuple[RealAlgebraic, Any]]:
-    """The first of :func:`field_collisions` above ``piece`` (up to eps = 1), when none lies in it: the piece lies
-    below that boundary, where the same turning frame gives the cones (each is checked on its own part)."""
+    """The first of :func:`field_collisions` above ``piece`` (up to eps = 1, from its upper end when that end is
+    open), when none lies in it: the piece lies below that boundary, where the same turning frame gives the cones
+    (each is checked on its own part)."""
     one = RealAlgebraic.rational(Fraction(1))
     if piece.upper.cmp(one) >= 0:
         return []
-    above = field_collisions(M, ext, Piece(piece.upper, one, False, True))
+    above = field_collisions(M, ext, Piece(piece.upper, one, not piece.upper_closed, True))  # an open end: from it
     return [min(above, key=lambda c: (c[0].lo, c[0].hi))] if above else []
 
 
