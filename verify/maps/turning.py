@@ -157,7 +157,7 @@ def _nearest_above(M: sp.Matrix, ext: Any, piece: Piece) -> list[tuple[RealAlgeb
     if piece.upper.cmp(one) >= 0:
         return []
     above = field_collisions(M, ext, Piece(piece.upper, one, not piece.upper_closed, True))  # an open end: from it
-    return [min(above, key=lambda c: (c[0].lo, c[0].hi))] if above else []
+    return [min(above, key=lambda c: c[0])] if above else []  # exact order of the algebraic points
 
 
 def _sign(K: NumberFieldBackend, expr: Any, x: RealAlgebraic) -> int:
