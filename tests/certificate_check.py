@@ -689,7 +689,7 @@ def _box_in_cone(box: dict, gens: list[list[sp.Expr]], strict: list[bool]) -> li
 
 def at_point(cert: dict, values: dict[str, object]) -> dict:
     """A certificate written in parameters (a cell of ``verify map --cells``), with the parameters' exact
-    ``values`` (name: a Fraction) put in: a certificate of numbers, for :func:`check`."""
+    ``values`` (name: a Fraction) put in: a certificate of numbers, for :func:`check` or :func:`check_period`."""
     symbols = {name: sp.Symbol(name) for name in values}
     subs = {symbols[name]: sp.sympify(str(v)) for name, v in values.items()}
 
@@ -698,8 +698,15 @@ def at_point(cert: dict, values: dict[str, object]) -> dict:
         expr = sp.Rational(value.numerator, value.denominator) if hasattr(value, "denominator") else value
         return str(sp.radsimp(sp.sympify(expr).subs(subs)))
 
+    def put_all(x: object) -> object:  # every number of a nested list or dict
+        if isinstance(x, str):
+            return put(x)
+        if isinstance(x, list):
+            return [put_all(y) for y in x]
+        return {k: put_all(v) for k, v in x.items()} if isinstance(x, dict) else x
+
     out = dict(cert)
-    for key in ("rates", "restitution", "mu"):
-        out[key] = [put(x) for x in cert[key]]
-    out["gram"] = [[put(x) for x in row] for row in cert["gram"]]
+    for key in ("rates", "restitution", "mu", "gram", "generators", "carried", "box", "stages"):
+        if key in cert:
+            out[key] = put_all(cert[key])
     return out

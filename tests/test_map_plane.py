@@ -10,7 +10,7 @@ import pytest
 import sympy as sp
 
 from verify.core.algebraic import RealAlgebraic
-from verify.core.backends.plane import FLINT_POLYS, Frac, PlaneBackend, polys
+from verify.core.backends.plane import FLINT_POLYS, Frac, PlaneBackend, X, Y, polys
 from verify.core.rule import solve
 from verify.maps.cells import decompose
 from verify.maps.plane import PlaneMap, plane_parts
@@ -31,11 +31,13 @@ def corner_map() -> PlaneMap:
 
 
 def _on_curves(m: PlaneMap, rng: random.Random, count: int) -> list[tuple[Fraction, Fraction]]:
-    """Rational points on the map's curves inside the box: a curve of degree 1 in one parameter is solved
-    for it at a rational value of the other."""
+    """Rational points on the boundaries of the map's cells: on the curves that cut the box, and on the box's own
+    edges (the sides of its outer cells); a curve of degree 1 in one parameter is solved for it at a rational value
+    of the other."""
     P = m.P
     points: list[tuple[Fraction, Fraction]] = []
-    curves = list(m.curves)
+    x0, x1, y0, y1 = (sp.Rational(v.numerator, v.denominator) for v in m.box)
+    curves = [*m.curves, P.from_expr(X - x0), P.from_expr(X - x1), P.from_expr(Y - y0), P.from_expr(Y - y1)]
     while len(points) < count:
         f = rng.choice(curves)
         t = P.terms(f)
@@ -50,7 +52,7 @@ def _on_curves(m: PlaneMap, rng: random.Random, count: int) -> list[tuple[Fracti
             point = (-B / A, free) if A else None
         else:
             point = None
-        if point is not None and 0 <= point[0] <= 1 and 0 <= point[1] <= 1:
+        if point is not None and x0 <= point[0] <= x1 and y0 <= point[1] <= y1:
             points.append(point)
     return points
 
@@ -133,6 +135,36 @@ def test_case_map_of_cells_answers_any_point() -> None:
     assert (part.stop, part.impact_sets, velocity) == (run.stop, list(run.impact_sets), list(run.exit_velocity))
 
 
+def _lies_on(m: PlaneMap, cell, f) -> bool:
+    """Whether the cell lies on the curve f = 0, as the decomposition names it (a vertical line at a root of f, or
+    a section of f)."""
+    P = m.P
+    if P.degree_y(f) == 0:
+        return cell.on_line and cell.x_lo.sign_of(P.in_x(f)) == 0
+    return cell.y_lo == cell.y_hi and cell.y_lo.poly is not None and P.key(cell.y_lo.poly) == P.key(f)
+
+
+def test_a_curve_cuts_only_the_cells_it_meets() -> None:
+    """The corner on [0, 1/4] x [1/2, 1] at 4 impulses (the example of docs/cli.md): signs the rule asks on a cell
+    may be of curves that do not pass through it (here the box's own edges and two conics); such a curve keeps one
+    sign on the cell and does not cut it (verify.maps.cells.meets), so every curve the map lists has a cell on it,
+    and the map still answers each drawn point as a single run does."""
+    from verify.maps.general import case_map
+
+    m = case_map("docs/examples/corner-map.json", cells=True, max_impulses=4,
+                 parameters={"eps1": ("0", "1/4"), "eps2": ("1/2", "1")})  # fmt: skip
+    assert m.plane.curves
+    for f in m.plane.curves:
+        assert any(_lies_on(m.plane, p.cell, f) for p in m.plane.parts), m.P.show(f, NAMES)
+    rng = random.Random(14)
+    for _ in range(40):
+        x, y = Fraction(rng.randint(0, 250), 1000), Fraction(rng.randint(500, 1000), 1000)
+        part, velocity = m.at({"eps1": x, "eps2": y})
+        run = solve(corner_system("1/2", x, y), VELOCITY, max_iterations=4)
+        assert (part.stop, part.impact_sets) == (run.stop, list(run.impact_sets)), (x, y)
+        assert run.stop != "exit" or velocity == list(run.exit_velocity), (x, y)
+
+
 def test_the_text_names_the_contacts_as_the_legend_and_the_line_maps_do() -> None:
     """A map of cells in words names each impact set by the contacts' names (S1, S2), as the figure's legend and
     the one-parameter tables do: each row's sequence is the one of its cell, and the legend's sequences are the
@@ -155,7 +187,8 @@ def test_the_text_names_the_contacts_as_the_legend_and_the_line_maps_do() -> Non
 
 
 def test_cells_from_the_command_line(tmp_path, capsys) -> None:
-    """``verify map --cells``: JSON with every cell, a figure; one parameter is refused with exit code 2."""
+    """``verify map --cells``: JSON with every cell, a figure; one parameter is refused with exit code 2, as is
+    ``--cell-cones`` without ``--cells``."""
     import json
 
     from verify.cli import main
@@ -169,6 +202,9 @@ def test_cells_from_the_command_line(tmp_path, capsys) -> None:
                                           "restitution": ["e"], "velocity": ["1", "0"]}]}))  # fmt: skip
     assert main(["map", str(one), "--cells"]) == 2
     assert "two parameters" in capsys.readouterr().err
+    assert main(["map", "docs/examples/balls-2112-cors.json", "--cell-cones"]) == 2  # cones on cells need cells
+    captured = capsys.readouterr()
+    assert "--cell-cones is for a map of cells" in captured.err and not captured.out
     figure = tmp_path / "m.png"
     assert (
         main(["map", "docs/examples/corner-map.json", "--cells", "--max-impulses", "8", "--figure", str(figure)]) == 0
@@ -283,5 +319,39 @@ def test_cells_proved_never_to_exit_carry_a_certificate_that_holds_at_their_poin
         assert certificate_check.check(cert, masses, normals) == [], (x, y)
         run = solve(corner_system("1/10", x, y), ["1", "1/20", "0"], max_iterations=200)
         assert run.stop != "exit", (x, y)
+        checked += 1
+    assert checked >= 10
+
+
+def test_cells_of_three_contacts_proved_never_to_exit_carry_a_period_cone_that_holds_at_their_points() -> None:
+    """Four balls of masses 2, 1, 1, 2 with CORs (e_out, e_mid, e_out) on [0, 1/4]^2 at 8 impulses: the runs repeat
+    (S2)(S1,S3), a period linear in the rates; cells still impacting at the cap where its two largest eigenvalues are
+    real get the boundary cone built over Q(e_out, e_mid) and checked on the whole cell (verify.maps.cell_cones).
+    At every drawn rational point of such a cell, the certificate with the point's values passes the tests' own
+    checker with the rates of a single exact run there, and that run does not exit within 200 impulses."""
+    from tests import certificate_check
+    from verify.core.system import System
+    from verify.maps.general import case_map
+
+    m = case_map("docs/examples/balls-2112-cors.json", cells=True, max_impulses=8, cell_cones=True,
+                 parameters={"e_out": ("0", "1/4"), "e_mid": ("0", "1/4")})  # fmt: skip
+    proved = [p for p in m.plane.parts if p.stop == "non_terminating" and p.cell.dim == 2]
+    assert proved and all(p.certificate["kind"] == "invariant cone of a period" for p in proved)
+    masses = [["2", "0", "0", "0"], ["0", "1", "0", "0"], ["0", "0", "1", "0"], ["0", "0", "0", "2"]]
+    normals = [["-1", "1", "0", "0"], ["0", "-1", "1", "0"], ["0", "0", "-1", "1"]]
+    rng = random.Random(2112)
+    checked = 0
+    for _ in range(40):
+        x, y = Fraction(rng.randint(0, 250), 1000), Fraction(rng.randint(0, 250), 1000)
+        part, _ = m.at({"e_out": x, "e_mid": y})
+        if part.stop != "non_terminating":
+            continue
+        system = System(masses, normals, [x, y, x])
+        start = solve(system, ["1", "0", "0", "0"], max_iterations=part.iterations, trace=False)
+        rates = [str(sum((Fraction(n) * v for n, v in zip(row, start.exit_velocity)), Fraction(0))) for row in normals]
+        cert = certificate_check.at_point(part.certificate, {"e_out": x, "e_mid": y})
+        assert certificate_check.check_period(cert, ["2", "1", "1", "2"], normals, rates=rates,
+                                              restitution=[str(x), str(y), str(x)]) == [], (x, y)  # fmt: skip
+        assert solve(system, ["1", "0", "0", "0"], max_iterations=200).stop != "exit", (x, y)
         checked += 1
     assert checked >= 10

@@ -223,8 +223,10 @@ def map_options(p: argparse.ArgumentParser) -> None:
                    help=f"with two or more parameters: values per parameter (default {DEFAULT_LINES})")  # fmt: skip
     p.add_argument("--cells", action="store_true",
                    help="with two parameters: cut the whole box into exact cells instead of a grid of lines "
-                        "(every rational point mapped; no proofs of never-exits yet: such cells stay "
-                        "unexplored)")  # fmt: skip
+                        "(every rational point mapped)")  # fmt: skip
+    p.add_argument("--cell-cones", action="store_true",
+                   help="with --cells, for three or more contacts: try a boundary cone on each cell still "
+                        "impacting at the bound, proved on the whole cell (slow: minutes)")  # fmt: skip
     p.add_argument("--max-impulses", type=BoundedInt(0, MAX_IMPULSES_MAP), default=40,
                    help="bound on the exploration (default 40)")  # fmt: skip
     p.add_argument("--figure", type=OutputFile((".png",)), help="also draw the map (PNG) to this path")
@@ -251,10 +253,13 @@ def cmd_map(args: argparse.Namespace) -> int:
     from verify.records.results import dumps
     from verify.views.text import eps_map_text
 
+    if args.cell_cones and not args.cells:
+        raise UsageError(f"{PROG} map: --cell-cones is for a map of cells: give --cells too")
     watch, status = map_watch(args, "map:")
     try:
         m = case_map(args.case, args.case_id, _parameters(args), lines=args.lines, max_impulses=args.max_impulses,
-                     watch=watch, widen=args.widen, cells=args.cells, leaving=args.leaving)  # fmt: skip
+                     watch=watch, widen=args.widen, cells=args.cells, leaving=args.leaving,
+                     cell_cones=args.cell_cones)  # fmt: skip
     finally:
         status.close()
     sys.stdout.write(dumps(eps_map_json(m)) if args.json else eps_map_text(m, exact_in="--json"))

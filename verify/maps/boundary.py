@@ -40,7 +40,7 @@ runs exit within the bound.
 
 from __future__ import annotations
 
-from collections.abc import Callable, Iterator, Sequence
+from collections.abc import Callable, Iterator, Mapping, Sequence
 from dataclasses import dataclass
 from fractions import Fraction
 from typing import Any
@@ -134,12 +134,20 @@ def pattern_map(system: System, sets: Sequence[Sequence[int]]) -> sp.Matrix | No
 
 
 def characteristic(M: sp.Matrix) -> Any:
-    """The numerator of M's characteristic polynomial in lam (a polynomial in lam and eps)."""
-    return sp.Poly(sp.together(M.charpoly(LAM).as_expr()).as_numer_denom()[0], LAM, EPS).as_expr()
+    """The numerator of M's characteristic polynomial in lam (a polynomial in lam and the parameters: eps, or
+    the two of a plane map)."""
+    return sp.Poly(sp.together(M.charpoly(LAM).as_expr()).as_numer_denom()[0], LAM, *_parameters(M)).as_expr()
 
 
-def _factors(M: sp.Matrix) -> list[sp.Poly]:
-    return [f for f, _ in sp.factor_list(characteristic(M), LAM, EPS)[1] if sp.Poly(f, LAM).degree() > 0]
+def _parameters(M: sp.Matrix) -> list[sp.Symbol]:
+    """The parameters M is written in: eps on a line, the two of a plane map on a cell."""
+    return sorted(M.free_symbols, key=str) or [EPS]
+
+
+def factors(M: sp.Matrix) -> list[Any]:
+    """The irreducible factors of M's characteristic polynomial of positive degree in lam, over Q(parameters)."""
+    found = sp.factor_list(characteristic(M), LAM, *_parameters(M))[1]
+    return [f for f, _ in found if sp.Poly(f, LAM).degree() > 0]
 
 
 def quadratics(factors: Sequence[Any], most: int) -> Iterator[tuple[Any, list[Any]]]:
@@ -157,7 +165,7 @@ def collisions(M: sp.Matrix, piece: Piece, cache: RootCache) -> list[tuple[RealA
     the characteristic polynomial whose double root is there), where q's discriminant changes sign and
     every other factor is linear with roots no larger in modulus at eps*."""
     out = []
-    for q, others in quadratics(_factors(M), 1):
+    for q, others in quadratics(factors(M), 1):
         a, b, _ = sp.Poly(q, LAM).all_coeffs()
         disc = sp.Poly(sp.discriminant(q, LAM), EPS)
         for d, times in disc.factor_list()[1]:
@@ -200,7 +208,7 @@ def without_real_top(M: sp.Matrix, q: Any, piece: Piece, cache: RootCache) -> bo
         if K.sign(K.convert(sp.cancel(b * b - 4 * a * c))) >= 0:
             return False
         modulus = K.convert(sp.cancel(c / a))  # the product of the two non-real roots: their modulus squared
-        for f in _factors(M):
+        for f in factors(M):
             if sp.Poly(f, LAM).degree() == 1:
                 c1, c0 = sp.Poly(f, LAM).all_coeffs()
                 root = K.convert(sp.cancel(-c0 / c1))
@@ -231,7 +239,7 @@ def frame(M: sp.Matrix, q: Any) -> Frame | None:
     if len(W) != 2:
         return None
     U: list[sp.Matrix] = []
-    for f in _factors(M):
+    for f in factors(M):
         if sp.Poly(f, LAM).degree() == 1:
             c1, c0 = sp.Poly(f, LAM).all_coeffs()
             U += (M + (c0 / c1) * sp.eye(r)).applyfunc(sp.cancel).nullspace(simplify=True)
@@ -245,14 +253,13 @@ def frame(M: sp.Matrix, q: Any) -> Frame | None:
 
 
 def boundary_generators(
-    f: Frame, first: Sequence[int], b: Sequence[Any], *, slab: Fraction, sample: Fraction
+    f: Frame, first: Sequence[int], b: Sequence[Any], *, slab: Fraction, at: Mapping[sp.Symbol, Any]
 ) -> list[list[Any]] | None:
-    """The generators of the boundary cone (see the module) as SymPy expressions in eps: the rates' mirror
-    across W, then v_mid +- delta z_i; ``first`` is the pattern's first impact set (the signs at the cone's
-    phase), ``sample`` a value of eps inside the piece where the orientation and the slab's width are chosen
-    (the cone is checked on the whole piece afterwards)."""
+    """The generators of the boundary cone (see the module) as SymPy expressions in the parameters: the rates'
+    mirror across W, then v_mid +- delta z_i; ``first`` is the pattern's first impact set (the signs at the cone's
+    phase), ``at`` rational values of the parameters inside the piece (or cell) where the orientation and the
+    slab's width are chosen (the cone is checked on all of it afterwards)."""
     r = len(b)
-    at = {EPS: sp.Rational(sample.numerator, sample.denominator)}
     v = f.mid
     if all(v[i].subs(at) > 0 for i in first):
         v = -v
@@ -316,9 +323,10 @@ class _Search:
             if run.stop != "max_iterations" or run.iterations != start:
                 return None
             b = list(system.rates(run.exit_velocity))
+            at = {EPS: sp.Rational(sample.numerator, sample.denominator)}
             for slab in SLABS:
                 gens = boundary_generators(self.frame, self.pattern.sets[0], [sympified(system.backend, x) for x in b],
-                                           slab=slab, sample=sample)  # fmt: skip
+                                           slab=slab, at=at)  # fmt: skip
                 if gens is None:
                     continue
                 if value is not None:

@@ -334,6 +334,30 @@ def refine(
     return out
 
 
+def meets(P: Polys, cell: Cell, poly: Any, box: Box, cache: RootCache | None = None, *, stop: Stop = None) -> bool:
+    """Whether the curve ``poly = 0`` (irreducible) may meet the cell, so that its sign may change there: False only
+    when the cell cut by it (:func:`refine`) has no part on it and every critical line of the cut was lifted (a line
+    at an irrational x is not, and a curve may touch the cell there). A curve that does not meet a cell keeps one
+    sign on it, and need not cut it.
+
+    >>> from verify.core.backends.plane import polys, X, Y
+    >>> P = polys()
+    >>> box = (Fraction(0), Fraction(1), Fraction(0), Fraction(1))
+    >>> square = next(c for c in decompose(P, [], box) if c.dim == 2)
+    >>> meets(P, square, P.from_expr(X - Y), box), meets(P, square, P.from_expr(X + Y + 1), box)
+    (True, False)
+    """
+    if cell.dim == 0:
+        return False
+    parts = refine(P, cell, [poly], box, cache, stop=stop)
+    if cell.y_lo == cell.y_hi:  # an arc or a segment of a side: cut only where the curve meets it
+        return len(parts) > 1
+    key = P.key(poly)
+    return any(
+        c.sample is None or (c.y_lo == c.y_hi and c.y_lo.poly is not None and P.key(c.y_lo.poly) == key) for c in parts
+    )
+
+
 def _distinct(xs: list[RealAlgebraic]) -> list[RealAlgebraic]:
     out: list[RealAlgebraic] = []
     for r in sorted(xs):

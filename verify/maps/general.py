@@ -193,6 +193,7 @@ def eps_map(
     widen: int = DEFAULT_WIDEN,
     cells: bool = False,
     leaving: bool = False,
+    cell_cones: bool = False,
 ) -> EpsMap:
     """The rule on ``system`` from ``velocity`` for every value of the parameters of ``restitution``.
 
@@ -206,7 +207,8 @@ def eps_map(
     of rational points of each unexplored interval at which a single run's cone is widened
     (:func:`~verify.maps.line.widened`); ``leaving`` proves exits above boundaries on lines
     (:func:`~verify.maps.line.line_parts`). With ``cells`` and two parameters, the map is the box cut into exact
-    cells instead of a grid of lines (:mod:`verify.maps.plane`): every rational point of the box is mapped.
+    cells instead of a grid of lines (:mod:`verify.maps.plane`): every rational point of the box is mapped;
+    ``cell_cones`` also tries boundary cones on its cells of three or more contacts (:mod:`verify.maps.cell_cones`).
 
     >>> m = eps_map(System([[1, 0], [0, 1]], [[-1, 1]], [1]), ["1", "0"], ["e"], {"e": ("1/2", "1")})
     >>> line = m.lines[0]
@@ -238,7 +240,7 @@ def eps_map(
         if len(names) != 2:
             raise InvalidInput(f"a map of cells takes two parameters; the CORs use {len(names)} ({', '.join(names)})")
         out = EpsMap(system, v, cors, intervals, max_impulses)
-        out.plane = _plane(out, names, watch, field_of)
+        out.plane = _plane(out, names, watch, field_of, cell_cones=cell_cones)
         out.stopped = out.plane.stopped
         return out
     grid = {n: _grid(lo, hi, lines) for n, (lo, hi) in intervals.items()} if len(names) > 1 else {}
@@ -253,7 +255,9 @@ def eps_map(
     return out
 
 
-def _plane(m: EpsMap, names: list[str], watch: Watch | None, number_field: Any) -> PlaneMap:
+def _plane(
+    m: EpsMap, names: list[str], watch: Watch | None, number_field: Any, *, cell_cones: bool = False
+) -> PlaneMap:
     """The map of cells of two parameters; the CORs are checked in [0, 1] on every cell (their signs cut
     the box as the rule's do)."""
     src = m.system.source
@@ -273,7 +277,7 @@ def _plane(m: EpsMap, names: list[str], watch: Watch | None, number_field: Any) 
 
     (a, b), (c, d) = m.parameters[first], m.parameters[second]
     return plane_parts(build, m.velocity, (a, b, c, d), (first, second), m.max_impulses, watch=watch,
-                       number_field=number_field)  # fmt: skip
+                       number_field=number_field, cell_cones=cell_cones)  # fmt: skip
 
 
 def _source_numbers(system: System) -> list[tuple[str, Any]]:
@@ -361,10 +365,11 @@ def case_map(
     widen: int = DEFAULT_WIDEN,
     cells: bool = False,
     leaving: bool = False,
+    cell_cones: bool = False,
 ) -> EpsMap:
     """:func:`eps_map` of a case in a case file (``docs/records.md``) whose ``restitution`` strings name
     parameters (``["e1", "e2"]``); ``case_id`` picks the case (needed when the file has several);
-    ``watch``, ``widen``, ``cells`` and ``leaving`` as for :func:`eps_map`.
+    ``watch``, ``widen``, ``cells``, ``leaving`` and ``cell_cones`` as for :func:`eps_map`.
 
     >>> import json, os, tempfile
     >>> path = os.path.join(tempfile.mkdtemp(), "case.json")
@@ -397,6 +402,7 @@ def case_map(
     case = case_from_record({**record, "restitution": ["1"] * len(cors)}, where)  # the geometry, validated
     try:
         return eps_map(case.system, record["velocity"], cors, parameters, lines=lines, max_impulses=max_impulses,
-                       watch=watch, widen=widen, cells=cells, leaving=leaving)  # fmt: skip
+                       watch=watch, widen=widen, cells=cells, leaving=leaving,
+                       cell_cones=cell_cones)  # fmt: skip
     except InvalidInput as exc:
         raise type(exc)(f"{where}: {exc}") from None

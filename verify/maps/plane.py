@@ -38,7 +38,8 @@ from verify.core.rule import solve
 from verify.core.system import System
 from verify.core.termination import cone_halt
 from verify.errors import InvalidInput
-from verify.maps.cells import Box, Cell, Roots, decompose, refine, set_areas
+from verify.maps.cell_cones import CellCones
+from verify.maps.cells import Box, Cell, Roots, decompose, meets, refine, set_areas
 from verify.maps.watch import Watch
 from verify.maps.widen import at_values, run_at
 
@@ -121,6 +122,7 @@ def plane_parts(
     number_field: Any = None,
     velocities: bool = True,
     certify: bool = True,
+    cell_cones: bool = False,
 ) -> PlaneMap:
     """The map of the box: ``build(K)`` is the system on the plane backend ``K`` (its CORs written in the
     two parameters ``names``), ``velocity`` the exact entrance velocity (see the module's example). ``watch``
@@ -134,11 +136,11 @@ def plane_parts(
     (:mod:`verify.core.termination`). The cone's conditions are signs on the cell like the rule's, so a cell proved
     never to exit (stop ``non_terminating``) is proved on all of it, and carries the certificate. A cell that is a
     rational point is decided as :func:`~verify.core.rule.solve` decides it there
-    (:func:`~verify.maps.widen.run_at`). Other cells of systems of three or more constraints are not searched: a cone
-    of a period found at a cell's sample and checked on the whole cell asks signs of too high a degree there."""
+    (:func:`~verify.maps.widen.run_at`). ``cell_cones`` (slow: off by default) tries the other cells of three or more
+    constraints for a boundary cone of their period (:mod:`verify.maps.cell_cones`), proved on the whole cell too."""
     P = polys(arithmetic)
     tower = Tower.over(P, number_field) if number_field is not None else None
-    cache = Roots()
+    cache, cones = Roots(), (CellCones(build) if certify and cell_cones else None)
     curves: dict[tuple, Any] = {}
     started = shown = time.monotonic()
     deadline = watch.started + watch.seconds if watch is not None and watch.seconds is not None else None
@@ -154,21 +156,20 @@ def plane_parts(
             cell, known = work.pop()
             try:
                 part = _run_cell(build, velocity, cell, (P, known, names), max_impulses, deadline=deadline,
-                                 tower=tower, velocities=velocities, certify=certify)  # fmt: skip
+                                 tower=tower, velocities=velocities, certify=certify, cones=cones)  # fmt: skip
             except OutOfTime:
                 work.append((cell, known))
                 watch.check()  # type: ignore[union-attr]
                 break
             except NewCurves as found:
-                new = {P.key(f): f for f in found.polys}
                 try:
-                    children = refine(P, cell, list(new.values()), box, cache, stop=stop)
+                    new, (children, cutting) = found.polys, _cut(P, cell, found.polys, box, (cache, stop))
                 except OutOfTime:  # the cell stays whole and unexplored
                     work.append((cell, known))
                     watch.check()  # type: ignore[union-attr]
                     break
-                curves.update(new)
-                known = known | frozenset(new)
+                curves.update(cutting)
+                known = known | frozenset(P.key(f) for f in new)
                 work += [(child, known) for child in reversed(children)]
                 continue
             parts.append(part)
@@ -191,6 +192,15 @@ def plane_parts(
                     stopped=stopped)  # fmt: skip
 
 
+def _cut(P: Polys, cell: Cell, new: Sequence[Any], box: Box, using: tuple[Roots, Any]) -> tuple[list[Cell], dict]:
+    """The cell's parts cut by the curves of ``new`` that meet it, and those curves (by key): a curve that does not
+    meet the cell keeps one sign on it, so it is known there and cuts nothing (``using``: the root cache and the
+    wall-clock check)."""
+    cache, stop = using
+    cutting = {P.key(f): f for f in new if meets(P, cell, f, box, cache, stop=stop)}
+    return (refine(P, cell, list(cutting.values()), box, cache, stop=stop) if cutting else [cell]), cutting
+
+
 def _run_cell(
     build: Callable[[PlaneBackend], System],
     velocity: Sequence[Any],
@@ -202,6 +212,7 @@ def _run_cell(
     tower: Tower | None = None,
     velocities: bool = True,
     certify: bool = True,
+    cones: CellCones | None = None,
 ) -> CellPart:
     """The part of one cell (raises :class:`NewCurves` when its run asks a sign the cell does not decide);
     ``known`` is the polynomials' arithmetic, the keys of the curves with one sign on it and the parameters."""
@@ -226,6 +237,12 @@ def _run_cell(
         at = run_at(at_values(system, values), velocity, max_impulses)
         if at is not None and at.stop == "non_terminating":
             stop, certificate, proved = at.stop, at.certificate, at
+    if certify and stop == "max_iterations" and system.r > 2 and cones is not None and tower is None:
+        near = y if isinstance(y, Fraction) else y.narrowed(Fraction(1, 10**6))[0]
+        found = cones.prove(system, velocity, r.impact_sets, r.iterations, (x, near))
+        if found is not None:
+            stop, certificate = "non_terminating", found[1]
+            proved = solve(system, velocity, max_iterations=found[0], trace=False, certify=False)
     v = [proved.backend.to_number(x) for x in proved.exit_velocity] if velocities else []
     reason = {"max_iterations": f"still impacting after {r.iterations} impulses",
               "non_terminating": f"never exits: {(certificate or {}).get('kind', 'proved')}, on the whole cell, "
@@ -243,7 +260,7 @@ def plane_json(m: PlaneMap) -> dict[str, Any]:
     >>> box = (Fraction(0), Fraction(1), Fraction(0), Fraction(1))
     >>> out = plane_json(plane_parts(build, ["1", "-1/10", "0"], box, ("e1", "e2"), 4))
     >>> out["curves"][:2], out["cells"][0]["x"], out["cells"][0]["y"], out["cells"][0]["stop"]
-    (['e1', 'e1 - 1'], '0', 'e2 = 0', 'exit')
+    (['e1 - 2*e2/5 + 2/13', 'e1 - 10*e2/9 + 5/13'], '0', 'e2 = 0', 'exit')
     """
     stops = sorted({p.stop for p in m.parts})
     return {

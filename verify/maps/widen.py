@@ -212,10 +212,13 @@ def _widest(
         return (piece, run, found) if found is not None else None
 
 
-def closed_cone(system: System, b: Sequence[Any], p: int, gens: Sequence[Sequence[Any]]) -> dict[str, Any] | None:
+def closed_cone(
+    system: System, b: Sequence[Any], p: int, gens: Sequence[Sequence[Any]], *, written: bool = True
+) -> dict[str, Any] | None:
     """The certificate of the cone of the rates b (elements of the system's backend) and ``gens`` (rationals or
     SymPy numbers and expressions in eps, converted by the backend) when p impulses map it into itself on all
-    of the system's piece, else None (a :class:`Split` asks to cut the piece)."""
+    of the system's piece, else None (a :class:`Split` asks to cut the piece). With ``written=False`` the
+    certificate is not written out (a cone only tried): an empty dict says that it closes."""
     K = system.backend
     extra = [[K.convert(x if isinstance(x, Fraction) else sp.sympify(x)) for x in g] for g in gens]
     try:
@@ -225,4 +228,6 @@ def closed_cone(system: System, b: Sequence[Any], p: int, gens: Sequence[Sequenc
         if hasattr(exc, "polys"):
             raise
         return None
-    return certificate_of(system, p, found, b) if found is not None else None
+    if found is None:
+        return None
+    return certificate_of(system, p, found, b) if written else {}

@@ -938,8 +938,8 @@ def plane_lines(m: Any, contacts: Sequence[str] | None = None) -> list[str]:
     >>> m = plane_parts(build, ["1", "-1/10", "0"], box, ("e1", "e2"), 4)
     >>> print("\\n".join(plane_lines(m)[:3]))
     <BLANKLINE>
-    The box cut into 29 exact cells (6 open regions, 14 arcs, 9 points) by 8 curves:
-      e1 = 0; e1 - 1 = 0; e2 = 0; e2 - 1 = 0; e1 - 2*e2/5 + 2/13 = 0; ...
+    The box cut into 29 exact cells (6 open regions, 14 arcs, 9 points) by 2 curves:
+      e1 - 2*e2/5 + 2/13 = 0; e1 - 10*e2/9 + 5/13 = 0
     """
     dims = Counter(p.cell.dim for p in m.parts)
     curves = (

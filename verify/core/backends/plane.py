@@ -63,6 +63,8 @@ class Polys:
         self._shown: dict[tuple, str] = {}
         #: SymPy expressions already converted (a map converts the same velocity on each of its cells)
         self.converted: dict[tuple, Any] = {}
+        #: exact texts already written (a map writes the same certificate's numbers on many cells)
+        self.written: dict[tuple, str] = {}
         self._projections: dict[tuple, Any] = {}  #: resultants and discriminants already computed
         if name == "flint":
             self.ctx = flint.fmpq_mpoly_ctx.get(("x", "y"))
@@ -314,8 +316,12 @@ class PlaneBackend(Backend):
         point: bool = False,
         deadline: float | None = None,
         tower: Any = None,
+        asked: dict[Any, None] | None = None,
     ):
         self.P, self.sample, self.known, self.names, self.point = P, sample, known, names, point
+        #: when given, every function whose sign is asked is put in it: the curves of their factors are those a run
+        #: at a point would need to know on a cell
+        self.asked = asked
         self.deadline = deadline  #: a time.monotonic() after which a sign raises OutOfTime
         self.zero, self.one = Frac(P, P.zero, P.one), Frac(P, P.one, P.one)
         self.parameters: tuple[Any, Any] = (Frac(P, P.x, P.one), Frac(P, P.y, P.one))
@@ -368,6 +374,8 @@ class PlaneBackend(Backend):
         return (y if isinstance(y, RealAlgebraic) else RealAlgebraic.rational(y)).sign_of(self.P.in_y(p, x))
 
     def sign(self, f: Any) -> int:
+        if self.asked is not None:
+            self.asked[f] = None
         found = self._signs.get(f)
         if found is not None:
             return found
@@ -397,7 +405,14 @@ class PlaneBackend(Backend):
         return x.expr(self.names) if self.tower is None else self.tower.expr(x, self.names)
 
     def to_exact(self, x: Any) -> str:
-        return str(sp.factor(self.to_number(x)))
+        if self.tower is not None:
+            return str(sp.factor(self.to_number(x)))
+        key = (self.names, x)
+        if key not in self.P.written:
+            if len(self.P.written) >= CONVERTED:
+                self.P.written.clear()
+            self.P.written[key] = str(sp.factor(self.to_number(x)))
+        return self.P.written[key]
 
     def to_decimal(self, x: Frac, digits: int = 30) -> str:
         return self.to_exact(x)
