@@ -39,6 +39,7 @@ from typing import Any
 import sympy as sp
 
 from verify.core.backends.plane import NewCurves, PlaneBackend
+from verify.core.backends.ratfunc import as_fraction
 from verify.core.rule import solve
 from verify.core.system import System
 from verify.maps.boundary import (
@@ -134,7 +135,7 @@ class CellCones:
             asked: dict[Any, None] = {}
             point = self.build(PlaneBackend(K.P, K.sample, set(), K.names, point=True, tower=K.tower, asked=asked))
             found = _cone(point, velocity, choice, values)  # every sign read at the cell's sample, and recorded
-            curves = {K.P.key(g): g for f in asked if not K.P.is_zero(f.n) for p in (f.n, f.d) for g in K.factors_of(p)}
+            curves = {K.P.key(g): g for h in asked if not K.P.is_zero(h.n) for p in (h.n, h.d) for g in K.factors_of(p)}
             new = [] if K.point else [g for k, g in curves.items() if k not in K.known]
             if new:  # every curve the check asks at once, not one cut per sign
                 raise NewCurves(new, f"the boundary cone of {choice[0]} is checked on a cell that {len(new)} "
@@ -188,6 +189,6 @@ def _cone(
         values = [[sp.sympify(x).subs(at) for x in g] for g in gens]
         if not all(x.is_Rational for g in values for x in g):  # a generator not defined there
             return None
-        gens = [[Fraction(int(x.p), int(x.q)) for x in g] for g in values]
+        gens = [[as_fraction(x) for x in g] for g in values]
     cert = closed_cone(system, b, len(phase.sets), gens, written=written) if gens is not None else None
     return (start, cert) if cert is not None else None
