@@ -124,6 +124,33 @@ def test_no_float_enters_the_plane_backend() -> None:
     assert isinstance(x * y, Frac)
 
 
+@pytest.mark.parametrize("name", ["sympy", "flint"])
+def test_values_and_signs_at_a_rational_sample_are_exact(name: str) -> None:
+    """What a cell reads at its rational sample (a function's value, the sign of a polynomial) is the exact number,
+    as SymPy computes it from the expression, in both polynomial arithmetics; at an algebraic sample there is no
+    rational value to read."""
+    if name == "flint" and not FLINT_POLYS:
+        pytest.skip("python-flint is not installed (the fast extra)")
+    P = polys(name)
+    rng = random.Random(7)
+    x, y = sp.symbols("x y")
+    for _ in range(30):
+        n, d = (sum(rng.randint(-9, 9) * x**i * y**j for i in range(4) for j in range(4) if rng.random() < 0.4) + 1
+                for _ in range(2))  # fmt: skip
+        at = (Fraction(rng.randint(-30, 30), rng.randint(1, 30)), Fraction(rng.randint(-30, 30), rng.randint(1, 30)))
+        exact = (n / d).subs({x: sp.Rational(*at[0].as_integer_ratio()), y: sp.Rational(*at[1].as_integer_ratio())})
+        if not exact.is_finite:
+            continue
+        K = PlaneBackend(P, at, known=set(), point=True)
+        f = Frac(P, P.from_expr(n.subs({x: X, y: Y})), P.from_expr(d.subs({x: X, y: Y})))
+        assert K.at_sample(f) == Fraction(int(sp.numer(exact)), int(sp.denom(exact)))
+        assert isinstance(K.at_sample(f), Fraction)
+        assert K.sign(f) == int(sp.sign(exact))
+    cells = decompose(P, [P.from_expr(X**2 + Y**2 - 1)], BOX)
+    arc = next(c for c in cells if c.dim == 1 and c.y_lo.poly is not None)
+    assert PlaneBackend(P, arc.sample, known=set(), point=True).at_sample(K.one) is None
+
+
 def test_case_map_of_cells_answers_any_point() -> None:
     """``case_map(..., cells=True)``: the corner of docs/examples/corner-map.json, at a point off every grid line."""
     from verify.maps.general import case_map

@@ -43,6 +43,8 @@ from __future__ import annotations
 from collections.abc import Callable, Iterator, Mapping, Sequence
 from dataclasses import dataclass
 from fractions import Fraction
+from functools import reduce
+from operator import add
 from typing import Any
 
 import sympy as sp
@@ -222,12 +224,13 @@ def without_real_top(M: sp.Matrix, q: Any, piece: Piece, cache: RootCache) -> bo
 @dataclass
 class Frame:
     """The plane W = ker q(M) and the other eigenvectors U of a period M, with v_mid (see the module) and the
-    inverse of the basis (W, U), all over Q(eps)."""
+    inverse of the basis (W, U), all over Q(eps): SymPy matrices, or (:func:`generators_of` reads either) the same
+    entries as lists (the inverse a list of rows) of a backend's elements."""
 
-    W: list[sp.Matrix]
-    U: list[sp.Matrix]
-    mid: sp.Matrix
-    inverse: sp.Matrix
+    W: list[Any]
+    U: list[Any]
+    mid: Any
+    inverse: Any
 
 
 def frame(M: sp.Matrix, q: Any) -> Frame | None:
@@ -258,24 +261,55 @@ def boundary_generators(
     """The generators of the boundary cone (see the module) as SymPy expressions in the parameters: the rates'
     mirror across W, then v_mid +- delta z_i; ``first`` is the pattern's first impact set (the signs at the cone's
     phase), ``at`` rational values of the parameters inside the piece (or cell) where the orientation and the
-    slab's width are chosen (the cone is checked on all of it afterwards)."""
-    r = len(b)
-    v = f.mid
-    if all(v[i].subs(at) > 0 for i in first):
-        v = -v
+    slab's width are chosen (:func:`orientation`; the cone is checked on all of it afterwards)."""
+    chosen = orientation(f, first, at)
+    return None if chosen is None else generators_of(f, b, sp.Rational(slab.numerator, slab.denominator), chosen)
+
+
+#: what :func:`orientation` chooses at a point: whether v_mid is turned, and for each z_i the entry of v_mid and z_i
+#: whose ratio is the least in modulus there, with the sign of that ratio
+Orientation = tuple[bool, tuple[tuple[int, int], ...]]
+
+
+def orientation(f: Frame, first: Sequence[int], at: Mapping[sp.Symbol, Any]) -> Orientation | None:
+    """The choices :func:`boundary_generators` makes at the point ``at`` (the same for a frame already taken
+    at that point), or None when v_mid points into no orthant of ``first``'s approaching rates there."""
+    turn = all(f.mid[i].subs(at) > 0 for i in first)
+    v = [-x for x in f.mid] if turn else list(f.mid)
     if not all(v[i].subs(at) < 0 for i in first):
         return None
-    coords = f.inverse * sp.Matrix(b)
-    b_w = sum((coords[i] * f.W[i] for i in range(2)), sp.zeros(r, 1))
-    gens = [list((2 * b_w - sp.Matrix(b)).applyfunc(sp.cancel))]
+    widest = []
     for z in f.U:
-        ratios = [sp.cancel(v[i] / z[i]) for i in range(r) if z[i] != 0 and v[i] != 0]
+        ratios = [(abs(sp.cancel(v[i] / z[i]).subs(at)), i) for i in range(len(z)) if z[i] != 0 and v[i] != 0]
         if not ratios:
             return None
-        widest = min(ratios, key=lambda t: abs(t.subs(at)))
-        delta = sp.cancel(sp.Rational(slab.numerator, slab.denominator) * widest * sp.sign(widest.subs(at)))
-        gens += [list((v + delta * z).applyfunc(sp.cancel)), list((v - delta * z).applyfunc(sp.cancel))]
+        _, i = min(ratios, key=lambda t: t[0])
+        s = sp.sign(sp.cancel(v[i] / z[i]).subs(at))
+        widest.append((i, int(s)))
+    return turn, tuple(widest)
+
+
+def generators_of(f: Frame, b: Sequence[Any], slab: Any, chosen: Orientation) -> list[list[Any]]:
+    """The boundary cone's generators (:func:`boundary_generators`) for the choices ``chosen`` of
+    :func:`orientation`, in the frame's arithmetic: SymPy expressions (in lowest terms; over a frame taken at a
+    point, numbers), or a backend's elements (``b`` and ``slab`` then of that backend too)."""
+    W, U, mid = [list(w) for w in f.W], [list(u) for u in f.U], list(f.mid)
+    inverse = f.inverse.tolist() if isinstance(f.inverse, sp.MatrixBase) else f.inverse
+    turn, widest = chosen
+    v = [-x for x in mid] if turn else mid
+    coords = [_cancelled(reduce(add, (inverse[i][j] * b[j] for j in range(len(b))))) for i in range(2)]
+    b_w = [coords[0] * W[0][k] + coords[1] * W[1][k] for k in range(len(b))]
+    gens = [[_cancelled(x + x - y) for x, y in zip(b_w, b)]]
+    for z, (i, s) in zip(U, widest):
+        delta = _cancelled(slab * (v[i] / z[i]))
+        delta = delta if s > 0 else -delta if s < 0 else delta - delta
+        gens += [[_cancelled(x + delta * y) for x, y in zip(v, z)], [_cancelled(x - delta * y) for x, y in zip(v, z)]]
     return gens
+
+
+def _cancelled(x: Any) -> Any:
+    """x in lowest terms: a number, or a backend's element, already is."""
+    return sp.cancel(x) if isinstance(x, sp.Basic) and x.free_symbols else x
 
 
 @dataclass

@@ -212,15 +212,22 @@ def _widest(
         return (piece, run, found) if found is not None else None
 
 
+def _outside(x: Any) -> bool:
+    """Whether x is a number or expression for a backend to convert (not already one of its elements)."""
+    return isinstance(x, (Fraction, int, str, sp.Basic))
+
+
 def closed_cone(
     system: System, b: Sequence[Any], p: int, gens: Sequence[Sequence[Any]], *, written: bool = True
 ) -> dict[str, Any] | None:
     """The certificate of the cone of the rates b (elements of the system's backend) and ``gens`` (rationals or
-    SymPy numbers and expressions in eps, converted by the backend) when p impulses map it into itself on all
-    of the system's piece, else None (a :class:`Split` asks to cut the piece). With ``written=False`` the
-    certificate is not written out (a cone only tried): an empty dict says that it closes."""
+    SymPy numbers and expressions in eps, converted by the backend, or its own elements) when p impulses map it
+    into itself on all of the system's piece, else None (a :class:`Split` asks to cut the piece). With
+    ``written=False`` the certificate is not written out (a cone only tried): an empty dict says that it closes."""
     K = system.backend
-    extra = [[K.convert(x if isinstance(x, Fraction) else sp.sympify(x)) for x in g] for g in gens]
+    extra = [
+        [K.convert(x if isinstance(x, Fraction) else sp.sympify(x)) if _outside(x) else x for x in g] for g in gens
+    ]
     try:
         with pivot_budget(MAX_PIVOTS):
             found = close(system, p, [list(b)], extra, 2)

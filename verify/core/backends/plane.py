@@ -65,7 +65,7 @@ class Polys:
         self.converted: dict[tuple, Any] = {}
         #: exact texts already written (a map writes the same certificate's numbers on many cells)
         self.written: dict[tuple, str] = {}
-        self._projections: dict[tuple, Any] = {}  #: resultants and discriminants already computed
+        self._projections: dict[tuple, Any] = {}  #: resultants, discriminants and factors already computed
         if name == "flint":
             self.ctx = flint.fmpq_mpoly_ctx.get(("x", "y"))
             self.x, self.y = self.ctx.gens()
@@ -140,9 +140,13 @@ class Polys:
         return p // q if self.name == "flint" else sp.exquo(p, q)
 
     def factors(self, p: Any) -> list[Any]:
-        """The distinct irreducible factors of p of positive degree, each made monic (:meth:`monic`)."""
-        found = [f for f, _ in (p.factor() if self.name == "flint" else p.factor_list())[1]]
-        return [self.monic(f) for f in found if not self.is_constant(f)]
+        """The distinct irreducible factors of p of positive degree, each made monic (:meth:`monic`); each p is
+        factored once (the cells of a map read the signs of the same functions)."""
+        key = ("factors", self.key(p))
+        if key not in self._projections:
+            found = [f for f, _ in (p.factor() if self.name == "flint" else p.factor_list())[1]]
+            self._remember(key, [self.monic(f) for f in found if not self.is_constant(f)])
+        return list(self._projections[key])
 
     def resultant(self, p: Any, q: Any, stop: Stop = None) -> Any:
         """The resultant of p and q in y (a polynomial in x); each pair is computed once (a decomposition meets the
@@ -202,8 +206,12 @@ class Polys:
             out[j] += c * x**i
         return tuple(out)
 
-    def value(self, p: Any, x: Fraction, y: Fraction) -> Fraction:
-        """p at the rational point (x, y)."""
+    def value(self, p: Any, x: Fraction, y: Fraction, *, exact: bool = True) -> Any:
+        """p at the rational point (x, y): a Fraction, or with ``exact=False`` flint's own rational (the same number,
+        not converted: enough for its sign)."""
+        if self.name == "flint":
+            v = p(flint.fmpq(x.numerator, x.denominator), flint.fmpq(y.numerator, y.denominator))
+            return as_fraction(v) if exact else v
         return sum((c * x**i * y**j for (i, j), c in self.terms(p).items()), Fraction(0))
 
     def at_y(self, p: Any, y: Fraction) -> tuple[Fraction, ...]:
@@ -231,7 +239,7 @@ def polys(name: str | None = None) -> Polys:
 class Frac:
     """A rational function n / d of (x, y): no common factor, d of leading coefficient 1."""
 
-    __slots__ = ("P", "d", "n")
+    __slots__ = ("P", "_hash", "d", "n")
 
     def __init__(self, P: Polys, n: Any, d: Any, reduce: bool = True):
         if reduce:
@@ -247,6 +255,7 @@ class Frac:
             if c != 1:
                 n, d = P.scaled(n, 1 / c), P.scaled(d, 1 / c)
         self.P, self.n, self.d = P, n, d
+        self._hash: int | None = None
 
     def __add__(self, o: Frac) -> Frac:
         if self.d == o.d:
@@ -271,7 +280,9 @@ class Frac:
         return isinstance(o, Frac) and self.n == o.n and self.d == o.d
 
     def __hash__(self) -> int:
-        return hash((self.P.key(self.n), self.P.key(self.d)))
+        if self._hash is None:
+            self._hash = hash((self.P.key(self.n), self.P.key(self.d)))
+        return self._hash
 
     def __float__(self) -> float:
         raise TypeError("a rational function of the parameters has no float value")
@@ -281,7 +292,8 @@ class Frac:
 
     def at(self, x: Fraction, y: Fraction) -> Fraction:
         """The value at the rational point (x, y) (the denominator non-zero there)."""
-        return self.P.value(self.n, x, y) / self.P.value(self.d, x, y)
+        v = self.P.value(self.n, x, y, exact=False) / self.P.value(self.d, x, y, exact=False)
+        return v if isinstance(v, Fraction) else as_fraction(v)
 
 
 class NewCurves(NotConstant):
@@ -316,17 +328,16 @@ class PlaneBackend(Backend):
         point: bool = False,
         deadline: float | None = None,
         tower: Any = None,
-        asked: dict[Any, None] | None = None,
+        asked: dict[Any, int] | None = None,
     ):
         self.P, self.sample, self.known, self.names, self.point = P, sample, known, names, point
-        #: when given, every function whose sign is asked is put in it: the curves of their factors are those a run
-        #: at a point would need to know on a cell
+        #: when given, every function whose sign is asked is put in it, with that sign: the curves of their factors are
+        #: those a run at a point would need to know on a cell
         self.asked = asked
         self.deadline = deadline  #: a time.monotonic() after which a sign raises OutOfTime
         self.zero, self.one = Frac(P, P.zero, P.one), Frac(P, P.one, P.one)
         self.parameters: tuple[Any, Any] = (Frac(P, P.x, P.one), Frac(P, P.y, P.one))
         self._signs: dict[Any, int] = {}
-        self._factors: dict[tuple, list[Any]] = {}
         #: for a system over a number field, its :class:`~verify.core.backends.tower.Tower` (over ``P``): the
         #: elements are then its TowerFracs
         self.tower = tower
@@ -363,24 +374,26 @@ class PlaneBackend(Backend):
         return out
 
     def factors_of(self, p: Any) -> list[Any]:
-        key = self.P.key(p)
-        if key not in self._factors:
-            self._factors[key] = self.P.factors(p)
-        return self._factors[key]
+        return self.P.factors(p)
 
     def value_sign(self, p: Any) -> int:
         """The sign of the polynomial p at the sample point, exactly."""
         x, y = self.sample
-        return (y if isinstance(y, RealAlgebraic) else RealAlgebraic.rational(y)).sign_of(self.P.in_y(p, x))
+        if not isinstance(y, RealAlgebraic):
+            v = self.P.value(p, x, y, exact=False)
+            return int(v > 0) - int(v < 0)
+        return y.sign_of(self.P.in_y(p, x))
 
     def sign(self, f: Any) -> int:
-        if self.asked is not None:
-            self.asked[f] = None
         found = self._signs.get(f)
         if found is not None:
+            if self.asked is not None:
+                self.asked[f] = found
             return found
         T = self.tower
         if f.is_zero() if T is not None else self.P.is_zero(f.n):
+            if self.asked is not None:
+                self.asked[f] = 0
             return 0
         polys = T.curves(f) if T is not None else (f.n, f.d)
         new = [] if self.point else [g for p in polys for g in self.factors_of(p) if self.P.key(g) not in self.known]
@@ -399,7 +412,19 @@ class PlaneBackend(Backend):
             raise NewCurves(new, message)
         s = int(T.sign_at(f, *self.sample)) if T is not None else self.value_sign(f.n) * self.value_sign(f.d)
         self._signs[f] = s
+        if self.asked is not None:
+            self.asked[f] = s
         return s
+
+    def at_sample(self, x: Any) -> Fraction | None:
+        """x at the cell's sample point, when that point is rational and the system's numbers are (None else): where
+        a cone's membership is decided (:func:`~verify.core.cones.period.member`), the combination is found there,
+        and only the signs of its coefficients are then asked on the cell, not those of every pivot."""
+        y = self.sample[1]
+        if self.tower is not None or isinstance(y, RealAlgebraic):
+            return None
+        value: Fraction = x.at(self.sample[0], y)
+        return value
 
     def to_number(self, x: Any) -> Any:
         return x.expr(self.names) if self.tower is None else self.tower.expr(x, self.names)
