@@ -59,6 +59,21 @@ def test_both_arithmetics_factor_to_the_same_text(program) -> None:
 
 
 @given(programs)
+def test_the_backend_writes_each_function_as_its_own_factored_form(program) -> None:
+    """``to_exact`` keeps the texts it wrote (a map writes the same entries on many pieces): on either arithmetic,
+    on backends of other pieces, and for the same function made another way, the text is SymPy's ``factor`` of that
+    function, never one kept for another function or another arithmetic."""
+    for name in ("flint", "sympy"):
+        A = arithmetic(name)
+        backends = [SymbolicBackend(Piece.closed(0, 1), arithmetic_name=name),
+                    SymbolicBackend(Piece.closed(F(1, 3), F(1, 2)), arithmetic_name=name)]  # fmt: skip
+        for x in _run(A, program):
+            same = (x * A.parameter + x) / (A.parameter + A.one)
+            for K in backends:
+                assert K.to_exact(x) == K.to_exact(same) == str(sp.factor(A.expr(x)))
+
+
+@given(programs)
 def test_equal_functions_are_equal_elements_with_equal_hashes(program) -> None:
     A = arithmetic("flint")
     for x in _run(A, program):

@@ -77,10 +77,10 @@ class CellCones:
     last: dict[tuple[int, tuple[tuple[int, ...], ...]], tuple[Pattern, Frame, int, Fraction]] = field(
         default_factory=dict
     )
-    #: each check run on a cell: the functions whose signs it read, with those signs, and what it found. A cell where
-    #: every one of them has the same sign needs no new run (cells cut from one another mostly do)
     tops: dict[tuple[str, tuple[str, ...]], _Top] = field(default_factory=dict)  #: for each q with its others
     converted: dict[int, Frame] = field(default_factory=dict)  #: each frame, in the plane's arithmetic
+    #: each check run on a cell: the functions whose signs it read, with those signs, and what it found. A cell where
+    #: every one of them has the same sign needs no new run (cells cut from one another mostly do)
     checked: dict[tuple[Any, ...], tuple[dict[Any, int], tuple[int, dict[str, Any]]]] = field(default_factory=dict)
 
     def _frames(self, system: System, pattern: Pattern) -> list[tuple[Pattern, Any, Frame, list[Any]]]:

@@ -125,6 +125,11 @@ class RootCache:
         return self._roots[p]
 
 
+#: the exact texts already written (:meth:`SymbolicBackend.to_exact`), by arithmetic and element; at most WRITTEN
+_WRITTEN: dict[tuple[Any, Any], str] = {}
+WRITTEN = 4096
+
+
 class SymbolicBackend(Backend):
     """Rational functions of eps, with eps ranging over a :class:`Piece`.
 
@@ -253,7 +258,12 @@ class SymbolicBackend(Backend):
         return value
 
     def to_exact(self, x: Any) -> str:
-        return str(self.arithmetic.factored(x))
+        key = (self.arithmetic, x)
+        if key not in _WRITTEN:  # a map writes the same certificate's entries on many pieces
+            if len(_WRITTEN) >= WRITTEN:
+                _WRITTEN.clear()
+            _WRITTEN[key] = str(self.arithmetic.factored(x))
+        return _WRITTEN[key]
 
     def to_decimal(self, x: Any, digits: int = 30) -> str:
         return self.to_exact(x)
