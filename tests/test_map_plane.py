@@ -258,8 +258,9 @@ def test_a_budget_leaves_the_rest_unexplored() -> None:
 
 def test_four_balls_each_drawn_point_as_a_single_run() -> None:
     """Four balls of masses 2, 1, 1, 2 with CORs (e_out, e_mid, e_out) (docs/examples/balls-2112-cors.json) at 8
-    impulses: at 60 drawn rational points, a cell that exits gives verify solve's impact sets and exit
-    velocity, and where a cell is unexplored the single run does not exit within the cap either. The cells that
+    impulses: at 300 rational points (270 drawn in the box, 30 on the curves between cells), a cell that exits
+    gives verify solve's impact sets and exit velocity, and where a cell is unexplored the single run does not exit
+    within the cap either. The cells that
     are rational points are decided as verify solve decides them: where it proves never-exits (e_out = 0 with
     e_mid = 0 or 1, and (1/2, 0)), the cell carries the certificate, and the tests' own checker passes it."""
     from tests import certificate_check
@@ -272,8 +273,10 @@ def test_four_balls_each_drawn_point_as_a_single_run() -> None:
     normals = [["-1", "1", "0", "0"], ["0", "-1", "1", "0"], ["0", "0", "-1", "1"]]
     stops = set()
     points = [(Fraction(0), Fraction(0)), (Fraction(0), Fraction(1)), (Fraction(1, 2), Fraction(0))]
-    points += [(Fraction(rng.randint(0, 1000), 1000), Fraction(rng.randint(0, 1000), 1000)) for _ in range(60)]
-    for x, y in points:
+    points += [(Fraction(rng.randint(0, 10**6), 10**6), Fraction(rng.randint(0, 10**6), 10**6)) for _ in range(270)]
+    boundary = _on_curves(m.plane, rng, 30)
+    assert any(m.plane.locate(*p).cell.dim < 2 for p in boundary)
+    for x, y in points + boundary:
         part, velocity = m.at({"e_out": x, "e_mid": y})
         run = solve(System(masses, normals, [x, y, x]), ["1", "0", "0", "0"], max_iterations=8)
         stops.add(part.stop)
