@@ -133,8 +133,9 @@ class CellCones:
         at: tuple[Fraction, Fraction],
     ) -> tuple[int, dict[str, Any]] | None:
         """(the impulses up to the cone, its certificate) when a boundary cone closes on the whole cell of
-        ``system`` (on the plane backend; its run from ``velocity`` has ``impact_sets`` up to ``bound``), else
-        None; ``at`` is a rational point in or near the cell where the generators' orientation and slab are chosen.
+        ``system`` (on the plane backend, over the rationals; its run from ``velocity`` has ``impact_sets`` up to
+        ``bound``), else None; ``at`` is a rational point in or near the cell where the generators' orientation and
+        slab are chosen.
         The starts and slabs are tried on the exact numbers of ``at`` first (no curve asked); the first that closes
         there is run again with every sign read at the cell's sample and recorded: when one of their curves is not
         known to keep one sign on the cell, :class:`~verify.core.backends.plane.NewCurves` cuts the cell by all of
@@ -143,7 +144,7 @@ class CellCones:
         same here: the cells cut from one cell mostly need no new run."""
         pattern = pattern_of(impact_sets)
         K = system.backend
-        if pattern is None or not isinstance(K, PlaneBackend):
+        if pattern is None or not isinstance(K, PlaneBackend) or K.tower is not None:
             return None
         values = {sp.Symbol(n): sp.Rational(v.numerator, v.denominator) for n, v in zip(K.names, at)}
         exact = at_values(system, values)
@@ -181,9 +182,9 @@ class CellCones:
                 continue  # tried on the exact numbers of the point ``at``: no curve asked
             self.last[key] = choice
             asked: dict[Any, int] = {}
-            point = self.build(PlaneBackend(K.P, K.sample, set(), K.names, point=True, tower=K.tower, asked=asked))
-            found = _cone(point, velocity, (phase, self._plane(K, f), start, slab), chosen)  # every sign read at the
-            # cell's sample, and recorded
+            point = self.build(PlaneBackend(K.P, K.sample, set(), K.names, point=True, asked=asked))
+            # every sign read at the cell's sample, and recorded
+            found = _cone(point, velocity, (phase, self._plane(K, f), start, slab), chosen)
             if found is not None:
                 self.checked[done] = (asked, found)
             curves = {K.P.key(g): g for h in asked if not K.P.is_zero(h.n) for p in (h.n, h.d) for g in K.factors_of(p)}
