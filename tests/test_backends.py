@@ -111,6 +111,21 @@ def test_exact_backend_refuses_irrationals_with_a_clear_message():
         get_backend("exact").convert(sp.sqrt(2))
 
 
+@pytest.mark.parametrize("impl", list(rational_impls()))
+def test_exact_backend_takes_integers_and_sympy_rationals_exactly_and_refuses_floats(impl):
+    """An int, a SymPy Integer or Rational is the rational it is (a map's system put at a point hands SymPy
+    numbers over); a float, Python's or SymPy's, is refused as one, not called irrational."""
+    K = RationalBackend(impl)
+    big = 10**30 + 1
+    pairs = [(0, Fraction(0)), (7, Fraction(7)), (sp.Integer(0), Fraction(0)), (sp.Integer(-3), Fraction(-3)),
+             (sp.Rational(big, 3), Fraction(big, 3))]  # fmt: skip
+    for value, exact in pairs:
+        assert K.to_number(K.convert(value)) == exact and type(K.to_number(K.convert(value))) is Fraction
+    for value in (0.5, sp.Float("0.5")):
+        with pytest.raises(BadNumber, match="is a float"):
+            K.convert(value)
+
+
 def test_interval_sign_raises_when_the_enclosure_contains_zero():
     K = get_backend("interval", dps=20)
     third = K.convert(Fraction(1, 3))

@@ -85,6 +85,14 @@ class RationalBackend(Backend):
             return self._from_fraction(value)
         if isinstance(value, Fraction):
             return self._q(value.numerator, value.denominator)
+        if isinstance(value, int):
+            return self._q(value, 1)
+        if getattr(value, "is_Rational", False):  # a SymPy Integer or Rational: exact
+            return self._q(int(value.p), int(value.q))
+        if isinstance(value, float) or getattr(value, "is_Float", False):
+            raise BadNumber(
+                f"{value} is a float: the exact backend takes exact numbers (a string such as '0.1' is 1/10)"
+            )
         raise BadNumber(
             f"{value} is irrational: the exact backend computes over the rationals; "
             'use backend="interval" (certified) or backend="mp"'
