@@ -148,7 +148,8 @@ def test_values_and_signs_at_a_rational_sample_are_exact(name: str) -> None:
         assert K.sign(f) == int(sp.sign(exact))
     cells = decompose(P, [P.from_expr(X**2 + Y**2 - 1)], BOX)
     arc = next(c for c in cells if c.dim == 1 and c.y_lo.poly is not None)
-    assert PlaneBackend(P, arc.sample, known=set(), point=True).at_sample(K.one) is None
+    on_arc = PlaneBackend(P, arc.sample, known=set(), point=True)
+    assert on_arc.at_sample(on_arc.one) is None
 
 
 def test_case_map_of_cells_answers_any_point() -> None:
@@ -260,9 +261,9 @@ def test_four_balls_each_drawn_point_as_a_single_run() -> None:
     """Four balls of masses 2, 1, 1, 2 with CORs (e_out, e_mid, e_out) (docs/examples/balls-2112-cors.json) at 8
     impulses: at 300 rational points (270 drawn in the box, 30 on the curves between cells), a cell that exits
     gives verify solve's impact sets and exit velocity, and where a cell is unexplored the single run does not exit
-    within the cap either. The cells that
-    are rational points are decided as verify solve decides them: where it proves never-exits (e_out = 0 with
-    e_mid = 0 or 1, and (1/2, 0)), the cell carries the certificate, and the tests' own checker passes it."""
+    within the cap either. The cells that are rational points are decided as verify solve decides them: where it
+    proves never-exits (e_out = 0 with e_mid = 0 or 1, and (1/2, 0)), the cell carries the certificate, and the
+    tests' own checker passes it."""
     from tests import certificate_check
     from verify.core.system import System
     from verify.maps.general import case_map

@@ -280,12 +280,11 @@ def orientation(f: Frame, first: Sequence[int], at: Mapping[sp.Symbol, Any]) -> 
         return None
     widest = []
     for z in f.U:
-        ratios = [(abs(sp.cancel(v[i] / z[i]).subs(at)), i) for i in range(len(z)) if z[i] != 0 and v[i] != 0]
+        ratios = [(sp.cancel(v[i] / z[i]).subs(at), i) for i in range(len(z)) if z[i] != 0 and v[i] != 0]
         if not ratios:
             return None
-        _, i = min(ratios, key=lambda t: t[0])
-        s = sp.sign(sp.cancel(v[i] / z[i]).subs(at))
-        widest.append((i, int(s)))
+        value, i = min(ratios, key=lambda t: abs(t[0]))
+        widest.append((i, int(sp.sign(value))))
     return turn, tuple(widest)
 
 
@@ -302,7 +301,7 @@ def generators_of(f: Frame, b: Sequence[Any], slab: Any, chosen: Orientation) ->
     gens = [[_cancelled(x + x - y) for x, y in zip(b_w, b)]]
     for z, (i, s) in zip(U, widest):
         delta = _cancelled(slab * (v[i] / z[i]))
-        delta = delta if s > 0 else -delta if s < 0 else delta - delta
+        delta = delta if s > 0 else -delta if s < 0 else delta - delta  # the last: the zero of delta's arithmetic
         gens += [[_cancelled(x + delta * y) for x, y in zip(v, z)], [_cancelled(x - delta * y) for x, y in zip(v, z)]]
     return gens
 

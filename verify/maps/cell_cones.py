@@ -42,6 +42,7 @@ import sympy as sp
 
 from verify.core.backends.plane import NewCurves, PlaneBackend
 from verify.core.backends.ratfunc import as_fraction
+from verify.core.parse import to_sympy
 from verify.core.rule import solve
 from verify.core.system import System
 from verify.maps.boundary import (
@@ -112,7 +113,7 @@ class CellCones:
         """The frame f at the rational point ``at`` (SymPy rationals), or None where an entry is not defined."""
         g = self._plane(K, f)
         try:
-            return _mapped(g, lambda x: _rational(x.at(*at)))
+            return _mapped(g, lambda x: to_sympy(x.at(*at)))
         except ZeroDivisionError:
             return None
 
@@ -146,7 +147,7 @@ class CellCones:
         K = system.backend
         if pattern is None or not isinstance(K, PlaneBackend) or K.tower is not None:
             return None
-        values = {sp.Symbol(n): sp.Rational(v.numerator, v.denominator) for n, v in zip(K.names, at)}
+        values = {sp.Symbol(n): to_sympy(v) for n, v in zip(K.names, at)}
         exact = at_values(system, values)
         if exact is None:
             return None
@@ -202,10 +203,6 @@ def _mapped(f: Frame, g: Callable[[Any], Any]) -> Frame:
     """The frame with g applied to each entry, as lists (the inverse as a list of rows)."""
     return Frame([[g(x) for x in w] for w in f.W], [[g(x) for x in u] for u in f.U], [g(x) for x in f.mid],
                  [[g(x) for x in row] for row in f.inverse])  # fmt: skip
-
-
-def _rational(x: Fraction) -> sp.Rational:
-    return sp.Rational(x.numerator, x.denominator)
 
 
 def _rates(system: System, velocity: Sequence[Any], start: int) -> list[Any] | None:
@@ -281,7 +278,7 @@ def _cone(
     if isinstance(K, PlaneBackend):
         gens = generators_of(f, b, K.convert(slab), chosen)
     else:
-        at_point = generators_of(f, [sympified(K, x) for x in b], _rational(slab), chosen)
+        at_point = generators_of(f, [sympified(K, x) for x in b], to_sympy(slab), chosen)
         if not all(sp.sympify(x).is_Rational for g in at_point for x in g):  # a generator not defined there
             return None
         gens = [[as_fraction(sp.sympify(x)) for x in g] for g in at_point]
