@@ -710,3 +710,110 @@ def at_point(cert: dict, values: dict[str, object]) -> dict:
         if key in cert:
             out[key] = put_all(cert[key])
     return out
+
+
+# -- "dominant growth": never exits up to a boundary beside a turning pair (verify.maps.growth) ------------------------
+
+
+def check_growth(
+    cert: dict,
+    masses: list[str],
+    normals: list[list[str]],
+    *,
+    interval: tuple[sp.Expr, sp.Expr],
+    closed: tuple[bool, bool] = (True, True),
+    restitution: list[str] | None = None,
+) -> list[str]:
+    """What fails in a "dominant growth" certificate for every eps of ``interval`` (SymPy numbers: rationals or
+    CRootOf; ``closed`` says which ends belong to it), the CORs eps (or ``restitution``), from the claim in its own
+    words: the frame (W, U) splits the period M (built here from the masses and normals), A = M/s has determinant 1
+    on W and on U, A_U keeps the form Q, t = tr A_W >= 2, s > 0, Q definite, and for every sign l < 0 the period
+    needs (the constraints hit, and minus those not hit, before each impulse): l(w) < 0, l(A_W w) <= l(w) and
+    Q(u) l_U Q^-1 l_U^T < l(w)^2, with w + u the certificate's rates. The signs are checked in that order, up to
+    the first that fails."""
+    root = read(cert["extension"])
+    r = len(normals)
+    G = gram(_read_masses(masses), [[read(x) for x in row] for row in normals])
+    e = [read(x) for x in restitution] if restitution else [EPS] * r
+    sets = [list(J) for J in cert["sets"]]
+    failures = [f"the impulse on {J} is not linear" for J in sets if not _linear(G, J)]
+    before, L = [], sp.eye(r)
+    for J in sets:
+        before.append(L)
+        L = sp.Matrix.hstack(*[sp.Matrix(_step(G, e, J, list(L[:, k]))) for k in range(r)])
+    frame = sp.Matrix.hstack(*[sp.Matrix([read(x) for x in col]) for col in cert["W"] + cert["U"]])
+    B = frame.inv() * L * frame
+    s, Q = read(cert["scale"]), sp.Matrix([[read(x) for x in row] for row in cert["form"]])
+    failures += [f"M does not keep W and U apart at ({i}, {j})" for i in range(4) for j in range(4)
+                 if (i < 2) != (j < 2) and not _field_zero(B[i, j])]  # fmt: skip
+    A_W, A_U = B[:2, :2] / s, B[2:, 2:] / s
+    failures += [f"det A_{n} is not 1" for n, A in (("W", A_W), ("U", A_U)) if not _field_zero(A.det() - 1)]
+    failures += ["A_U does not keep Q" for x in (A_U.T * Q * A_U - Q) if not _field_zero(x)][:1]
+    c = frame.inv() * sp.Matrix([read(x) for x in cert["rates"]])
+    w, u = c[:2, :], c[2:, :]
+    energy, Qi = (u.T * Q * u)[0], Q.inv()
+    wanted = [(A_W.trace() - 2, "t - 2", (0, 1)), (s, "s", (1,)), (Q.det(), "det Q", (1,))]
+    for k, (J, Lk) in enumerate(zip(sets, before)):
+        for i in range(r):
+            lf = Lk.row(i) if i in J else -Lk.row(i)
+            f0, f1 = (lf * frame[:, :2] * w)[0], (lf * frame[:, :2] * A_W * w)[0]
+            gamma2 = energy * (lf * frame[:, 2:] * Qi * (lf * frame[:, 2:]).T)[0]
+            name = f"impulse {k}, constraint {i}"
+            wanted += [(f0, f"l(w) at {name}", (-1,)), (f1 - f0, f"l(A_W w) - l(w) at {name}", (-1, 0)),
+                       (gamma2 - f0**2, f"Gamma^2 - l(w)^2 at {name}", (-1,))]  # fmt: skip
+    for x, name, allowed in wanted:  # the first sign that fails is enough to refuse the certificate
+        if not _field_signs_within(x, root, interval, closed, allowed):
+            return [*failures, f"{name} leaves the signs {allowed} on the interval"]
+    return failures
+
+
+def _field_parts(x: sp.Expr, root: sp.Expr) -> list[tuple[sp.Expr, sp.Expr]]:
+    """[(a, b), (c, d)] with x = (a + root b) / (c + root d), polynomials in eps over Q (root = sqrt(d)): x's
+    numerator and denominator as SymPy's ``together`` writes them, each split at root."""
+    R = sp.Dummy("R")
+    out = []
+    for part in sp.fraction(sp.together(x)):
+        poly = sp.Poly(sp.expand(part).subs(root, R), R)
+        square = root**2
+        halves = [
+            sum((c * square ** (k // 2) for (k,), c in poly.terms() if k % 2 == m), sp.Integer(0)) for m in (0, 1)
+        ]
+        out.append((sp.expand(halves[0]), sp.expand(halves[1])))
+    return out
+
+
+def _field_zero(x: sp.Expr) -> bool:
+    return sp.expand(sp.fraction(sp.radsimp(sp.together(x)))[0]) == 0
+
+
+def _field_signs_within(
+    x: sp.Expr, root: sp.Expr, interval: tuple[sp.Expr, sp.Expr], closed: tuple[bool, bool], allowed: tuple[int, ...]
+) -> bool:
+    """Whether x = (a + root b)/(c + root d) takes only the ``allowed`` signs on the interval (no pole): checked at
+    every real root of a^2 - d b^2 and of c^2 - d d^2 in it, at its ends, and at a rational point between each two."""
+    parts = _field_parts(x, root)
+    norms = [sp.expand(a * a - b * b * root**2) for a, b in parts]
+    lo, hi = interval
+    points = [lo, hi]
+    for p in norms:
+        if sp.Poly(p, EPS).degree() > 0:
+            points += [t for t in sp.real_roots(sp.Poly(p, EPS)) if _sign_at(EPS - lo, t) >= 0 >= _sign_at(EPS - hi, t)]
+    points = sorted(set(points), key=lambda t: sp.N(t, 60))
+    between = [sp.nsimplify(sp.N((s + t) / 2, 40), rational=True) for s, t in itertools.pairwise(points)]
+    inside = [t for t in points if (t != lo or closed[0]) and (t != hi or closed[1])] + between
+
+    def half_sign(a: sp.Expr, b: sp.Expr, norm: sp.Expr, t: sp.Expr) -> int:  # a + root b at t, exactly
+        sa, sb = _sign_at(a, t), _sign_at(b, t)
+        if sb in (0, sa):
+            return sa
+        if sa == 0:
+            return sb
+        n = _sign_at(norm, t)
+        return 0 if n == 0 else sa if n > 0 else sb
+
+    def sign(t: sp.Expr) -> int | None:
+        (a, b), (c, d) = parts
+        below = half_sign(c, d, norms[1], t)
+        return None if below == 0 else half_sign(a, b, norms[0], t) * below
+
+    return all(sign(t) in allowed for t in inside)

@@ -202,3 +202,74 @@ def test_five_balls_boundary_is_over_q_sqrt_5_where_the_periods_largest_eigenval
     at = sp.N(expected, 80)
     roots = sp.Poly(P.subs(E, at).charpoly(lam).as_expr(), lam).nroots(n=40, maxsteps=1000)
     assert all(abs(abs(r) - at) < 1e-15 for r in roots)  # at eps*: all four of modulus eps* (a double root)
+
+
+_X = sp.Symbol("x")
+STAR5 = sp.CRootOf(_X**4 - 44 * _X**3 + 166 * _X**2 - 44 * _X + 1, 1)  #: the boundary of five unit balls
+
+
+@pytest.mark.slow
+def test_five_balls_never_exit_up_to_and_at_their_boundary() -> None:
+    """Five unit balls on [1/4, 0.26]: the map proves that every eps up to and with eps* (the boundary of
+    (S1,S3)(S2,S4), where the period's largest eigenvalues meet beside a turning pair) never exits, with one
+    "dominant growth" certificate (verify.maps.growth), which the tests' checker confirms on the whole closed interval
+    from the masses and normals; its rates are the test's own impulses from the velocity. Above eps* nothing is
+    proved never to exit. A certificate that is wrong fails the checker: stretched above eps* (where the
+    eigenvalues on W turn complex), or with the rates turned around."""
+    m = cradle_map(balls=5, lower="1/4", upper="0.26", max_impulses=12)
+    grown = [p for p in m.non_terminating if (p.certificate or {}).get("kind") == "dominant growth"]
+    assert len(grown) == 1
+    part, cert = grown[0], grown[0].certificate
+    assert str(part.piece.upper.expr) == str(STAR5) and part.piece.upper_closed
+    assert cert["boundary"]["reached"] is True and cert["boundary"]["eps"] == str(STAR5)
+    assert all(p.piece.lower.cmp(part.piece.upper) >= 0 for p in m.unexplored)  # all below eps* is decided
+    # the rates: the test's own impulses (singles and pairs on contacts that share no ball) from ball 1 at speed 1
+    G = certificate_check.gram([1] * 5, [[certificate_check.read(x) for x in row] for row in NORMALS5])
+    b = [sp.Integer(-1), sp.Integer(0), sp.Integer(0), sp.Integer(0)]
+    for J in part.impact_sets:
+        b = certificate_check._step(G, [EPS] * 4, list(J), b)
+    assert [sp.cancel(x - certificate_check.read(y)) for x, y in zip(b, cert["rates"])] == [0] * 4
+    lo = sp.Rational(part.piece.lower.lo) if part.piece.lower.is_rational else None
+    assert lo is not None
+    masses = ["1"] * 5
+    assert certificate_check.check_growth(cert, masses, NORMALS5, interval=(lo, STAR5)) == []
+    assert certificate_check.check_growth(cert, masses, NORMALS5, interval=(lo, sp.Rational(2597, 10000))) != []
+    turned = dict(cert, rates=[str(-certificate_check.read(x)) for x in cert["rates"]])
+    assert certificate_check.check_growth(turned, masses, NORMALS5, interval=(lo, STAR5)) != []
+
+
+@given(
+    st.lists(st.integers(-20, 20), min_size=1, max_size=4),
+    st.lists(st.integers(-20, 20), min_size=1, max_size=4),
+    st.lists(st.integers(-20, 20), min_size=1, max_size=3),
+    st.sampled_from([2, 3, 5]),
+)
+def test_the_growth_arguments_signs_over_a_quadratic_field_are_exact(a, b, c, d) -> None:
+    """verify.maps.growth decides the sign of (a + sqrt(d) b)/c on [-2, 2] (a, b, c polynomials with integer
+    coefficients) part by part, cut at the real roots of the norms; each part's sign is the sign of the function at
+    that part's points, compared here with a 60-digit evaluation at its ends' neighbourhood (strictly inside an
+    interval part, at a point part itself), and a root of c is a pole (None)."""
+    from verify.core.algebraic import RealAlgebraic
+    from verify.maps.growth import signs_on
+
+    root = sp.sqrt(d)
+    poly = lambda cs: sum((k * EPS**i for i, k in enumerate(cs)), sp.Integer(0))  # noqa: E731
+    expr = (poly(a) + root * poly(b)) / poly(c)
+    D = sp.QQ.algebraic_field(root).frac_field(EPS)
+    if poly(c) == 0:
+        return
+    x = D.from_sympy(sp.together(expr))
+    found = signs_on(x, Piece.closed(-2, 2))
+    reduced = D.to_sympy(x)  # in lowest terms: no 0/0 at a common root of a + sqrt(d) b and c
+    denominator = sp.Poly(poly(c), EPS)
+    c_roots = [t for t in sp.real_roots(denominator) if -2 <= t <= 2] if denominator.degree() > 0 else []
+    if found is None:
+        assert c_roots, "a pole was reported where the denominator has no root"
+        return
+    for part, sign in found:
+        at = part.lower if part.is_point else RealAlgebraic.rational(part.sample())
+        value = sp.N(reduced.subs(EPS, at.expr), 60)
+        if sign == 0:
+            assert abs(value) < sp.Float("1e-40")
+        else:
+            assert value * sign > 0

@@ -3,7 +3,6 @@ decided by verify solve's run at that point with the map's cap on impulses."""
 
 from __future__ import annotations
 
-import os
 import random
 from fractions import Fraction as F
 
@@ -78,15 +77,21 @@ def test_no_point_left_unexplored_is_decided_by_a_single_run(system) -> None:
 
 
 @pytest.mark.slow
-def test_five_balls_no_point_left_unexplored_is_decided_by_a_single_run(monkeypatch) -> None:
+def test_five_balls_no_point_left_unexplored_is_decided_by_a_single_run() -> None:
     """Five unit balls (at 20 impulses, on the interval that holds all that the whole map leaves unexplored):
-    below the boundary of (S1,S3)(S2,S4), a root of eps^2 - (22 - 8*sqrt(5)) eps + 1, the turning cones over
-    Q(sqrt(5))(eps) (verify.maps.turning) decide up to within 1e-4 of it, their certificates checked without the
-    code that found them; and no point left unexplored is decided by a single run. One map for both (it takes
-    minutes)."""
+    below and at the boundary of (S1,S3)(S2,S4), a root of eps^2 - (22 - 8*sqrt(5)) eps + 1, every eps is proved
+    never to exit by the growth argument (verify.maps.growth; its certificate is checked by
+    tests/test_map_boundary.py), so only eps above the boundary are left; and no point left unexplored is decided by
+    a single run."""
+    from verify.core.algebraic import RealAlgebraic, poly_from_coeffs
+
     cap = 20
     m = cradle_map(balls=5, lower="0.222", upper="0.272", max_impulses=cap)
-    _turning_cones_checked(m, monkeypatch)
+    boundary = RealAlgebraic.roots_in(poly_from_coeffs([1, -44, 166, -44, 1]))[1]
+    grown = [p for p in m.non_terminating if (p.certificate or {}).get("kind") == "dominant growth"]
+    assert len(grown) == 1 and grown[0].piece.upper.cmp(boundary) == 0 and grown[0].piece.upper_closed
+    assert m.unexplored and all(p.piece.lower.cmp(boundary) >= 0 for p in m.unexplored)
+    assert all("above the boundary" in p.reason for p in m.unexplored if "boundary" in p.reason)
     points = _drawn(m.parts, POINTS, seed=36)
     assert _first_decided(_unit_balls(5), _normals(5), points, cap) is None
 
@@ -105,48 +110,17 @@ def _at(value, q: F):
     return value
 
 
-def _turning_cones_checked(m, monkeypatch) -> None:
-    from tests import certificate_check
-    from verify.core.algebraic import RealAlgebraic, poly_from_coeffs
-
-    star = "CRootOf(x**4 - 44*x**3 + 166*x**2 - 44*x + 1, 1)"
-    boundary = RealAlgebraic.roots_in(poly_from_coeffs([1, -44, 166, -44, 1]))[1]
-    cones = [p for p in m.parts if "boundary" in (p.certificate or {})]
-    assert len(cones) >= 2 and all(p.certificate["boundary"]["eps"] == star for p in cones)
-    assert all(p.certificate["boundary"]["reached"] is False for p in cones)
-    # the pieces end at roots of polynomials of degree 40 and more, and the checker's interval mode takes minutes
-    # on these numbers (a 1e-18 rational for sqrt(5)): the first two certificates are checked at rationals 1/100 of
-    # their pieces in from either end and in the middle (the checker's exact point mode);
-    # VERIFY_LONG_CHECKS=1 checks the first one on the whole rational interval inside its piece too
-    monkeypatch.setattr("verify.core.parse.MAX_LENGTH", 10**5)  # the certificate's numbers, not a user's input
-    for k, part in enumerate([p for p in cones if not p.piece.is_point][:2]):
-        lo, hi = part.piece.lower.narrowed(F(1, 10**12))[1], part.piece.upper.narrowed(F(1, 10**12))[0]
-        for q in (lo + (hi - lo) / 100, (lo + hi) / 2, hi - (hi - lo) / 100):
-            at = _at(part.certificate, q)
-            assert certificate_check.check_period(at, ["1"] * 5, _normals(5), restitution=[str(q)] * 4) == []
-        if os.environ.get("VERIFY_LONG_CHECKS") == "1" and k == 0:
-            assert certificate_check.check_period(
-                part.certificate, ["1"] * 5, _normals(5), interval=(str(lo), str(hi)), restitution=["eps"] * 4
-            ) == []  # fmt: skip
-    # decided up to within 1e-4 of eps*, never at or above it; what is left says where it lies
-    top = max((p.piece.upper for p in m.non_terminating), key=lambda x: (x.lo, x.hi))
-    assert top.cmp(boundary) < 0 and boundary.lo - top.hi < F(1, 10**4)
-    at = [p for p in m.unexplored if p.piece.contains(boundary)]
-    assert len(at) == 1 and at[0].piece.is_point and "at the boundary" in at[0].reason
-    below = [p for p in m.unexplored if p.piece.upper.cmp(boundary) <= 0 and p is not at[0]]
-    assert below and all("below the boundary" in p.reason for p in below)
-    above = [p for p in m.unexplored if p.piece.lower.cmp(boundary) >= 0 and p is not at[0] and "boundary" in p.reason]
-    assert above and all("above the boundary" in p.reason for p in above)
-
-
 @pytest.mark.slow
 def test_an_interval_below_the_boundary_gets_the_turning_cones_of_the_boundary_above_it(monkeypatch) -> None:
-    """Five unit balls on [0.255, 0.2595], below eps* but not holding it: the turning cones of the boundary above the
-    interval decide all of it, as they decide it in a map that holds eps* (before, the whole interval was left
-    unexplored, while verify solve proves its lower end never exits). The certificate names that boundary, not
-    reached, and holds at a point of the interval (the checker's exact point mode)."""
+    """Five unit balls on [0.255, 0.2595], below eps* but not holding it, with the growth argument switched off (as
+    for a system where it does not hold; on by default, it proves this interval first): the turning cones of the
+    boundary above the interval decide all of it (before, the whole interval was left unexplored, while verify solve
+    proves its lower end never exits). The certificate names that boundary, not reached, and holds at a point of
+    the interval (the checker's exact point mode)."""
     from tests import certificate_check
+    from verify.maps import line
 
+    monkeypatch.setattr(line, "grown_below", lambda *args, **kwargs: None)
     m = cradle_map(balls=5, lower="0.255", upper="0.2595", max_impulses=14)
     assert [p.stop for p in m.parts] == ["non_terminating"]
     cert = m.parts[0].certificate

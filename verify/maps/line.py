@@ -38,7 +38,8 @@ from verify.core.format import format_decimal
 from verify.core.rule import solve
 from verify.core.system import System
 from verify.maps import DEFAULT_HALVINGS, DEFAULT_WIDEN
-from verify.maps.boundary import Pattern, closed_below, pattern_of
+from verify.maps.boundary import Decided, Pattern, closed_below, pattern_of
+from verify.maps.growth import grown_below
 from verify.maps.leaving import GAP, exits_above
 from verify.maps.turning import closed_below_turning
 from verify.maps.watch import Watch
@@ -167,9 +168,7 @@ def bounded(
     pattern = pattern_of(part.impact_sets)
     decided = closed_below(build, velocity, part.piece, pattern, bound=part.iterations, cache=cache) if pattern else []
     if pattern and not decided:  # the period's largest eigenvalues meet over a quadratic field, beside a turning pair
-        decided = closed_below_turning(build, list(velocity), part.piece, pattern, bound=part.iterations, cache=cache,
-                                       stop=watch.check if watch is not None else None,
-                                       halvings=watch.halvings if watch is not None else DEFAULT_HALVINGS)  # fmt: skip
+        decided = _below_turning(build, velocity, part, pattern, cache=cache, watch=watch)
     stopped = watch.stopped if watch is not None else ""  # the budget ran out during the search for cones
     if stopped and not decided:
         return [_stopped(part, stopped)]
@@ -215,6 +214,31 @@ def bounded(
         out.append(_stopped(left_part, stopped) if stopped and below_star else left_part)
     out.sort(key=lambda p: (p.piece.lower, not p.piece.is_point))
     return out
+
+
+def _below_turning(
+    build: Callable[[SymbolicBackend], System],
+    velocity: Sequence[Any],
+    part: Part,
+    pattern: Pattern,
+    *,
+    cache: RootCache,
+    watch: Watch | None,
+) -> list[Decided]:
+    """What is proved never to exit below a boundary where the period's largest eigenvalues meet beside a turning
+    pair: the top of the part, up to and at the boundary, by the growth of the rates on W
+    (:mod:`verify.maps.growth`), and what lies below that by turning cones (:mod:`verify.maps.turning`)."""
+    grown = grown_below(build, velocity, part.piece, pattern, bound=part.iterations, cache=cache)
+    piece = part.piece
+    if grown is not None:
+        top = grown.piece
+        if top.lower.cmp(piece.lower) == 0 and (top.lower_closed or not piece.lower_closed):
+            return [grown]
+        piece = Piece(piece.lower, top.lower, piece.lower_closed, not top.lower_closed)
+    decided = closed_below_turning(build, list(velocity), piece, pattern, bound=part.iterations, cache=cache,
+                                   stop=watch.check if watch is not None else None,
+                                   halvings=watch.halvings if watch is not None else DEFAULT_HALVINGS)  # fmt: skip
+    return decided + ([grown] if grown is not None else [])
 
 
 def _exits_later(

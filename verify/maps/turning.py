@@ -149,7 +149,7 @@ def field_collisions(M: sp.Matrix, ext: Any, piece: Piece) -> list[tuple[RealAlg
     return out
 
 
-def _nearest_above(M: sp.Matrix, ext: Any, piece: Piece) -> list[tuple[RealAlgebraic, Any]]:
+def nearest_above(M: sp.Matrix, ext: Any, piece: Piece) -> list[tuple[RealAlgebraic, Any]]:
     """The first of :func:`field_collisions` above ``piece`` (up to eps = 1, from its upper end when that end is
     open), when none lies in it: the piece lies below that boundary, where the same turning frame gives the cones
     (each is checked on its own part)."""
@@ -400,7 +400,7 @@ def closed_below_turning(
         ext = extension(M) if M is not None else None
         if M is None or ext is None:
             return []
-        for star, q in field_collisions(M, ext, piece) or _nearest_above(M, ext, piece):
+        for star, q in field_collisions(M, ext, piece) or nearest_above(M, ext, piece):
             f = turning_frame(M, q, ext)
             if f is None or piece.lower.cmp(star) >= 0:
                 continue

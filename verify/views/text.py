@@ -502,6 +502,10 @@ def cradle_map_text(
         elif cert.get("kind") == "repeating direction":
             cycle = len(cert.get("cycle", []))
             how = f"a direction of the rates that repeats after {cycle} impulses (verify solve's run at that point)"
+        elif cert.get("kind") == "dominant growth":
+            how = (f"the growth of the rates on the plane of the two eigenvalues of the period {cert['pattern']} that "
+                   f"meet at the boundary, against the turning pair beside them (verify.maps.growth), from the rates "
+                   f"after {cert['impulses']} impulses")  # fmt: skip
         else:
             gens, impulses = len(cert.get("generators", [])), cert.get("impulses")
             how = f"a cone of {gens} generators that {impulses} impulses map into itself"
@@ -542,6 +546,8 @@ def parts_table(parts: Sequence[Any], name: str = "eps", contacts: Sequence[str]
             what = "exit: " + _sequence(part.impact_sets, contacts)
         elif part.stop == "non_terminating" and (part.certificate or {}).get("kind") == "repeating direction":
             what = "never exits (certificate: repeating direction)"
+        elif part.stop == "non_terminating" and (part.certificate or {}).get("kind") == "dominant growth":
+            what = "never exits (certificate: dominant growth)"
         elif part.stop == "non_terminating":
             what = "never exits (certificate: invariant cones)"
         else:
@@ -883,10 +889,15 @@ def boundary_lines(parts: Sequence[Any], name: str) -> list[str]:
                 "rest below it stays undecided.",
             ]
             continue
+        proof = "the cones above"
+        if "extension" in b:  # reached beside a turning pair: by the growth argument (verify.maps.growth)
+            proof = (f"the growth of the rates where the two largest eigenvalues of their period meet, against the "
+                     f"complex pair of the same modulus beside them, over Q({b['extension']}): "
+                     "verify.maps.growth")  # fmt: skip
         out += [
             "",
             f"Boundary of never-exits: {name} = {star} = {value}: up to and at it the impacts {b['pattern']} repeat",
-            "forever (the cones above)"
+            f"forever ({proof})"
             + (
                 "; beyond it the two eigenvalues of their period that meet there are not real and its spectral "
                 "radius is not an eigenvalue: no cone is mapped into itself by it."
