@@ -15,8 +15,9 @@ period (l = b_j, or -b_j, of the rates before each impulse of the period, a line
 
 So l(x_k) <= s^k (f(0) + Gamma) < 0 for every k when f(0)^2 > Gamma^2: every sign the period needs holds after
 every number of periods, and the run follows the period forever. Each condition is the sign of a rational
-function of eps over Q(sqrt(d)) on the piece, decided exactly (:func:`signs_on`: the real roots of its norm, the
-number field's signs there), up to and at eps* itself, where t = 2 (a double eigenvalue: f(k) then falls linearly).
+function of eps over Q(sqrt(d)) on the piece, decided exactly (:func:`signs_on`: cut at the real roots of its
+norm, each part's sign read off those of a, b and a^2 - d b^2 for a + sqrt(d) b), up to and at eps* itself, where
+t = 2 (a double eigenvalue: f(k) then falls linearly).
 
 >>> from verify.core.backends.symbolic import EPS
 >>> from verify.models.cradle import cradle_system
@@ -42,9 +43,6 @@ from verify.core.backends.symbolic import Piece, RootCache, Split, SymbolicBacke
 from verify.core.rule import solve
 from verify.maps.boundary import Build, Decided, Pattern, pattern_map, sympified
 from verify.maps.turning import extension, field_collisions, nearest_above, turning_frame
-
-#: the most periods run before the rates the argument starts from (the U-part must be small enough against W's)
-MAX_BASE = 4
 
 STATEMENT = (
     "From this state on the run follows the period forever: after k periods the rates are s^k (A_W^k w + A_U^k u) "
@@ -125,8 +123,9 @@ def grown_below(
 ) -> Decided | None:
     """The top part of ``piece`` (up to its upper end, or up to and with the boundary eps* over Q(sqrt(d)) when the
     piece holds it) on which the argument of the module proves that every eps never exits, for the first phase of
-    ``pattern`` where it holds; None when it holds nowhere at the top. The certificate names the boundary reached
-    (``"reached": True``) when the part ends there."""
+    ``pattern`` where it holds, from the rates at that phase's start after 0, 1, ... periods (up to ``bound``
+    impulses: the first for which it holds); None when it holds nowhere at the top. The certificate names the
+    boundary reached (``"reached": True``) when the part ends there."""
     p = len(pattern.sets)
     for j in range(p):
         phase = Pattern(pattern.start + j, pattern.sets[j:] + pattern.sets[:j])
@@ -174,10 +173,7 @@ def _grown(
     system = build(SymbolicBackend(piece, cache))
     forms = [DomainMatrix.from_Matrix(row).convert_to(D) for row in _forms(system, phase)]
     p = len(phase.sets)
-    for k in range(MAX_BASE + 1):
-        start = phase.start + p * k
-        if start > bound:
-            break
+    for start in range(phase.start, bound + 1, p):  # later rates: a U-part smaller against W's
         try:
             run = solve(system, list(velocity), max_iterations=start, trace=False, certify=False)
         except Split:
