@@ -115,8 +115,8 @@ def test_an_interval_below_the_boundary_gets_the_turning_cones_of_the_boundary_a
     """Five unit balls on [0.255, 0.2595], below eps* but not holding it, with the growth argument switched off (as
     for a system where it does not hold; on by default, it proves this interval first): the turning cones of the
     boundary above the interval decide all of it (before, the whole interval was left unexplored, while verify solve
-    proves its lower end never exits). The certificate names that boundary, not reached, and holds at a point of
-    the interval (the checker's exact point mode)."""
+    proves its lower end never exits). The certificate names that boundary, not reached, and holds at three points
+    of the interval, 1/100 of it in from either end and in its middle (the checker's exact point mode)."""
     from tests import certificate_check
     from verify.maps import line
 
@@ -128,6 +128,7 @@ def test_an_interval_below_the_boundary_gets_the_turning_cones_of_the_boundary_a
     assert cert["boundary"]["reached"] is False
     run = solve(System(_unit_balls(5), _normals(5), ["51/200"] * 4), ["1", "0", "0", "0", "0"], max_iterations=14)
     assert run.stop == "non_terminating"
-    q = F(257, 1000)
     monkeypatch.setattr("verify.core.parse.MAX_LENGTH", 10**5)  # the certificate's numbers, not a user's input
-    assert certificate_check.check_period(_at(cert, q), ["1"] * 5, _normals(5), restitution=[str(q)] * 4) == []
+    lo, hi = F(255, 1000), F(2595, 10000)
+    for q in (lo + (hi - lo) / 100, (lo + hi) / 2, hi - (hi - lo) / 100):
+        assert certificate_check.check_period(_at(cert, q), ["1"] * 5, _normals(5), restitution=[str(q)] * 4) == []
