@@ -172,6 +172,8 @@ def _grown(
         return None
     system = build(SymbolicBackend(piece, cache))
     forms = [DomainMatrix.from_Matrix(row).convert_to(D) for row in _forms(system, phase)]
+    if not forms:  # an impulse of the period is not linear: no signs to check, so no proof
+        return None
     p = len(phase.sets)
     for start in range(phase.start, bound + 1, p):  # later rates: a U-part smaller against W's
         try:
@@ -222,7 +224,7 @@ def _zero(x: Any) -> bool:
 
 def _forms(system: Any, phase: Pattern) -> list[sp.Matrix]:
     """The linear forms of the rates at the period's start that must be < 0 (the constraints hit at each impulse)
-    or <= 0 (minus those not hit) for the run to follow the period once."""
+    or <= 0 (minus those not hit) for the run to follow the period once; none when an impulse is not linear."""
     out = []
     for i, J in enumerate(phase.sets):
         L = pattern_map(system, phase.sets[:i])  # the rates before the i-th impulse
