@@ -42,6 +42,7 @@ from verify.core.algebraic import RealAlgebraic, X
 from verify.core.backends.symbolic import Piece, RootCache, Split, SymbolicBackend
 from verify.core.rule import solve
 from verify.maps.boundary import Build, Decided, Pattern, pattern_map, sympified
+from verify.maps.leaving import kept_form
 from verify.maps.turning import extension, field_collisions, nearest_above, turning_frame
 
 STATEMENT = (
@@ -209,9 +210,7 @@ def _kept_form(A: Any, D: Any) -> Any | None:
     when det A is not 1 or the check fails."""
     if not _zero(A.det() - D.one):
         return None
-    a, b, c, d = (A[i, j].element for i, j in ((0, 0), (0, 1), (1, 0), (1, 1)))
-    h = (d - a) / 2
-    Q = DomainMatrix([[c, h], [h, -b]], (2, 2), D)
+    Q = DomainMatrix(kept_form(*(A[i, j].element for i, j in ((0, 0), (0, 1), (1, 0), (1, 1)))), (2, 2), D)
     kept = A.transpose() * Q * A - Q
     return Q if all(_zero(kept[i, j].element) for i in range(2) for j in range(2)) else None
 

@@ -97,13 +97,23 @@ def unit_modulus(M: sp.Matrix) -> tuple[Any, list[Any]] | None:
     return quads[0], linear
 
 
+def kept_form(a: Any, b: Any, c: Any, d: Any) -> list[list[Any]]:
+    """The rows of the quadratic form Q = [[c, h], [h, -b]], h = (d - a)/2, that A = [[a, b], [c, d]] keeps when
+    det A = 1 (A^T Q A = Q), in any arithmetic with a division by 2 (each caller checks it in its own).
+
+    >>> kept_form(*(sp.Integer(x) for x in (2, 1, 1, 1)))
+    [[1, -1/2], [-1/2, -1]]
+    """
+    h = (d - a) / 2
+    return [[c, h], [h, -b]]
+
+
 def invariant_form(B: sp.Matrix) -> sp.Matrix | None:
     """The quadratic form that A = B/eps keeps (A^T Q A = Q), checked exactly; None when det A is not 1."""
     A = (B / EPS).applyfunc(sp.cancel)
     if sp.cancel(A.det() - 1) != 0:
         return None
-    h = (A[1, 1] - A[0, 0]) / 2
-    Q = sp.Matrix([[A[1, 0], h], [h, -A[0, 1]]]).applyfunc(sp.cancel)
+    Q = sp.Matrix(kept_form(A[0, 0], A[0, 1], A[1, 0], A[1, 1])).applyfunc(sp.cancel)
     if any(sp.cancel(x) != 0 for x in (A.T * Q * A - Q)):
         return None
     return Q
