@@ -5,6 +5,7 @@ from __future__ import annotations
 
 import copy
 from fractions import Fraction as F
+from typing import Any
 
 import pytest
 
@@ -159,3 +160,84 @@ def test_a_spiral_is_proved_by_polar_values_and_the_checker_agrees():
     fewer = copy.deepcopy(cert)
     fewer["stages"][0]["vectors"].pop(len(fewer["stages"][0]["vectors"]) // 2)
     assert certificate_check.check_period(fewer, *args[1:])[0].startswith("impulse 0: a moved vector is not")
+
+
+# a general system of three plastic contacts under the symmetric rule, one of the runs the thorough census of
+# `verify properties` left at its size budget: period (0,1)(0,2) of two multiple impulses whose beta changes with
+# the rates. Its direction is drawn in without turning (two real eigenvalues of the period's linear part there):
+# no spiral, and the cones of points around the direction never close; a polytope turned to the eigenvectors,
+# carried by polar values, does
+DRAWN_IN = {
+    "mass_matrix": [["4", "2", "2", "2"], ["2", "2", "2", "1"], ["2", "2", "3", "2"], ["2", "1", "2", "3"]],
+    "normals": [["-1", "2", "0", "0"], ["2", "0", "2", "0"], ["1", "0", "0", "2"]],
+    "restitution": ["0", "0", "0"],
+    "velocity": ["-8/45", "-4/45", "-119/90", "4/45"],
+}
+
+
+def _drawn_in_run() -> Any:
+    system = System(DRAWN_IN["mass_matrix"], DRAWN_IN["normals"], DRAWN_IN["restitution"])
+    budget = Budget(bits=4096, intervals=True)  # the census' settings
+    return solve(system, DRAWN_IN["velocity"], rule="symmetric", max_iterations=1000, budget=budget)
+
+
+def test_a_direction_drawn_in_without_turning_is_proved_by_a_shaped_polytope_and_the_checker_agrees():
+    r = _drawn_in_run()
+    assert r.stop == "non_terminating"
+    cert = r.certificate
+    assert cert["multiple impulses"] == "polar values" and "box" in cert  # on certified intervals, past 4096 bits
+    args = (cert, DRAWN_IN["mass_matrix"], DRAWN_IN["normals"])
+    assert certificate_check.check_period(*args, restitution=DRAWN_IN["restitution"]) == []
+    broken = copy.deepcopy(cert)
+    broken["stages"][0]["vectors"].pop(len(broken["stages"][0]["vectors"]) // 2)
+    assert certificate_check.check_period(broken, *args[1:], restitution=DRAWN_IN["restitution"]) != []
+
+
+def test_without_the_shaped_polytope_the_drawn_in_run_stays_at_its_budget(monkeypatch):
+    from verify.core.cones import period
+
+    monkeypatch.setattr(period, "shaped_seeds", lambda *args: [])
+    assert _drawn_in_run().stop == "budget"
+
+
+# a general system of four contacts under the general rule (CORs 0, 1, 0, 0), left at its size budget by the thorough
+# census: period (1,2,3)(0,3) of two multiple impulses. The polar values of a polytope's corners in a chart of three
+# dimensions are too many to carry; boxes turned to the period's eigenvectors, enclosed again after the first
+# impulse, carry them
+FOUR = {
+    "mass_matrix": [["4", "1", "-2", "1", "2", "-1"], ["1", "17/4", "1/2", "-7/4", "5/2", "-1/4"],
+                    ["-2", "1/2", "21/4", "1", "-5/2", "-3/2"], ["1", "-7/4", "1", "13/4", "-1/2", "-9/4"],
+                    ["2", "5/2", "-5/2", "-1/2", "8", "3/2"], ["-1", "-1/4", "-3/2", "-9/4", "3/2", "17/4"]],
+    "normals": [["0", "1", "0", "0", "2", "0"], ["3/2", "0", "1", "0", "-1", "0"], ["-2", "0", "0", "-2", "1", "0"],
+                ["-2", "0", "0", "0", "-2", "2"]],
+    "time_terms": ["-3/2", "1/2", "2", "2"],
+    "restitution": ["0", "1", "0", "0"],
+    "velocity": ["30047/11898", "-8701/3966", "-683/1983", "19127/5949", "688/1983", "4198/5949"],
+}  # fmt: skip
+
+
+def _four_run() -> Any:
+    system = System(FOUR["mass_matrix"], FOUR["normals"], FOUR["restitution"], FOUR["time_terms"])
+    return solve(system, FOUR["velocity"], max_iterations=1000, budget=Budget(bits=4096, intervals=True))
+
+
+def test_four_rates_are_proved_by_boxes_carried_stage_by_stage_and_the_checker_agrees():
+    r = _four_run()
+    assert r.stop == "non_terminating"
+    cert = r.certificate
+    assert cert["multiple impulses"] == "polar values" and len(cert["stages"]) == cert["impulses"] - 1
+    assert all(len(st["vectors"]) == 8 for st in cert["stages"])  # the corners of a box in three dimensions
+    args = (cert, FOUR["mass_matrix"], FOUR["normals"])
+    assert certificate_check.check_period(*args, restitution=FOUR["restitution"]) == []
+    narrower = copy.deepcopy(cert)  # the box after the first impulse pulled in halfway to its center
+    vectors = narrower["stages"][0]["vectors"]
+    center = [sum(F(v[i]) for v in vectors) / len(vectors) for i in range(len(vectors[0]))]
+    narrower["stages"][0]["vectors"] = [[str((F(x) + c) / 2) for x, c in zip(v, center)] for v in vectors]
+    assert certificate_check.check_period(narrower, *args[1:], restitution=FOUR["restitution"]) != []
+
+
+def test_without_the_boxes_the_four_rates_stay_at_their_budget(monkeypatch):
+    from verify.core.cones import period
+
+    monkeypatch.setattr(period, "product_cone", lambda *args, **kwargs: None)
+    assert _four_run().stop == "budget"

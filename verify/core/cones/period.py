@@ -51,7 +51,9 @@ from typing import Any
 
 from verify.core import bounds
 from verify.core.cones.lp import SearchTooLong, feasible, pivot_budget, solve_columns
-from verify.core.cones.polar import MAX_VECTORS, extreme, forms, polar_values, pushed, spiral_seeds
+from verify.core.cones.polar import MAX_VECTORS, extreme, forms, polar_values, pushed
+from verify.core.cones.shape import shaped_seeds
+from verify.core.cones.stages import Combine, Outer, product_cone
 from verify.core.engines.rates import beta_from_rates
 from verify.core.system import System, on_exact_field
 from verify.errors import Undecided
@@ -213,7 +215,13 @@ def _prune(K: Any, vectors: Carried) -> Carried:
 
 
 def carry(
-    system: System, gens: Sequence[Vector], strict: Sequence[bool], p: int, stages: list[Carried] | None = None
+    system: System,
+    gens: Sequence[Vector],
+    strict: Sequence[bool],
+    p: int,
+    stages: list[Carried] | None = None,
+    *,
+    outer: Outer | None = None,
 ) -> Carried | None:
     """The vectors after p impulses (the module docstring): at each impulse the cone of the vectors is cut
     by ``x_f = 0`` for each f in F (:func:`split`), and each part is carried on its own impact set.
@@ -221,7 +229,9 @@ def carry(
 
     With ``stages`` (a list, filled here), a multiple impulse whose beta varies is carried by its polar
     values (:mod:`verify.core.cones.polar`) instead of both bounds of beta, and the vectors after each
-    impulse but the last are kept, reduced to the corners of their cone: the certificate lists them."""
+    impulse but the last are kept, reduced to the corners of their cone (or, with ``outer``, replaced by the
+    corners of a larger cone, :func:`verify.core.cones.stages.product_cone`, which also turns away the vectors
+    of the last impulse that lie outside the generators' cone): the certificate lists them."""
     K = system.backend
     current: Carried = [(list(g), s) for g, s in zip(gens, strict)]
     for n in range(p):
@@ -254,7 +264,8 @@ def carry(
                     bounds.reached("polar_vectors")
                     return None
                 bounds.use("polar_vectors", len(vs))
-                moved = extreme(K, polar_values(system, J, vs))
+                moved = polar_values(system, J, vs)
+                moved = moved if outer is not None else extreme(K, moved)  # enclosed, or turned away, below
             else:
                 betas = [K.one] if linear_step(system, J) else _widened(K, beta_bounds(system, J, [v for v, _ in vs]))
                 if betas is None:
@@ -264,7 +275,13 @@ def carry(
                 key = _direction(K, v)
                 nxt[key] = nxt.get(key, False) or s
         current = [(list(v), s) for v, s in nxt.items()]
-        current = extreme(K, current) if stages is not None else _prune(K, current)
+        enclosed = outer(n + 1, current) if outer is not None and stages is not None else None
+        if outer is not None and enclosed is None:
+            return None  # not enclosed, or outside the generators' cone: not worth the linear programming
+        if enclosed is not None and n < p - 1:
+            current = enclosed
+        elif outer is None:  # with outer, the last impulse's vectors are kept: each has its combination below
+            current = extreme(K, current) if stages is not None else _prune(K, current)
         if len(current) > MAX_CARRIED:
             bounds.reached("carried")
             return None
@@ -341,6 +358,8 @@ def close(
     *,
     polar: bool = False,
     inflate: Vector | None = None,
+    outer: Outer | None = None,
+    combine: Combine | None = None,
 ) -> Found | None:
     """A cone of the seeds (strict), the ``extra`` strict vectors and the weak unit vectors of the
     constraints no seed is hit on in p impulses, closed under p impulses: (generators, strict flags, the
@@ -360,12 +379,13 @@ def close(
     limit = start + MAX_GENERATORS
     for done in range(1, rounds + 1):
         stages: list[Carried] | None = [] if polar else None
-        carried = carry(system, gens, strict, p, stages)
+        carried = carry(system, gens, strict, p, stages, outer=outer)
         if carried is None:
             return None
         out, missing = [], []
         for y, s in carried:
-            d = member(K, y, gens)
+            d = combine(y, len(seeds)) if combine is not None else None
+            d = d if d is not None else member(K, y, gens)
             if d is None or (s and not any(strict[k] for k in d)):
                 missing.append((y, s))
             else:
@@ -511,20 +531,45 @@ def cone_search(
 ) -> Found | None:
     """A closed cone containing the seeds: first with one point beyond the direction the rates tend to
     (``2 P b - lam b``, from ``guide`` = (b, the rates one period before)), then (rational backends)
-    with points around that direction (:func:`_limit`, :func:`_around`), then, for three rates turning around that
-    direction, with a polygon around it and multiple impulses carried by their polar values
-    (:func:`verify.core.cones.polar.spiral_seeds`)."""
+    with points around that direction (:func:`_limit`, :func:`_around`), then, when that direction draws the
+    rates in, with a polytope around it shaped by the period's linear part there and multiple impulses carried
+    by their polar values (:func:`_shaped`, a search with pivots of its own)."""
     K = system.backend
     b, _ = guide
     found = close(system, p, seeds, _beyond(system, p, guide))
     if found is None and getattr(K, "rationals", False):
         limit = _limit(system, b, p)
-        if limit is not None:
-            found = close(system, p, seeds, _around(K, b, *limit), MAX_ROUNDS)
-        if found is None and limit is not None and system.r == 3:
-            turned = spiral_seeds(K, limit[0], lambda x: _rule_steps(system, x, p), b)
-            if turned:
-                found = close(system, p, seeds, turned, 2, polar=True)
+        try:
+            if limit is not None:
+                found = close(system, p, seeds, _around(K, b, *limit), MAX_ROUNDS)
+        except SearchTooLong:  # the pivots of the search spent: the polytope below has pivots of its own
+            bounds.reached("pivots")
+        if found is None and limit is not None:
+            found = _shaped(system, p, seeds, limit)
+    return found
+
+
+def _shaped(system: System, p: int, seeds: Sequence[Vector], limit: tuple[Vector, list[int]]) -> Found | None:
+    """A cone of the seeds closed around a polytope shaped by the period at the direction of ``limit``, multiple
+    impulses carried by polar values: for four rates or more, boxes carried stage by stage
+    (:func:`verify.core.cones.stages.product_cone`), else the corners of
+    :func:`verify.core.cones.shape.shaped_seeds`; a search with :data:`MAX_PIVOTS` of its own."""
+    K = system.backend
+    staged = product_cone(K, *limit, lambda x: _rule_step(system, x), p=p, points=seeds)
+    shaped = shaped_seeds(K, *limit, lambda x: _rule_steps(system, x, p), seeds) if staged is None else []
+    if staged is None and not shaped:
+        return None
+    try:
+        with pivot_budget(MAX_PIVOTS) as left:
+            if staged is not None:
+                found = close(system, p, seeds, staged[0], 2, polar=True, outer=staged[1], combine=staged[2])
+            else:
+                found = close(system, p, seeds, shaped, 2, polar=True)
+    except SearchTooLong:
+        bounds.reached("pivots")
+        return None
+    if found is not None:
+        bounds.use("pivots", MAX_PIVOTS - left[0])
     return found
 
 
@@ -610,7 +655,7 @@ def period_certificate(
             raise
         bounds.use("pivots_failed", MAX_PIVOTS - max(left[0], 0))
         return None
-    bounds.use("pivots" if found else "pivots_failed", MAX_PIVOTS - left[0])
+    bounds.use("pivots" if found else "pivots_failed", MAX_PIVOTS - max(left[0], 0))
     return certificate_of(exact, p, found, b if K.is_exact else None, box) if found else None
 
 

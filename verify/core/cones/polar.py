@@ -18,8 +18,8 @@ bounds of beta (:func:`verify.core.cones.period.beta_bounds`), which widen a con
 amount, the polar values lie within O(w^2) of the image: a cone around a direction that the period map draws
 in slowly (a spiral, whose contraction is close to 1) can close under them.
 
-:func:`spiral_seeds` gives such a cone: a polygon around the direction the rates tend to, shaped by the
-linear part of the period map there.
+:func:`verify.core.cones.shape.shaped_seeds` gives such a cone: a polytope around the direction the rates tend
+to, shaped by the linear part of the period map there.
 
 >>> from verify.models.cradle import cradle_system
 >>> s = cradle_system("0", 4)
@@ -33,7 +33,7 @@ from __future__ import annotations
 
 import itertools
 import math
-from collections.abc import Callable, Sequence
+from collections.abc import Sequence
 from fractions import Fraction
 from typing import Any
 
@@ -183,107 +183,3 @@ def _hull3(K: Any, vectors: Carried) -> list[int] | None:
             chain.append(pt)
     corners = {pt[2] for pt in lower[:-1] + upper[:-1]}
     return sorted(corners) if len(corners) >= 3 else None
-
-
-def spiral_seeds(
-    K: Any, direction: Sequence[Any], period_map: Callable[[Vector], Vector | None], b: Sequence[Any], sides: int = 16
-) -> list[Vector]:
-    """A polygon of ``sides`` rate vectors around ``direction`` (three rates, rationals), where the linear part of
-    the period map (``period_map``, a direction to a direction) turns and shrinks directions alike: the real
-    Jordan basis of its 2 x 2 Jacobian in the chart ``x_k = direction_k`` (k the largest entry), found by
-    exact central differences. Its radius is twice the rates' distance from the direction (in the 1-norm of
-    that basis, rounded up), so that b lies inside. Empty when the Jacobian has real eigenvalues (no spiral),
-    when the rates are still far from the direction, or when the chart fails.
-
-    A map that turns the directions around (-1, 0, 0) by 45 degrees and shrinks them by 1/sqrt(2):
-
-    >>> from verify.core.backends.rational import RationalBackend
-    >>> K = RationalBackend("python")
-    >>> q = lambda *xs: [K.convert(Fraction(x)) for x in xs]
-    >>> turn = lambda x: [x[0], (x[1] - x[2]) / 2, (x[1] + x[2]) / 2]
-    >>> corners = spiral_seeds(K, q(-1, 0, 0), turn, q(-1, "1/100", 0))
-    >>> len(corners), {str(v[0]) for v in corners}, max(abs(v[1]) for v in corners) < Fraction(1, 10)
-    (16, {'-1'}, True)
-    >>> spiral_seeds(K, q(-1, 0, 0), lambda x: [x[0], x[1] / 2, x[2] / 3], q(-1, "1/100", 0))  # no turn
-    []
-    """
-    d = [Fraction(K.to_number(x)) for x in direction]
-    if len(d) != 3:
-        return []
-    k = max(range(3), key=lambda i: abs(d[i]))
-    axes = [i for i in range(3) if i != k]
-
-    def chart(x: Sequence[Any]) -> list[Fraction] | None:
-        q = [Fraction(K.to_number(v)) for v in x]
-        if q[k] == 0 or (q[k] > 0) != (d[k] > 0):
-            return None
-        return [q[i] * d[k] / q[k] for i in axes]
-
-    def point(c: Sequence[Fraction]) -> Vector:
-        out = [Fraction(0)] * 3
-        out[k], out[axes[0]], out[axes[1]] = d[k], c[0], c[1]
-        return [K.convert(x) for x in out]
-
-    c0 = [d[i] for i in axes]
-    h = max(abs(x) for x in d) / 2**20
-    cols = []
-    for t in range(2):
-        ends = []
-        for sign in (1, -1):
-            c = list(c0)
-            c[t] += sign * h
-            y = period_map(point(c))
-            ends.append(chart(y) if y is not None else None)
-        if ends[0] is None or ends[1] is None:
-            return []
-        cols.append([((u - w) / (2 * h)).limit_denominator(2**24) for u, w in zip(*ends)])  # a shape, rounded
-    a, bb, c, dd = cols[0][0], cols[1][0], cols[0][1], cols[1][1]  # the Jacobian [[a, bb], [c, dd]]
-    disc = (a - dd) ** 2 + 4 * bb * c
-    if disc >= 0 or bb == 0:
-        return []
-    alpha, beta = (a + dd) / 2, _root(-disc, 24) / 2  # eigenvalues alpha +- i beta (beta rounded)
-    basis = ((bb, alpha - a), (Fraction(0), beta))  # Re and Im of the eigenvector (bb, lambda - a)
-    start = chart(b)
-    if start is None:
-        return []
-    off = [x - y for x, y in zip(start, c0)]
-    det = basis[0][0] * basis[1][1] - basis[1][0] * basis[0][1]
-    u = [(off[0] * basis[1][1] - off[1] * basis[1][0]) / det, (basis[0][0] * off[1] - basis[0][1] * off[0]) / det]
-    size = 2 * (abs(u[0]) + abs(u[1]))  # at least twice the rates' distance (the 1-norm bounds the 2-norm)
-    if size == 0:
-        return []
-    unit = Fraction(2) ** (size.numerator.bit_length() - size.denominator.bit_length() - 8)
-    radius = math.ceil(size / unit) * unit  # rounded up to 8 significant bits
-    if radius * max(abs(x) for row in basis for x in row) > abs(d[k]) / 4:
-        return []  # the rates are still far from the direction: a polygon that wide does not close
-    out = []
-    unit = radius * max(abs(x) for row in basis for x in row) / 2**16  # the corners rounded to short numbers
-    for cs, sn in _circle(sides):
-        shift = [radius * (cs * basis[0][i] + sn * basis[1][i]) for i in range(2)]
-        out.append(point([x + round(s / unit) * unit for x, s in zip(c0, shift)]))
-    return out
-
-
-def _root(q: Fraction, bits: int = 64) -> Fraction:
-    """A rational within 2^-bits relative of sqrt(q) (q > 0), from integer square roots."""
-    scale = 4**bits
-    return Fraction(math.isqrt(q.numerator * scale * q.denominator), 2**bits * q.denominator)
-
-
-def _circle(sides: int) -> list[tuple[Fraction, Fraction]]:
-    """``sides`` points near the unit circle, nearly evenly spaced: (1, 0) turned again and again by the
-    rational rotation ``((1 - t^2, -2t), (2t, 1 - t^2)) / (1 + t^2)`` with t near tan(pi / sides) (a few terms of
-    its series at pi ~ 355/113), each rounded to 20 bits. Exact rationals throughout; the polygon need not be
-    regular.
-
-    >>> [(round(float(x), 3), round(float(y), 3)) for x, y in _circle(4)]
-    [(1.0, 0.0), (0.003, 1.0), (-1.0, 0.007), (-0.01, -1.0)]
-    """
-    x = Fraction(355, 113) / sides
-    t = x + x**3 / 3 + 2 * x**5 / 15 + 17 * x**7 / 315
-    c, s = (1 - t * t) / (1 + t * t), 2 * t / (1 + t * t)
-    out, point = [], (Fraction(1), Fraction(0))
-    for _ in range(sides):
-        out.append(tuple(Fraction(round(v * 2**20), 2**20) for v in point))
-        point = (c * point[0] - s * point[1], s * point[0] + c * point[1])
-    return out  # type: ignore[return-value]
