@@ -11,8 +11,8 @@ imaginary parts of the eigenvector for each complex pair), L maps the polytope
 into itself when every modulus is below the polygons' inner radius, ``cos(pi / sides)``: the seeds are its
 corners, ``d + R c`` and ``d - R c`` for each real column c, the polygon's corners for each complex pair, R twice
 the rates' own gauge so that they lie inside. The period map is not linear, nor is the cone closed here: the
-seeds are a shape, found with rounded numbers (central differences in exact rationals, mpmath's eigenvectors when
-the chart has more than two dimensions), and :func:`verify.core.cones.period.close` checks every inclusion in
+seeds are a shape, found with rounded numbers (central differences in exact rationals; mpmath's eigenvectors, but
+for a spiral in a plane), and :func:`verify.core.cones.period.close` checks every inclusion in
 exact arithmetic, carrying multiple impulses by their polar values (:mod:`verify.core.cones.polar`).
 
 A map that turns the directions around (-1, 0, 0) by 45 degrees and shrinks them by 1/sqrt(2) (a spiral: one
@@ -202,8 +202,9 @@ def _corners(
     *,
     top: Fraction,
 ) -> list[Vector]:
-    """The corners of the polytope (module docstring) with R twice the largest gauge of the starts (rounded up
-    to 8 significant bits), each rounded to short numbers; none when R times the basis reaches top / 4."""
+    """The corners of the polytope (module docstring) with R twice the largest 1-norm of the starts' coordinates
+    in the basis (rounded up to 8 significant bits; a block's gauge is at most sqrt(2) times its 1-norm), each
+    rounded to short numbers; none when R times the basis reaches top / 4."""
     from verify.core.backends.rational import RationalBackend
 
     Q = RationalBackend("python")
@@ -213,7 +214,7 @@ def _corners(
         u = solve_columns(Q, basis, [x - y for x, y in zip(s, c0)])
         if u is None:
             return []
-        size = max(size, 2 * sum(abs(x) for x in u))  # a gauge is at most sqrt(2) times the 1-norm (a square's)
+        size = max(size, 2 * sum(abs(x) for x in u))
     if size == 0:
         return []
     unit = Fraction(2) ** (size.numerator.bit_length() - size.denominator.bit_length() - 8)
