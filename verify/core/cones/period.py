@@ -52,7 +52,7 @@ from typing import Any
 from verify.core import bounds
 from verify.core.cones.lp import SearchTooLong, feasible, pivot_budget, solve_columns
 from verify.core.cones.polar import MAX_VECTORS, extreme, forms, polar_values, pushed
-from verify.core.cones.shape import shaped_seeds
+from verify.core.cones.shape import rounded_direction, shaped_seeds
 from verify.core.cones.stages import Combine, Outer, product_cone
 from verify.core.engines.rates import beta_from_rates
 from verify.core.system import System, on_exact_field
@@ -439,17 +439,6 @@ def box_seeds(K: Any, center: Sequence[Any], radius: Sequence[Any]) -> list[Vect
     return out
 
 
-def _rounded(K: Any, v: Sequence[Any], on: Sequence[int], bits: int = 64) -> Vector:
-    """v / max |v_i| over i in ``on``, each entry rounded down to a multiple of 2^-bits (exact integers)."""
-    values = [Fraction(K.to_number(x)) for x in v]
-    top = max(abs(values[i]) for i in on)
-    out = []
-    for x in values:
-        q = x * 2**bits / top
-        out.append(K.convert(Fraction(q.numerator // q.denominator, 2**bits)))
-    return out
-
-
 def _hit(system: System, b: Sequence[Any], p: int) -> list[int]:
     """The constraints the rule hits in p impulses from b."""
     K = system.backend
@@ -472,7 +461,7 @@ def _limit(system: System, b: Sequence[Any], p: int, periods: int = 400) -> tupl
     on = _hit(system, b, p)
     if not on or all(b[i] == K.zero for i in on):
         return None
-    v = _rounded(K, [x if i in on else K.zero for i, x in enumerate(b)], on)
+    v = rounded_direction(K, [x if i in on else K.zero for i, x in enumerate(b)], on)
     for _ in range(periods):
         w: Vector | None = v
         for _ in range(p):  # the other rates are kept at 0: an impulse on H would make them incoming
@@ -480,7 +469,7 @@ def _limit(system: System, b: Sequence[Any], p: int, periods: int = 400) -> tupl
             w = [x if i in on else K.zero for i, x in enumerate(w)] if w is not None else None
         if w is None or all(w[i] == K.zero for i in on):
             return None
-        v = _rounded(K, w, on)
+        v = rounded_direction(K, w, on)
     return v, on
 
 

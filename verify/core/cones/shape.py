@@ -217,8 +217,7 @@ def _corners(
         size = max(size, 2 * sum(abs(x) for x in u))
     if size == 0:
         return []
-    unit = Fraction(2) ** (size.numerator.bit_length() - size.denominator.bit_length() - 8)
-    radius = math.ceil(size / unit) * unit
+    radius = round_up(size)
     scale = max(abs(x) for col in basis for x in col)
     if radius * scale > top / 4:
         return []  # the rates are still far from the direction: a polytope that wide does not close
@@ -231,6 +230,34 @@ def _corners(
         for cs, sn in circle(sides):
             shifts.append([radius * (cs * x + sn * y) for x, y in zip(*cols)])
     return [point([x + round(s / unit) * unit for x, s in zip(c0, shift)]) for shift in shifts]
+
+
+def round_up(x: Fraction) -> Fraction:
+    """x rounded up to 8 significant bits (x > 0): a short size that is at least x.
+
+    >>> round_up(Fraction(1, 3))
+    Fraction(171, 512)
+    """
+    unit = Fraction(2) ** (x.numerator.bit_length() - x.denominator.bit_length() - 8)
+    return math.ceil(x / unit) * unit
+
+
+def rounded_direction(K: Any, v: Sequence[Any], on: Sequence[int], bits: int = 64) -> Vector:
+    """v / max |v_i| over i in ``on``, each entry rounded down to a multiple of 2^-bits (exact integers): a
+    direction in short numbers.
+
+    >>> from verify.core.backends.rational import RationalBackend
+    >>> K = RationalBackend("python")
+    >>> [str(x) for x in rounded_direction(K, [K.convert(Fraction(-3)), K.one], [0], bits=4)]
+    ['-1', '5/16']
+    """
+    values = [Fraction(K.to_number(x)) for x in v]
+    top = max(abs(values[i]) for i in on)
+    out = []
+    for x in values:
+        q = x * 2**bits / top
+        out.append(K.convert(Fraction(q.numerator // q.denominator, 2**bits)))
+    return out
 
 
 def _root(q: Fraction, bits: int = 64) -> Fraction:

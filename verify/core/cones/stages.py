@@ -29,13 +29,12 @@ period's last impulse goes back to the generators):
 from __future__ import annotations
 
 import itertools
-import math
 from collections.abc import Callable, Sequence
 from fractions import Fraction
 from typing import Any
 
 from verify.core.cones.lp import solve_columns
-from verify.core.cones.shape import Block, Chart, circle, jacobian, real_blocks
+from verify.core.cones.shape import Block, Chart, circle, jacobian, real_blocks, round_up, rounded_direction
 
 Vector = list[Any]
 Carried = list[tuple[Vector, bool]]
@@ -119,19 +118,6 @@ def _gauge(u: Sequence[Fraction], polygon: list[tuple[Fraction, Fraction]] | Non
     return out
 
 
-def _up(x: Fraction) -> Fraction:
-    """x rounded up to 8 significant bits (x > 0)."""
-    unit = Fraction(2) ** (x.numerator.bit_length() - x.denominator.bit_length() - 8)
-    return math.ceil(x / unit) * unit
-
-
-def _normalized(K: Any, x: Vector, on: Sequence[int]) -> Vector:
-    """x / max |x_i| over ``on``, each entry rounded to a multiple of 2^-64 (a short direction)."""
-    values = [Fraction(K.to_number(v)) for v in x]
-    top = max(abs(values[i]) for i in on)
-    return [K.convert(Fraction(round(v * 2**64 / top), 2**64)) for v in values]
-
-
 def _stages(chart: Chart, on: Sequence[int], step: Step, p: int, blocks: list[Block]) -> list[_Stage] | None:
     """The stages 0, ..., p - 1: the direction carried by the impulses (rounded), and the eigenbasis carried by the
     Jacobians of the impulses so far, or None when an impulse finds nothing to hit or a chart fails."""
@@ -149,7 +135,7 @@ def _stages(chart: Chart, on: Sequence[int], step: Step, p: int, blocks: list[Bl
         nxt = steps(direction, n)
         if nxt is None:
             return None
-        here = Chart(K, _normalized(K, nxt, on), on)
+        here = Chart(K, rounded_direction(K, nxt, on), on)
         if len(here.axes) != len(chart.axes):
             return None
         J = jacobian(chart, lambda x, n=n: steps(x, n), here)  # type: ignore[misc]
@@ -194,7 +180,7 @@ def product_cone(
     size = 2 * max((max(g) for g in sizes if g), default=Fraction(0))
     if size == 0:
         return None
-    size = _up(size)
+    size = round_up(size)
     scale = max(abs(x) for col in stages[0].basis for x in col)
     if size * scale > chart.top / 4:
         return None  # the points are still far from the direction
@@ -206,7 +192,7 @@ def product_cone(
             return None if any(g is not None and max(g) > size for g in found) else vectors
         if any(g is None for g in found):
             return None
-        widths = [_up(max(g[b] for g in found) or size / 2**16) for b in range(len(stage.shapes))]  # type: ignore[index]
+        widths = [round_up(max(g[b] for g in found) or size / 2**16) for b in range(len(stage.shapes))]  # type: ignore[index]
         return [(v, True) for v in stage.corners(widths)]
 
     def combine(y: Vector, first: int) -> dict[int, Any] | None:
