@@ -568,7 +568,10 @@ def _check_polar(G: sp.Matrix, e: list, cert: dict, gens: list, strict: list) ->
             if len(J) == 1 or all(Gq[i][j] == 0 for i in J for j in J if i < j):
                 moved = [([v[m] - _push(Gq, eq, J, v)[m] for m in range(r)], t) for v, t in vs]
             else:
-                moved = _polar(Gq, eq, J, vs)
+                found = _polar(Gq, eq, J, vs)
+                if found is None:
+                    return [f"impulse {n}: a strict vector's own value is 0"]
+                moved = found
             for y, t in moved:
                 inside = cone.contains(y) if all(flags) else _cone_lp(y, target, flags, t)
                 if not inside:
@@ -591,8 +594,10 @@ def _cubic(G: list, e: list, J: list, x: list) -> list:
     return [D * v - N * w for v, w in zip(x, a)]
 
 
-def _polar(G: list, e: list, J: list, vs: list) -> list:
-    """6 P(u, v, w) for every triple of the vectors (polarization), strict when one of the three is."""
+def _polar(G: list, e: list, J: list, vs: list) -> list | None:
+    """6 P(u, v, w) for every triple of the vectors (polarization), strict when the three are: a point with weight
+    c > 0 on a strict u has weight c^3 on P(u, u, u) = C(u), which must not be 0 (else None: the point u itself
+    would leave no rate)."""
     add = lambda *xs: [sum(c) for c in zip(*xs)]  # noqa: E731
     C = {}
     vecs = [v for v, _ in vs]
@@ -613,8 +618,11 @@ def _polar(G: list, e: list, J: list, vs: list) -> list:
 
         parts = [c(k, l, m), c(k, l), c(k, m), c(l, m), c(k), c(l), c(m)]
         y = [a - b - cc - d + f + g + h for a, b, cc, d, f, g, h in zip(*parts)]
+        strict = vs[k][1] and vs[l][1] and vs[m][1]
         if any(y):
-            out.append((y, vs[k][1] or vs[l][1] or vs[m][1]))
+            out.append((y, strict))
+        elif strict and k == l == m:
+            return None
     return out
 
 

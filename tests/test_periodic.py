@@ -241,3 +241,50 @@ def test_without_the_boxes_the_four_rates_stay_at_their_budget(monkeypatch):
 
     monkeypatch.setattr(period, "product_cone", lambda *args, **kwargs: None)
     assert _four_run().stop == "budget"
+
+
+# a general system of four plastic contacts under the symmetric rule, left at its size budget by the thorough census:
+# period (2,3)(0,3) of two multiple impulses. The rates of the three constraints it hits tend to 0 against the
+# rate of the fourth, which the run holds positive (a face of the outgoing rates) and which the period lowers:
+# a cone around the direction of the hit rates alone holds points whose fourth rate the period makes negative.
+# The box around that direction, lifted along the fourth rate (the weak unit vector beside it), is carried
+FACE = {
+    "mass_matrix": [["4", "0", "1", "1", "-2"], ["0", "25/9", "5/6", "-5/3", "0"], ["1", "5/6", "3/2", "-1/4", "-1/2"],
+                    ["1", "-5/3", "-1/4", "7/2", "-5/4"], ["-2", "0", "-1/2", "-5/4", "49/36"]],
+    "normals": [["-2", "0", "1", "0", "0"], ["0", "2", "-2", "0", "0"], ["0", "0", "-2", "1", "0"],
+                ["0", "0", "0", "0", "2"]],
+    "time_terms": ["0", "0", "0", "0"],
+    "restitution": ["0", "0", "0", "0"],
+    "velocity": ["32083/44580", "9793/22290", "32083/22290", "-3281/11145", "-3/2"],
+}  # fmt: skip
+
+
+def _face_run() -> Any:
+    system = System(FACE["mass_matrix"], FACE["normals"], FACE["restitution"], FACE["time_terms"])
+    budget = Budget(bits=4096, intervals=True)
+    return solve(system, FACE["velocity"], rule="symmetric", max_iterations=1000, budget=budget)
+
+
+def test_rates_by_a_face_are_proved_by_a_lifted_box_and_the_checker_agrees():
+    r = _face_run()
+    assert r.stop == "non_terminating"
+    cert = r.certificate
+    assert cert["multiple impulses"] == "polar values"
+    weak = [g for g, s in zip(cert["generators"], cert["strict"]) if not s]
+    assert weak == [["0", "1", "0", "0"]]  # the constraint the period never hits
+    assert all(F(g[1]) > 0 for g in cert["generators"])  # every corner lifted along its rate
+    args = (cert, FACE["mass_matrix"], FACE["normals"])
+    assert certificate_check.check_period(*args, restitution=FACE["restitution"]) == []
+    seeds = 2 * sum(F(x) != 0 for x in cert["box"]["radius"])  # the box's own generators come first
+    bare = copy.deepcopy(cert)  # the corners without their lift: the period hits the fourth constraint from them
+    bare["generators"] = [g if k < seeds or not s else [x if i != 1 else "0" for i, x in enumerate(g)]
+                          for k, (g, s) in enumerate(zip(cert["generators"], cert["strict"]))]  # fmt: skip
+    assert sum(a != b for a, b in zip(bare["generators"], cert["generators"])) == 4
+    assert certificate_check.check_period(bare, *args[1:], restitution=FACE["restitution"]) != []
+
+
+def test_without_the_lift_the_face_run_stays_at_its_budget(monkeypatch):
+    from verify.core.cones import period
+
+    monkeypatch.setattr(period, "_lift", lambda *args: None)
+    assert _face_run().stop == "budget"

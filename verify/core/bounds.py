@@ -67,7 +67,7 @@ BOUNDS: dict[str, Bound] = {
     ),
     "carried": Bound(
         "verify.core.cones.period:MAX_CARRIED",
-        "vectors carried through one impulse of a period",
+        "vectors carried through one impulse of a period (boxes: but the last)",
         "the search gives up",
     ),
     "generators": Bound(

@@ -45,7 +45,7 @@ from __future__ import annotations
 
 import itertools
 import math
-from collections.abc import Sequence
+from collections.abc import Callable, Sequence
 from fractions import Fraction
 from typing import Any
 
@@ -53,7 +53,7 @@ from verify.core import bounds
 from verify.core.cones.lp import SearchTooLong, feasible, pivot_budget, solve_columns
 from verify.core.cones.polar import MAX_VECTORS, extreme, forms, polar_values, pushed
 from verify.core.cones.shape import rounded_direction, shaped_seeds
-from verify.core.cones.stages import Combine, Outer, product_cone
+from verify.core.cones.stages import Combine, Lift, Outer, product_cone
 from verify.core.engines.rates import beta_from_rates
 from verify.core.system import System, on_exact_field
 from verify.errors import Undecided
@@ -264,7 +264,10 @@ def carry(
                     bounds.reached("polar_vectors")
                     return None
                 bounds.use("polar_vectors", len(vs))
-                moved = polar_values(system, J, vs)
+                values = polar_values(system, J, vs)
+                if values is None:
+                    return None
+                moved = values
                 moved = moved if outer is not None else extreme(K, moved)  # enclosed, or turned away, below
             else:
                 betas = [K.one] if linear_step(system, J) else _widened(K, beta_bounds(system, J, [v for v, _ in vs]))
@@ -282,6 +285,8 @@ def carry(
             current = enclosed
         elif outer is None:  # with outer, the last impulse's vectors are kept: each has its combination below
             current = extreme(K, current) if stages is not None else _prune(K, current)
+        if outer is not None and n == p - 1:  # each gets its combination from the box, without linear programming
+            break
         if len(current) > MAX_CARRIED:
             bounds.reached("carried")
             return None
@@ -379,12 +384,14 @@ def close(
     limit = start + MAX_GENERATORS
     for done in range(1, rounds + 1):
         stages: list[Carried] | None = [] if polar else None
-        carried = carry(system, gens, strict, p, stages, outer=outer)
+        inner = _inside(K, gens, strict, len(seeds), combine)
+        carried = carry(system, [g for i, g in enumerate(gens) if i not in inner],
+                        [s for i, s in enumerate(strict) if i not in inner], p, stages, outer=outer)  # fmt: skip
         if carried is None:
             return None
         out, missing = [], []
         for y, s in carried:
-            d = combine(y, len(seeds)) if combine is not None else None
+            d = combine(y, len(seeds), gens) if combine is not None else None
             d = d if d is not None else member(K, y, gens)
             if d is None or (s and not any(strict[k] for k in d)):
                 missing.append((y, s))
@@ -403,6 +410,20 @@ def close(
     if rounds == MAX_ROUNDS:
         bounds.reached("rounds")
     return None
+
+
+def _inside(K: Any, gens: Sequence[Vector], strict: Sequence[bool], seeds: int, combine: Combine | None) -> set[int]:
+    """The seeds that ``combine`` writes as combinations of the other generators with weight on a strict one: the
+    same cone without them, so they are not carried (the values of a multiple impulse are trilinear: a seed's
+    lie in the cone of the others')."""
+    if combine is None:
+        return set()
+    out = set()
+    for i in range(seeds):
+        d = combine(gens[i], seeds, gens)
+        if d is not None and i not in d and any(strict[k] and K.sign(w) > 0 for k, w in d.items()):
+            out.add(i)
+    return out
 
 
 def _inflated(K: Any, y: Vector, center: Vector) -> Vector:
@@ -522,7 +543,8 @@ def cone_search(
     (``2 P b - lam b``, from ``guide`` = (b, the rates one period before)), then (rational backends)
     with points around that direction (:func:`_limit`, :func:`_around`), then, when that direction draws the
     rates in, with a polytope around it shaped by the period's linear part there and multiple impulses carried
-    by their polar values (:func:`_shaped`, a search with pivots of its own)."""
+    by their polar values (:func:`_shaped`, a search with pivots of its own; lifted along the rates the run holds
+    positive off the period when the hit rates tend to 0 against them, :func:`_lift`)."""
     K = system.backend
     b, _ = guide
     found = close(system, p, seeds, _beyond(system, p, guide))
@@ -542,10 +564,13 @@ def _shaped(system: System, p: int, seeds: Sequence[Vector], limit: tuple[Vector
     """A cone of the seeds closed around a polytope shaped by the period at the direction of ``limit``, multiple
     impulses carried by polar values: for four rates or more, boxes carried stage by stage
     (:func:`verify.core.cones.stages.product_cone`), else the corners of
-    :func:`verify.core.cones.shape.shaped_seeds`; a search with :data:`MAX_PIVOTS` of its own."""
+    :func:`verify.core.cones.shape.shaped_seeds`; a search with :data:`MAX_PIVOTS` of its own. Where the rates lie
+    by a face of the outgoing ones (:func:`_lift`), the boxes, lifted, in a chart of two dimensions too."""
     K = system.backend
-    staged = product_cone(K, *limit, lambda x: _rule_step(system, x), p=p, points=seeds)
-    shaped = shaped_seeds(K, *limit, lambda x: _rule_steps(system, x, p), seeds) if staged is None else []
+    lift = _lift(system, p, seeds[0], limit)
+    step = (lambda x: _rule_step(system, x)) if lift is None else _on_step(system, limit[1])
+    staged = product_cone(K, *limit, step, p=p, points=seeds, lift=lift)
+    shaped = shaped_seeds(K, *limit, lambda x: _rule_steps(system, x, p), seeds) if staged is None and not lift else []
     if staged is None and not shaped:
         return None
     try:
@@ -560,6 +585,39 @@ def _shaped(system: System, p: int, seeds: Sequence[Vector], limit: tuple[Vector
     if found is not None:
         bounds.use("pivots", MAX_PIVOTS - left[0])
     return found
+
+
+def _lift(system: System, p: int, point: Sequence[Any], limit: tuple[Vector, list[int]]) -> Lift | None:
+    """The lift of :func:`verify.core.cones.stages.product_cone` when the rates near ``point`` (the run's) lie by a
+    face of the outgoing ones: the direction of ``limit`` (0 off H, the constraints a period hits) is hit off H
+    within a period, while ``point`` holds positive rates there. Then u is the point's rates off H over their
+    largest a, and L a power of 2 at most half of a over the point's size on H in the direction's units (so that
+    the point stays in the lifted cone); else None."""
+    K = system.backend
+    direction, on = limit
+    off = [i for i in range(system.r) if i not in on and K.sign(point[i]) > 0]
+    if not off or set(_hit(system, direction, p)) <= set(on):
+        return None
+    top = max(on, key=lambda i: abs(Fraction(K.to_number(direction[i]))))
+    a = max(Fraction(K.to_number(point[i])) for i in off)
+    size = abs(Fraction(K.to_number(point[top])) / Fraction(K.to_number(direction[top])))
+    if size == 0:
+        return None
+    u = [point[i] / K.convert(a) if i in off else K.zero for i in range(system.r)]
+    q = a / size
+    k = q.numerator.bit_length() - q.denominator.bit_length()  # floor(log2 q) is k or k - 1, exactly
+    return u, Fraction(2) ** ((k if Fraction(2) ** k <= q else k - 1) - 1)
+
+
+def _on_step(system: System, on: list[int]) -> Callable[[Vector], Vector | None]:
+    """One impulse of the rule on the rates of ``on`` alone, the others kept at 0 (they evolve by the rates of
+    ``on``, not the reverse: :func:`_limit`)."""
+
+    def step(x: Vector) -> Vector | None:
+        y = _rule_step(system, x)
+        return None if y is None else [v if i in on else system.backend.zero for i, v in enumerate(y)]
+
+    return step
 
 
 class _Sampled:

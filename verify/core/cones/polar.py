@@ -85,10 +85,13 @@ def forms(system: Any, J: Sequence[int], vs: Sequence[Vector]) -> tuple[dict, di
     return N, D
 
 
-def polar_values(system: Any, J: Sequence[int], vectors: Carried) -> Carried:
+def polar_values(system: Any, J: Sequence[int], vectors: Carried) -> Carried | None:
     """The polar values ``P(v_k, v_l, v_m)`` of the vectors (module docstring), each triple once, the zero
-    ones left out; a value is strict when one of its three vectors is (a point with weight on a strict
-    vector has weight on its own value, so marking more values strict only asks more of them).
+    ones left out; a value is strict when its three vectors are: a point with weight c_k > 0 on a strict v_k
+    has weight c_k^3 on ``P(v_k, v_k, v_k)``, so that value carries its strictness. None when that value is
+    0 for a strict v_k (the point v_k itself would lose every rate). A value with a vector that is not strict
+    stays weak: a weak vector on which the impulse does nothing (a constraint off the period, 0 on J) gives
+    values along itself, which need not be hit.
 
     >>> from verify.models.cradle import cradle_system
     >>> s = cradle_system("0", 4)
@@ -114,8 +117,11 @@ def polar_values(system: Any, J: Sequence[int], vectors: Carried) -> Carried:
             - N[a, b] * pushes[c][i] - N[b, c] * pushes[a][i] - N[a, c] * pushes[b][i]
             for i in range(system.r)
         ]  # fmt: skip
+        strict = vectors[a][1] and vectors[b][1] and vectors[c][1]
         if any(x != K.zero for x in y):
-            out.append((y, vectors[a][1] or vectors[b][1] or vectors[c][1]))
+            out.append((y, strict))
+        elif strict and a == b == c:
+            return None
     return out
 
 

@@ -24,11 +24,24 @@ period's last impulse goes back to the generators):
 ...                                        points=[q(-1, "1/100", "1/100", 0)])
 >>> len(corners), {str(v[0]) for v in corners}, sorted({str(v[1]) for v in corners})
 (8, {'-1'}, ['-41/2048', '41/2048'])
+
+Three rates drawn in while a fourth, never hit, stays positive (the run lies by a face of the outgoing rates): the
+square around the direction in a chart of two dimensions, lifted by 4 along the fourth rate, and a point of the run
+as a combination of its corners and the fourth unit vector (generator 5):
+
+>>> u = q(0, 0, 0, 1)
+>>> corners, outer, combine = product_cone(K, q(-1, 0, 0, 0), [0, 1, 2], lambda x: [x[0], x[1] / 2, x[2] / 3, 0],
+...                                        p=1, points=[q(-1, "1/100", "1/100", 5)], lift=(u, Fraction(4)))
+>>> [[str(x) for x in c] for c in corners[:2]]
+[['-1', '41/2048', '41/2048', '4'], ['-1', '41/2048', '-41/2048', '4']]
+>>> str(combine(q(-1, "1/100", "1/100", 5), 1, [q(-1, "1/100", "1/100", 5), *corners, u])[5])
+'1'
 """
 
 from __future__ import annotations
 
 import itertools
+import math
 from collections.abc import Callable, Sequence
 from fractions import Fraction
 from typing import Any
@@ -40,14 +53,18 @@ Vector = list[Any]
 Carried = list[tuple[Vector, bool]]
 Step = Callable[[Vector], "Vector | None"]
 Outer = Callable[[int, Carried], "Carried | None"]
-Combine = Callable[[Vector, int], "dict[int, Any] | None"]
+Combine = Callable[[Vector, int, Sequence[Vector]], "dict[int, Any] | None"]
+#: the rates off the chart that the run holds positive, as a vector u (0 on the chart's rates, its largest
+#: entry 1), and the level L of u on the generators: each corner c becomes c + L u (see :func:`product_cone`)
+Lift = tuple[Vector, Fraction]
 
 
 class _Stage:
     """The chart, the carried basis and the blocks' corners and gauges at one impulse of the period."""
 
-    def __init__(self, chart: Chart, basis: list[list[Fraction]], blocks: list[Block]):
-        self.chart, self.basis, self.shapes = chart, basis, []
+    def __init__(self, chart: Chart, basis: list[list[Fraction]], blocks: list[Block], lift: Vector | None = None):
+        self.chart, self.basis, self.shapes, self.lift = chart, basis, [], lift
+        self._inverse: list[Any] | None = None  # the basis' inverse, by columns, found when first needed
         at = 0
         for cols, sides in blocks:
             width = len(cols)
@@ -56,44 +73,77 @@ class _Stage:
 
     def gauges(self, x: Sequence[Any]) -> list[Fraction] | None:
         """Each block's gauge of x (its size in the block's own shape), or None outside the chart."""
-        from verify.core.backends.rational import RationalBackend
-
         chart = self.chart
-        if any(x[i] != chart.K.zero for i in range(len(x)) if i != chart.k and i not in chart.axes):
+        seen = [i for i in range(len(x)) if i != chart.k and i not in chart.axes]
+        if self.lift is None and any(x[i] != chart.K.zero for i in seen):
             return None  # a rate the chart does not see (a weak generator's): not enclosed here
         y = chart.coords(x)
         if y is None:
             return None
-        u = solve_columns(RationalBackend("python"), self.basis, [a - b for a, b in zip(y, chart.center)])
+        u = self.coordinates(y)
         if u is None:
             return None
         return [_gauge(u[at : at + width], polygon) for at, width, polygon in self.shapes]
 
-    def weights(self, x: Sequence[Any], size: Fraction) -> list[Any] | None:
-        """x as a non-negative combination of the corners of the box of ``size`` (every block an interval, x inside):
-        the corner of signs s gets x_k / d_k times prod_j (1 + s_j t_j) / 2, t the coordinates of x over the size
-        (the multilinear weights, which sum to 1); None for a polygon block or a vector outside the box."""
-        chart = self.chart
-        if any(polygon is not None for _, _, polygon in self.shapes) or self.gauges(x) is None:
-            return None
-        from verify.core.backends.rational import RationalBackend
+    def coordinates(self, y: Sequence[Fraction]) -> list[Fraction] | None:
+        """The chart point y in the carried basis, around the center (the basis' inverse found once, by one exact
+        solve for each unit vector); None when the basis is singular."""
+        if self._inverse is None:
+            from verify.core.backends.rational import RationalBackend
 
-        y = chart.coords(x)
-        u = solve_columns(RationalBackend("python"), self.basis, [a - b for a, b in zip(y, chart.center)])  # type: ignore[arg-type]
-        t = [v / size for v in u]  # type: ignore[union-attr]
-        if any(abs(v) > 1 for v in t):
+            K, n = RationalBackend("python"), len(self.basis)
+            self._inverse = [solve_columns(K, self.basis, [Fraction(int(i == j)) for i in range(n)]) for j in range(n)]
+        cols = self._inverse
+        d = [a - b for a, b in zip(y, self.chart.center)]
+        if any(col is None for col in cols):
             return None
+        return [sum((col[i] * x for col, x in zip(cols, d)), Fraction(0)) for i in range(len(self.basis))]
+
+    def level(self, x: Sequence[Any]) -> Fraction | None:
+        """With a lift u: the largest l with x - s l u >= 0 off the chart (s = x_k / d_k, x's scale in the
+        chart), or None when a rate off the chart is negative or there is no lift."""
+        chart, u = self.chart, self.lift
+        if u is None:
+            return None
+        K = chart.K
+        scale = Fraction(K.to_number(x[chart.k])) / chart.d[chart.k]
+        off = [i for i in range(len(x)) if i != chart.k and i not in chart.axes]
+        values = [Fraction(K.to_number(x[i])) for i in off]
+        if scale <= 0 or any(v < 0 for v in values):
+            return None
+        return min(v / (scale * Fraction(K.to_number(u[i]))) for i, v in zip(off, values) if u[i] != K.zero)
+
+    def weights(self, x: Sequence[Any], size: Fraction) -> list[Any] | None:
+        """x as a non-negative combination of the corners of the box of ``size`` (x inside), in the order of
+        :meth:`corners`: the corner made of one vertex of each block gets x_k / d_k times the product of the
+        vertices' weights in their blocks, which sum to 1 in each: (1 + s t) / 2 for the ends s = +-1 of an
+        interval (t the coordinate over the size), the barycentric weights of the polygon's fan triangle from its
+        first corner that holds the point for a polygon; None for a vector outside the box."""
+        chart = self.chart
+        if self.gauges(x) is None:
+            return None
+        y = chart.coords(x)
+        u = self.coordinates(y)  # type: ignore[arg-type]
+        if u is None:
+            return None
+        per_block = []
+        for at, width, polygon in self.shapes:
+            t = [v / size for v in u[at : at + width]]
+            found = _interval_weights(t[0]) if polygon is None else _fan_weights(t, polygon)
+            if found is None:
+                return None
+            per_block.append(found)
         scale = Fraction(chart.K.to_number(x[chart.k])) / chart.d[chart.k]
         out = []
-        for signs in itertools.product((1, -1), repeat=len(t)):
+        for combo in itertools.product(*per_block):
             w = scale
-            for sj, tj in zip(signs, t):
-                w *= (1 + sj * tj) / 2
+            for part in combo:
+                w *= part
             out.append(chart.K.convert(w))
         return out
 
-    def corners(self, sizes: Sequence[Fraction]) -> list[Vector]:
-        """The corners of the product of the blocks, each of its size."""
+    def corners(self, sizes: Sequence[Fraction], level: Fraction = Fraction(0)) -> list[Vector]:
+        """The corners of the product of the blocks, each of its size (plus ``level`` times the lift)."""
         options = []
         for (_, width, polygon), size in zip(self.shapes, sizes):
             pts = [(Fraction(1),), (Fraction(-1),)] if polygon is None else polygon
@@ -103,6 +153,9 @@ class _Stage:
             t = [c for part in combo for c in part]
             out.append(self.chart.point([c + sum(tj * col[i] for tj, col in zip(t, self.basis)) for i, c in
                                          enumerate(self.chart.center)]))  # fmt: skip
+        if self.lift is not None and level:
+            up = self.chart.K.convert(level)
+            out = [[x + up * w for x, w in zip(c, self.lift)] for c in out]
         return out
 
 
@@ -118,12 +171,14 @@ def _gauge(u: Sequence[Fraction], polygon: list[tuple[Fraction, Fraction]] | Non
     return out
 
 
-def _stages(chart: Chart, on: Sequence[int], step: Step, p: int, blocks: list[Block]) -> list[_Stage] | None:
+def _stages(
+    chart: Chart, on: Sequence[int], step: Step, p: int, blocks: list[Block], *, lift: Vector | None = None
+) -> list[_Stage] | None:
     """The stages 0, ..., p - 1: the direction carried by the impulses (rounded), and the eigenbasis carried by the
     Jacobians of the impulses so far, or None when an impulse finds nothing to hit or a chart fails."""
     K = chart.K
     basis = [col for cols, _ in blocks for col in cols]
-    out = [_Stage(chart, basis, blocks)]
+    out = [_Stage(chart, basis, blocks, lift)]
     direction = chart.point(chart.center)
 
     def steps(x: Vector | None, n: int) -> Vector | None:
@@ -142,25 +197,40 @@ def _stages(chart: Chart, on: Sequence[int], step: Step, p: int, blocks: list[Bl
         if J is None:
             return None
         carried = [[sum((row[t] * col[t] for t in range(len(col))), Fraction(0)) for row in J] for col in basis]
-        out.append(_Stage(here, carried, blocks))
+        out.append(_Stage(here, carried, blocks, lift))
     return out
 
 
 def product_cone(
-    K: Any, direction: Sequence[Any], on: Sequence[int], step: Step, *, p: int, points: Sequence[Sequence[Any]]
+    K: Any,
+    direction: Sequence[Any],
+    on: Sequence[int],
+    step: Step,
+    *,
+    p: int,
+    points: Sequence[Sequence[Any]],
+    lift: Lift | None = None,
 ) -> tuple[list[Vector], Outer, Combine] | None:
     """The generators (the corners of the product at stage 0, wide enough to hold twice every one of ``points``)
     and the enclosure of each later stage (``outer(n, vectors)``: the corners of the product at stage n that holds
     the vectors, or None; at n = p, the vectors themselves, or None when one of them lies outside the cone of the
     generators, seen without linear programming: the points, and so the generators that are not corners, lie in
     the box, and a vector without the weak generators' rates lies in the cone only inside it), and the combination
-    of the corners that gives a vector inside the box (``combine(y, first)``, the corners' indices from
-    ``first``; None where a block is a polygon), for the p impulses of ``step`` (one impulse of the rule, a
-    direction to a direction) around ``direction`` over the rates ``on``. None when the chart has fewer than
-    three dimensions (there :func:`verify.core.cones.shape.shaped_seeds`), when the direction is not drawn in,
-    when the points are far from it, or when a chart fails."""
+    of the corners that gives a vector inside the box (``combine(y, first, gens)``, the corners' indices from
+    ``first``; each block's own weights: an interval's ends, a polygon's fan triangle), for the p impulses of
+    ``step`` (one impulse of the rule, a direction to a direction) around ``direction`` over the rates ``on``.
+    None when the chart has fewer than three dimensions (there :func:`verify.core.cones.shape.shaped_seeds`),
+    when the direction is not drawn in, when the points are far from it, or when a chart fails.
+
+    With a ``lift`` (u, L), for rates near a face of the outgoing ones (the rates ``on`` tend to 0 against
+    others that the run holds positive and the period lowers): every corner is lifted by L u, so
+    that the rates off the chart stay positive, and each stage's corners by the lowest level of u among its
+    vectors (:meth:`_Stage.level`), with the weak unit vectors off the chart beside them; at n = p a vector
+    lies in the cone when it lies in the box and its level is at least L, the rest of its rates off the chart
+    then given to the weak unit vectors. Charts of two dimensions are taken too (``step`` must then keep the
+    rates off the chart at 0: a shape of the rates ``on`` alone)."""
     chart = Chart(K, direction, on)
-    if len(chart.axes) < 3:
+    if len(chart.axes) < (2 if lift is not None else 3):
         return None
 
     def period(x: Vector) -> Vector | None:
@@ -171,7 +241,7 @@ def product_cone(
 
     L = jacobian(chart, period)
     blocks = real_blocks(L) if L is not None else None
-    stages = _stages(chart, on, step, p, blocks) if blocks else None
+    stages = _stages(chart, on, step, p, blocks, lift=lift[0] if lift else None) if blocks else None
     if not stages:
         return None
     sizes = [stages[0].gauges(x) for x in points]
@@ -184,19 +254,93 @@ def product_cone(
     scale = max(abs(x) for col in stages[0].basis for x in col)
     if size * scale > chart.top / 4:
         return None  # the points are still far from the direction
+    cone = _Product(K, stages, size, lift, [k for k in range(len(direction)) if k != chart.k and k not in chart.axes])
+    return stages[0].corners([size] * len(stages[0].shapes), cone.base), cone.outer, cone.combine
 
-    def outer(n: int, vectors: Carried) -> Carried | None:
-        stage = stages[n % p]
+
+class _Product:
+    """The enclosures and combinations of :func:`product_cone`, for its stages and the generators' box size."""
+
+    def __init__(self, K: Any, stages: list[_Stage], size: Fraction, lift: Lift | None, off: list[int]):
+        self.K, self.stages, self.size, self.lift = K, stages, size, lift
+        self.base = lift[1] if lift is not None else Fraction(0)
+        n = len(stages[0].chart.d)
+        self.weak = [[K.one if i == k else K.zero for i in range(n)] for k in off] if lift is not None else []
+
+    def outer(self, n: int, vectors: Carried) -> Carried | None:
+        """The corners of the product at stage n that holds the vectors (and the weak unit vectors off the chart,
+        which stay themselves); at n = p, the vectors, or None when one lies outside the generators' cone."""
+        K, p, lifted = self.K, len(self.stages), self.lift is not None
+        stage = self.stages[n % p]
+        vectors = [(v, s) for v, s in vectors if not _along(K, v, self.weak)]
         found = [stage.gauges(v) for v, _ in vectors]
+        levels = [stage.level(v) for v, _ in vectors] if lifted else []
         if n == p:  # back at the generators: a vector the chart sees outside their box is outside their cone
-            return None if any(g is not None and max(g) > size for g in found) else vectors
-        if any(g is None for g in found):
+            if any(x is None or x < self.base for x in levels):
+                return None
+            return None if any(g is not None and max(g) > self.size for g in found) else vectors
+        if any(g is None for g in found) or any(x is None for x in levels):
             return None
-        widths = [round_up(max(g[b] for g in found) or size / 2**16) for b in range(len(stage.shapes))]  # type: ignore[index]
-        return [(v, True) for v in stage.corners(widths)]
+        widths = [round_up(max(g[b] for g in found) or self.size / 2**16) for b in range(len(stage.shapes))]  # type: ignore[index]
+        level = _round_down(min(x for x in levels if x is not None)) if levels else Fraction(0)
+        return [(v, True) for v in stage.corners(widths, level)] + [(list(e), False) for e in self.weak]
 
-    def combine(y: Vector, first: int) -> dict[int, Any] | None:
-        w = stages[0].weights(y, size)
-        return None if w is None else {first + i: x for i, x in enumerate(w) if x != K.zero}
+    def combine(self, y: Vector, first: int, gens: Sequence[Vector]) -> dict[int, Any] | None:
+        """y as a combination of the generators (the corners' indices from ``first``; the weak unit vectors found in
+        ``gens``), or None outside the box or below the lift."""
+        K = self.K
+        if _along(K, y, self.weak):  # a weak unit vector's multiple: itself
+            k = next(i for i, x in enumerate(y) if x != K.zero)
+            at = next((j for j, g in enumerate(gens) if g[k] != K.zero and _along(K, g, self.weak)), None)
+            return None if at is None else {at: y[k] / gens[at][k]}
+        w = self.stages[0].weights(y, self.size)
+        if w is None:
+            return None
+        out = {first + i: x for i, x in enumerate(w) if x != K.zero}
+        total = sum(w, K.zero)
+        for e in self.weak:  # what y holds off the chart beyond the lifted corners' part goes to the unit vectors
+            k = next(i for i, x in enumerate(e) if x != K.zero)
+            rest = y[k] - total * K.convert(self.base) * self.lift[0][k]  # type: ignore[index]
+            at = next((j for j, g in enumerate(gens) if list(g) == e), None)
+            if K.sign(rest) < 0 or (at is None and rest != K.zero):
+                return None
+            if rest != K.zero:
+                out[at] = rest  # type: ignore[index]
+        return out
 
-    return stages[0].corners([size] * len(stages[0].shapes)), outer, combine
+
+def _interval_weights(t: Fraction) -> list[Fraction] | None:
+    """The weights of the ends +1, -1 of [-1, 1] that give t, or None outside it."""
+    return None if abs(t) > 1 else [(1 + t) / 2, (1 - t) / 2]
+
+
+def _fan_weights(t: Sequence[Fraction], polygon: list[tuple[Fraction, Fraction]]) -> list[Fraction] | None:
+    """The weights of the polygon's corners that give the point t: barycentric in the first triangle
+    (corner 0, corner i, corner i + 1) that holds it; None when none does (t outside the polygon)."""
+    (x0, y0), (x, y) = polygon[0], (t[0], t[1])
+    for i in range(1, len(polygon) - 1):
+        (x1, y1), (x2, y2) = polygon[i], polygon[i + 1]
+        det = (x1 - x0) * (y2 - y0) - (x2 - x0) * (y1 - y0)
+        if det == 0:
+            continue
+        b = ((x - x0) * (y2 - y0) - (x2 - x0) * (y - y0)) / det
+        c = ((x1 - x0) * (y - y0) - (x - x0) * (y1 - y0)) / det
+        if b >= 0 and c >= 0 and b + c <= 1:
+            out = [Fraction(0)] * len(polygon)
+            out[0], out[i], out[i + 1] = 1 - b - c, b, c
+            return out
+    return None
+
+
+def _along(K: Any, v: Sequence[Any], units: Sequence[Vector]) -> bool:
+    """Whether v is a positive multiple of one of the unit vectors ``units``."""
+    nonzero = [i for i, x in enumerate(v) if x != K.zero]
+    return len(nonzero) == 1 and K.sign(v[nonzero[0]]) > 0 and any(u[nonzero[0]] != K.zero for u in units)
+
+
+def _round_down(x: Fraction) -> Fraction:
+    """x rounded down to 8 significant bits (x >= 0): a short level that is at most x."""
+    if x <= 0:
+        return Fraction(0)
+    unit = Fraction(2) ** (x.numerator.bit_length() - x.denominator.bit_length() - 8)
+    return math.floor(x / unit) * unit
