@@ -588,15 +588,16 @@ def _shaped(system: System, p: int, seeds: Sequence[Vector], limit: tuple[Vector
 
 
 def _lift(system: System, p: int, point: Sequence[Any], limit: tuple[Vector, list[int]]) -> Lift | None:
-    """The lift of :func:`verify.core.cones.stages.product_cone` when the rates near ``point`` (the run's) lie by a
-    face of the outgoing ones: the direction of ``limit`` (0 off H, the constraints a period hits) is hit off H
-    within a period, while ``point`` holds positive rates there. Then u is the point's rates off H over their
-    largest a, and L a power of 2 at most half of a over the point's size on H in the direction's units (so that
-    the point stays in the lifted cone); else None."""
+    """The lift of :func:`verify.core.cones.stages.product_cone` when ``point`` (the run's rates) holds positive rates
+    off H (the constraints a period hits), which a period moves but never hits: u is the point's rates off H over
+    their largest a, and L a power of 2 at most half of a over the point's size on H in the units of the direction
+    of ``limit`` (so that the point stays in the lifted cone); else None. Without it the corners, 0 off H, may be
+    hit there (rates by a face of the outgoing ones: the rates of H tend to 0 against those off H, which the period
+    lowers), and the weak unit vectors off H make the cone's vectors too many for linear programming."""
     K = system.backend
     direction, on = limit
     off = [i for i in range(system.r) if i not in on and K.sign(point[i]) > 0]
-    if not off or set(_hit(system, direction, p)) <= set(on):
+    if not off:
         return None
     top = max(on, key=lambda i: abs(Fraction(K.to_number(direction[i]))))
     a = max(Fraction(K.to_number(point[i])) for i in off)

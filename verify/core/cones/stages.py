@@ -222,8 +222,8 @@ def product_cone(
     None when the chart has fewer than three dimensions (there :func:`verify.core.cones.shape.shaped_seeds`),
     when the direction is not drawn in, when the points are far from it, or when a chart fails.
 
-    With a ``lift`` (u, L), for rates near a face of the outgoing ones (the rates ``on`` tend to 0 against
-    others that the run holds positive and the period lowers): every corner is lifted by L u, so
+    With a ``lift`` (u, L), for a run that holds positive rates off ``on`` which the period moves but never hits
+    (near a face of the outgoing ones when the rates ``on`` tend to 0 against them): every corner is lifted by L u, so
     that the rates off the chart stay positive, and each stage's corners by the lowest level of u among its
     vectors (:meth:`_Stage.level`), with the weak unit vectors off the chart beside them; at n = p a vector
     lies in the cone when it lies in the box and its level is at least L, the rest of its rates off the chart
