@@ -143,6 +143,25 @@ SPIRAL = {
 }  # fmt: skip
 
 
+def test_polar_values_are_strict_when_their_three_vectors_are():
+    """A value is strict only when its three vectors are (a weak vector's values need not be hit), and a strict
+    vector whose own value is 0 (a plastic multiple impulse that leaves every rate at 0: rates (1, -1) along an
+    eigenvector of G with beta = 2) is refused, by the search and by the checker alike."""
+    from verify.core.cones.polar import polar_values
+
+    system = System([[1, 0, 0], [0, 1, 0], [0, 0, 1]], [[-1, 1, 0], [0, -1, 1]], [0, 0])  # G = [[2, -1], [-1, 2]]
+    K = system.backend
+    q = lambda *xs: [K.convert(F(x)) for x in xs]  # noqa: E731
+    found = polar_values(system, (0, 1), [(q(-1, 0), True), (q(0, 1), False)])
+    assert found is not None and [t for _, t in found] == [True, False, False, False]
+    assert polar_values(system, (0, 1), [(q(1, 1), True)]) is None  # G (1, 1) = (1, 1): beta = 2 takes all
+    assert polar_values(system, (0, 1), [(q(1, 1), False)]) == []
+    G, e = [[F(2), F(-1)], [F(-1), F(2)]], [F(0), F(0)]
+    assert certificate_check._polar(G, e, [0, 1], [([F(1), F(1)], True)]) is None
+    assert [t for _, t in certificate_check._polar(G, e, [0, 1], [([F(-1), F(0)], True), ([F(0), F(1)], False)])] == [
+        True, False, False, False]  # fmt: skip
+
+
 def test_a_spiral_is_proved_by_polar_values_and_the_checker_agrees():
     system = System(SPIRAL["mass_matrix"], SPIRAL["normals"], SPIRAL["restitution"])
     # the census' settings: exact numbers past 4,096 bits go on on certified intervals (without a budget they
