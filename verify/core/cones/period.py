@@ -483,11 +483,11 @@ def _limit(system: System, b: Sequence[Any], p: int, periods: int = 400) -> tupl
     if not on or all(b[i] == K.zero for i in on):
         return None
     v = rounded_direction(K, [x if i in on else K.zero for i, x in enumerate(b)], on)
+    step = _on_step(system, on)
     for _ in range(periods):
         w: Vector | None = v
         for _ in range(p):  # the other rates are kept at 0: an impulse on H would make them incoming
-            w = _rule_step(system, w) if w is not None else None
-            w = [x if i in on else K.zero for i, x in enumerate(w)] if w is not None else None
+            w = step(w) if w is not None else None
         if w is None or all(w[i] == K.zero for i in on):
             return None
         v = rounded_direction(K, w, on)
@@ -605,14 +605,12 @@ def _lift(system: System, p: int, point: Sequence[Any], limit: tuple[Vector, lis
     if size == 0:
         return None
     u = [point[i] / K.convert(a) if i in off else K.zero for i in range(system.r)]
-    q = a / size
-    k = q.numerator.bit_length() - q.denominator.bit_length()  # floor(log2 q) is k or k - 1, exactly
-    return u, Fraction(2) ** ((k if Fraction(2) ** k <= q else k - 1) - 1)
+    return u, Fraction(2) ** (_exponent(a / size) - 2)  # 2^(e-1) <= a / size: half of that
 
 
 def _on_step(system: System, on: list[int]) -> Callable[[Vector], Vector | None]:
     """One impulse of the rule on the rates of ``on`` alone, the others kept at 0 (they evolve by the rates of
-    ``on``, not the reverse: :func:`_limit`)."""
+    ``on``, not the reverse): the direction of :func:`_limit`, the shapes of a lifted box."""
 
     def step(x: Vector) -> Vector | None:
         y = _rule_step(system, x)

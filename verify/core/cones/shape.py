@@ -85,7 +85,7 @@ def shaped_seeds(
 class Chart:
     """The chart ``x_k = d_k`` through a direction d (rationals) over the entries ``on``, k the largest of them:
     a rate vector x (x_k of d_k's sign) is seen as ``x_i d_k / x_k`` for the other entries of ``on``
-    (:attr:`axes`); :attr:`center` is d's own."""
+    (:attr:`axes`); :attr:`center` is d's own, :attr:`off` the entries the chart does not see."""
 
     def __init__(self, K: Any, direction: Sequence[Any], on: Sequence[int]):
         self.K = K
@@ -95,6 +95,7 @@ class Chart:
         self.axes = [i for i in on if i != self.k] if live and len(on) >= 2 else []
         self.center = [d[i] for i in self.axes]
         self.top = abs(d[self.k]) if live else Fraction(0)
+        self.off = [i for i in range(len(d)) if i != self.k and i not in self.axes]
 
     def coords(self, x: Sequence[Any]) -> list[Fraction] | None:
         """x in the chart, or None when x_k is 0 or of the other sign."""
@@ -238,8 +239,21 @@ def round_up(x: Fraction) -> Fraction:
     >>> round_up(Fraction(1, 3))
     Fraction(171, 512)
     """
-    unit = Fraction(2) ** (x.numerator.bit_length() - x.denominator.bit_length() - 8)
-    return math.ceil(x / unit) * unit
+    return math.ceil(x / _unit(x)) * _unit(x)
+
+
+def round_down(x: Fraction) -> Fraction:
+    """x rounded down to 8 significant bits (0 for x <= 0): a short level that is at most x.
+
+    >>> round_down(Fraction(1, 3))
+    Fraction(85, 256)
+    """
+    return math.floor(x / _unit(x)) * _unit(x) if x > 0 else Fraction(0)
+
+
+def _unit(x: Fraction) -> Fraction:
+    """A power of 2 near 2^-8 x (x > 0): the 8th significant bit, or the 9th."""
+    return Fraction(2) ** (x.numerator.bit_length() - x.denominator.bit_length() - 8)
 
 
 def rounded_direction(K: Any, v: Sequence[Any], on: Sequence[int], bits: int = 64) -> Vector:

@@ -41,13 +41,12 @@ as a combination of its corners and the fourth unit vector (generator 5):
 from __future__ import annotations
 
 import itertools
-import math
 from collections.abc import Callable, Sequence
 from fractions import Fraction
 from typing import Any
 
 from verify.core.cones.lp import solve_columns
-from verify.core.cones.shape import Block, Chart, circle, jacobian, real_blocks, round_up, rounded_direction
+from verify.core.cones.shape import Block, Chart, circle, jacobian, real_blocks, round_down, round_up, rounded_direction
 
 Vector = list[Any]
 Carried = list[tuple[Vector, bool]]
@@ -74,8 +73,7 @@ class _Stage:
     def gauges(self, x: Sequence[Any]) -> list[Fraction] | None:
         """Each block's gauge of x (its size in the block's own shape), or None outside the chart."""
         chart = self.chart
-        seen = [i for i in range(len(x)) if i != chart.k and i not in chart.axes]
-        if self.lift is None and any(x[i] != chart.K.zero for i in seen):
+        if self.lift is None and any(x[i] != chart.K.zero for i in chart.off):
             return None  # a rate the chart does not see (a weak generator's): not enclosed here
         y = chart.coords(x)
         if y is None:
@@ -107,11 +105,10 @@ class _Stage:
             return None
         K = chart.K
         scale = Fraction(K.to_number(x[chart.k])) / chart.d[chart.k]
-        off = [i for i in range(len(x)) if i != chart.k and i not in chart.axes]
-        values = [Fraction(K.to_number(x[i])) for i in off]
+        values = [Fraction(K.to_number(x[i])) for i in chart.off]
         if scale <= 0 or any(v < 0 for v in values):
             return None
-        return min(v / (scale * Fraction(K.to_number(u[i]))) for i, v in zip(off, values) if u[i] != K.zero)
+        return min(v / (scale * Fraction(K.to_number(u[i]))) for i, v in zip(chart.off, values) if u[i] != K.zero)
 
     def weights(self, x: Sequence[Any], size: Fraction) -> list[Any] | None:
         """x as a non-negative combination of the corners of the box of ``size`` (x inside), in the order of
@@ -254,7 +251,7 @@ def product_cone(
     scale = max(abs(x) for col in stages[0].basis for x in col)
     if size * scale > chart.top / 4:
         return None  # the points are still far from the direction
-    cone = _Product(K, stages, size, lift, [k for k in range(len(direction)) if k != chart.k and k not in chart.axes])
+    cone = _Product(K, stages, size, lift, chart.off)
     return stages[0].corners([size] * len(stages[0].shapes), cone.base), cone.outer, cone.combine
 
 
@@ -262,7 +259,7 @@ class _Product:
     """The enclosures and combinations of :func:`product_cone`, for its stages and the generators' box size."""
 
     def __init__(self, K: Any, stages: list[_Stage], size: Fraction, lift: Lift | None, off: list[int]):
-        self.K, self.stages, self.size, self.lift = K, stages, size, lift
+        self.K, self.stages, self.size, self.lift, self.off = K, stages, size, lift, off
         self.base = lift[1] if lift is not None else Fraction(0)
         n = len(stages[0].chart.d)
         self.weak = [[K.one if i == k else K.zero for i in range(n)] for k in off] if lift is not None else []
@@ -282,26 +279,29 @@ class _Product:
         if any(g is None for g in found) or any(x is None for x in levels):
             return None
         widths = [round_up(max(g[b] for g in found) or self.size / 2**16) for b in range(len(stage.shapes))]  # type: ignore[index]
-        level = _round_down(min(x for x in levels if x is not None)) if levels else Fraction(0)
+        level = round_down(min(x for x in levels if x is not None)) if levels else Fraction(0)
         return [(v, True) for v in stage.corners(widths, level)] + [(list(e), False) for e in self.weak]
 
     def combine(self, y: Vector, first: int, gens: Sequence[Vector]) -> dict[int, Any] | None:
         """y as a combination of the generators (the corners' indices from ``first``; the weak unit vectors found in
         ``gens``), or None outside the box or below the lift."""
         K = self.K
+
+        def unit(k: int) -> int | None:  # the index of the weak unit vector e_k among the generators
+            return next((j for j, g in enumerate(gens) if list(g) == self.weak[self.off.index(k)]), None)
+
         if _along(K, y, self.weak):  # a weak unit vector's multiple: itself
             k = next(i for i, x in enumerate(y) if x != K.zero)
-            at = next((j for j, g in enumerate(gens) if g[k] != K.zero and _along(K, g, self.weak)), None)
-            return None if at is None else {at: y[k] / gens[at][k]}
+            at = unit(k)
+            return None if at is None else {at: y[k]}
         w = self.stages[0].weights(y, self.size)
         if w is None:
             return None
         out = {first + i: x for i, x in enumerate(w) if x != K.zero}
         total = sum(w, K.zero)
-        for e in self.weak:  # what y holds off the chart beyond the lifted corners' part goes to the unit vectors
-            k = next(i for i, x in enumerate(e) if x != K.zero)
+        for k in self.off if self.weak else ():  # what y holds off the chart beyond the lifted corners' goes to e_k
             rest = y[k] - total * K.convert(self.base) * self.lift[0][k]  # type: ignore[index]
-            at = next((j for j, g in enumerate(gens) if list(g) == e), None)
+            at = unit(k)
             if K.sign(rest) < 0 or (at is None and rest != K.zero):
                 return None
             if rest != K.zero:
@@ -336,11 +336,3 @@ def _along(K: Any, v: Sequence[Any], units: Sequence[Vector]) -> bool:
     """Whether v is a positive multiple of one of the unit vectors ``units``."""
     nonzero = [i for i, x in enumerate(v) if x != K.zero]
     return len(nonzero) == 1 and K.sign(v[nonzero[0]]) > 0 and any(u[nonzero[0]] != K.zero for u in units)
-
-
-def _round_down(x: Fraction) -> Fraction:
-    """x rounded down to 8 significant bits (x >= 0): a short level that is at most x."""
-    if x <= 0:
-        return Fraction(0)
-    unit = Fraction(2) ** (x.numerator.bit_length() - x.denominator.bit_length() - 8)
-    return math.floor(x / unit) * unit
