@@ -85,7 +85,8 @@ def map_budget_options(p: argparse.ArgumentParser) -> None:
     p.add_argument("--leaving", action="store_true",
                    help="where the runs repeat a period whose eigenvalues all have modulus eps (above a boundary of "
                         "never-exits), prove that every eps exits: the rates leave the period, and exit where they "
-                        "leave it (exact cells of eps and a slope; minutes)")  # fmt: skip
+                        "leave it (exact cells of eps and a slope), or, for a period of two turning pairs (five "
+                        "unit balls), the rule run on certified cells of eps; minutes")  # fmt: skip
     p.add_argument("--quiet", action="store_true", help="no progress line on stderr")
 
 

@@ -115,6 +115,31 @@ BOUNDS: dict[str, Bound] = {
         "halvings of a piece below a boundary on which no turning cone closes (``--halvings``)",
         "the search for turning cones ends there, and what lies above is left unexplored",
     ),
+    "cell_tail": Bound(
+        "verify.maps.torus:TAIL",
+        "impulses a branch of a cell of eps takes after it leaves the period, before it exits",
+        "the cell is halved (below 1e-14, left undecided)",
+    ),
+    "cell_entries": Bound(
+        "verify.maps.torus:ENTRIES",
+        "times a branch of a cell of eps comes back to the period",
+        "the cell is halved (below 1e-14, left undecided)",
+    ),
+    "cell_branches": Bound(
+        "verify.maps.torus:NODES",
+        "impulses followed over all branches of one cell of eps",
+        "the cell is halved (below 1e-14, left undecided)",
+    ),
+    "cell_periods": Bound(
+        "verify.maps.torus:MAX_PERIODS",
+        "periods a branch of a cell of eps follows in one stay in the period",
+        "the cell is halved (below 1e-14, left undecided)",
+    ),
+    "cell_undecided": Bound(
+        "verify.maps.torus:MAX_UNDECIDED",
+        "cells narrower than 1e-14 left undecided by one sweep of an interval",
+        "the sweep gives up: the interval stays unexplored",
+    ),
     "run_bits": Bound(
         "verify.checks.properties.verdicts:CENSUS_BITS",
         "bits of the exact numbers of a run under a size budget (the verdicts' and the census': this one)",

@@ -34,13 +34,17 @@ import sympy as sp
 
 from verify.core.algebraic import RealAlgebraic
 from verify.core.backends.symbolic import EPS, Piece, RootCache, Split, SymbolicBackend
-from verify.core.format import format_decimal
+from verify.core.format import format_decimal, format_exact
 from verify.core.rule import solve
 from verify.core.system import System
+from verify.core.termination import MAX_PERIOD
 from verify.maps import DEFAULT_HALVINGS, DEFAULT_WIDEN
 from verify.maps.boundary import Decided, Pattern, closed_below, pattern_of
 from verify.maps.growth import grown_below
 from verify.maps.leaving import GAP, exits_above
+from verify.maps.meanvalue import PRECISION
+from verify.maps.torus import GAP as GAP_CELLS
+from verify.maps.torus import Cells, exits_on_cells
 from verify.maps.turning import closed_below_turning
 from verify.maps.watch import Watch
 from verify.maps.widen import around_point, point_run, without
@@ -73,7 +77,8 @@ class Part:
 def _cone_of(certificate: dict[str, Any] | None) -> tuple:
     """What a certificate's cone is made of (two parts with equal cones can be merged)."""
     c = certificate or {}
-    return c.get("mu"), c.get("generators"), c.get("images"), c.get("strict")
+    cells = c.get("cuts") if c.get("kind") == "exits on cells" else None  # each part keeps its own cells
+    return c.get("mu"), c.get("generators"), c.get("images"), c.get("strict"), cells
 
 
 def line_parts(
@@ -173,7 +178,7 @@ def bounded(
     if stopped and not decided:
         return [_stopped(part, stopped)]
     if pattern is None:
-        return [part]
+        return _left_the_period(build, velocity, part, cache, watch=watch) if leaving else [part]
     if not decided and not leaving:
         return [part]
     if not decided:  # no boundary here: it may lie above one, where every eps exits
@@ -200,8 +205,9 @@ def bounded(
                       "not decided")  # fmt: skip
         elif leaving and star is None and piece.lower.cmp(decided[-1].piece.upper) >= 0 and not piece.is_point:
             undecided = _above_reason(part.iterations, pattern, boundary)
+            at = piece.lower.cmp(decided[-1].piece.upper) == 0
             later = _exits_later(build, velocity, part, piece, pattern=pattern, undecided=undecided, cache=cache,
-                                 watch=watch)  # fmt: skip
+                                 watch=watch, above_boundary=at)  # fmt: skip
             out += later if later is not None else [Part(piece, part.stop, part.iterations, part.impact_sets,
                                                          part.exit_velocity, reason=undecided + "; not decided",
                                                          parameter=part.parameter)]  # fmt: skip
@@ -251,12 +257,19 @@ def _exits_later(
     undecided: str,
     cache: RootCache,
     watch: Watch | None = None,
+    above_boundary: bool = False,
 ) -> list[Part] | None:
     """The unexplored ``piece`` (of ``part``), whose runs repeat ``pattern``, with what
     :func:`~verify.maps.leaving.exits_above` proves there: every eps exits, but in a gap just above a boundary and at
     the irrational eps it lists, which keep ``undecided`` (the reason that says where they lie); None without a
-    proof. When ``watch``'s budget or Ctrl-C stops the proof's cells, ``piece`` is unexplored with that reason."""
+    proof. Where the period is two turning pairs, the certified cells of :mod:`verify.maps.torus` decide instead
+    (``above_boundary``: the piece starts at the boundary). When ``watch``'s budget or Ctrl-C stops the proof's
+    cells, ``piece`` is unexplored with that reason."""
     found = exits_above(build, velocity, piece, pattern, cache, watch=watch)
+    if found is None and not (watch is not None and watch.stopped):
+        cells = exits_on_cells(build, velocity, piece, pattern, cache, above_boundary=above_boundary, watch=watch)
+        if cells is not None and not (watch is not None and watch.stopped):
+            return _cell_parts(part, piece, pattern, cells, undecided)
     if found is None and watch is not None and watch.stopped:
         whole = Part(piece, part.stop, part.iterations, part.impact_sets, part.exit_velocity, parameter=part.parameter)
         return [_stopped(whole, watch.stopped, "the proof that it exits")]
@@ -281,6 +294,66 @@ def _exits_later(
                                            "this irrational eps (a line of measure 0); not decided"))  # fmt: skip
         else:
             out.append(left(p, exits, found.certificate))
+    return out
+
+
+def _left_the_period(
+    build: Callable[[SymbolicBackend], System],
+    velocity: Sequence[Any],
+    part: Part,
+    cache: RootCache,
+    *,
+    watch: Watch | None = None,
+) -> list[Part]:
+    """The unexplored ``part`` whose runs do not end on a period at the map's bound, with what the certified cells
+    of :mod:`verify.maps.torus` prove there when they repeated a period of two turning pairs before (runs that
+    left it and had not exited yet)."""
+    sets = [tuple(J) for J in part.impact_sets]
+    for start in range(len(sets)):
+        for p in range(1, MAX_PERIOD + 1):
+            block = sets[start : start + 3 * p]
+            if len(block) < 3 * p or block != block[:p] * 3:
+                continue
+            found = exits_on_cells(build, velocity, part.piece, Pattern(start, tuple(block[:p])), cache, watch=watch)
+            if watch is not None and watch.stopped:
+                return [_stopped(part, watch.stopped, "the proof that it exits")]
+            if found is not None:
+                undecided = part.reason or f"still impacting after {part.iterations} impulses"
+                return _cell_parts(part, part.piece, Pattern(start, tuple(block[:p])), found, undecided)
+            return [part]
+    return [part]
+
+
+def _cell_parts(part: Part, piece: Piece, pattern: Pattern, cells: Cells, undecided: str) -> list[Part]:
+    """``piece`` cut into what the certified cells decide (every eps exits; one part for each run of adjacent
+    cells, its certificate listing them) and what they leave: the gap below the first cell, and the cells that
+    stayed undecided."""
+    exits = (f"every eps here exits, after more than {part.iterations} impulses: the rule run from the start on "
+             f"certified cells of eps, the period of {pattern} in closed form (its two pairs of eigenvalues turn) "
+             f"and every undecided sign followed both ways (verify.maps.torus)")  # fmt: skip
+    runs: list[list[tuple[Fraction, Fraction]]] = []
+    for a, b in cells.cells:
+        if runs and runs[-1][-1][1] == a:
+            runs[-1].append((a, b))
+        else:
+            runs.append([(a, b)])
+    spans = [(run[0][0], run[-1][1], run) for run in runs] + [(a, b, None) for a, b in cells.undecided]
+    out = []
+    for p in piece.cut([RealAlgebraic.rational(x) for a, b, _ in spans for x in (a, b) if piece.contains(
+            RealAlgebraic.rational(x))]):  # fmt: skip
+        run = next((r for a, b, r in spans if r is not None and p.lower.cmp(RealAlgebraic.rational(a)) >= 0
+                    and p.upper.cmp(RealAlgebraic.rational(b)) <= 0), None)  # fmt: skip
+        if run is None:
+            reason = undecided + (f"; within {format_decimal(GAP_CELLS, 12)} of it, not decided"
+                                  if p.upper.cmp(RealAlgebraic.rational(cells.lower)) <= 0 else
+                                  "; a cell of eps whose signs the certified runs do not decide")  # fmt: skip
+            out.append(Part(p, part.stop, part.iterations, part.impact_sets, part.exit_velocity, reason=reason,
+                            parameter=part.parameter))  # fmt: skip
+            continue
+        certificate = {"kind": "exits on cells", "pattern": str(pattern), "precision": PRECISION,
+                       "cuts": [format_exact(run[0][0])] + [format_exact(b) for _, b in run]}  # fmt: skip
+        out.append(Part(p, part.stop, part.iterations, part.impact_sets, part.exit_velocity, certificate, exits, True,
+                        parameter=part.parameter))  # fmt: skip
     return out
 
 

@@ -1,0 +1,154 @@
+"""Five unit balls above eps*: every eps exits, on certified cells (verify.maps.torus), checked by the test's own
+checker (tests/cells_check.py: its own period, projectors checked as identities, its own runs on its own numbers)."""
+
+from __future__ import annotations
+
+import itertools
+from fractions import Fraction as F
+
+import pytest
+import sympy as sp
+
+from tests.cells_check import Refused, check_cells, period_data, prepare
+from verify.core.algebraic import RealAlgebraic
+from verify.core.backends.symbolic import EPS, Piece
+from verify.errors import BadNumber
+from verify.maps.boundary import Pattern
+from verify.maps.cradle import cradle_map
+from verify.maps.line import undecided_length
+from verify.maps.meanvalue import cell, working_precision
+from verify.maps.torus import exit_cells, exits_on_cells, torus_period
+from verify.models.cradle import cradle_system
+
+NORMALS = [[-1, 1, 0, 0, 0], [0, -1, 1, 0, 0], [0, 0, -1, 1, 0], [0, 0, 0, -1, 1]]
+SETS = [(0, 2), (1, 3)]
+VELOCITY = ["1", "0", "0", "0", "0"]
+#: eps* = 0.25961618368..., a root of x^4 - 44 x^3 + 166 x^2 - 44 x + 1
+STAR = sp.CRootOf(sp.Poly([1, -44, 166, -44, 1], sp.Symbol("x")), 1)
+
+
+def _build(K):
+    return cradle_system(EPS, 5, backend=K)
+
+
+def _period(lo: F, hi: F):
+    return torus_period(_build, Piece.closed(lo, hi), Pattern(2, tuple(SETS)))
+
+
+@pytest.fixture(scope="module")
+def data():
+    return prepare([1] * 5, NORMALS, SETS)
+
+
+def test_the_checker_finds_two_turning_pairs_above_eps_star(data) -> None:
+    """The premise, from the checker's own period: two quadratics over Q(sqrt(5)) with roots of product eps^2,
+    complex just above eps* and beyond (|tau| < 2 eps), one pair real just below it."""
+    assert data["root"] == sp.sqrt(5)
+    for above in (STAR + sp.Rational(1, 10**7), sp.Rational(27, 100), sp.Rational(1, 2)):
+        assert all(sp.N((t / (2 * EPS)).subs(EPS, above) ** 2, 50) < 1 for t in data["taus"])
+    below = STAR - sp.Rational(1, 10**7)
+    assert any(sp.N((t / (2 * EPS)).subs(EPS, below) ** 2, 50) > 1 for t in data["taus"])
+
+
+@pytest.mark.parametrize(("lo", "width"), [("0.26", "0.0002"), ("0.2596171837", "0.00000001"), ("0.3", "0.05")])
+def test_cells_above_eps_star_exit_and_the_checker_agrees(lo: str, width: str, data) -> None:
+    """Every cell of a sweep exits (the library), and the checker proves each cell on its own. The second interval
+    lies 1e-6 above eps*, where a run follows the period for about 1,000 periods before it leaves."""
+    a, b = F(lo), F(lo) + F(width)
+    found = exit_cells(_period(a, b), VELOCITY, a, b)
+    assert found.undecided == [] and found.decided == b - a
+    assert found.cells[0][0] == a and found.cells[-1][1] == b
+    assert all(x[1] == y[0] for x, y in zip(found.cells, found.cells[1:]))
+    assert check_cells([[str(x), str(y)] for x, y in found.cells], [1] * 5, NORMALS, [1, 0, 0, 0, 0], SETS,
+                       data=data) == []  # fmt: skip
+    if lo == "0.2596171837":
+        assert found.deepest > 900
+
+
+def test_the_checker_refuses_cells_where_eps_never_exits(data) -> None:
+    """Below eps* every eps never exits (the growth certificate of the map): cells there are refused, as is a
+    cell that reaches over eps*."""
+    below = check_cells([[str(F(1, 4)), str(F(1, 4) + F(1, 10**6))]], [1] * 5, NORMALS, [1, 0, 0, 0, 0], SETS,
+                        halvings=1, data=data)  # fmt: skip
+    assert below and "real" in below[0]
+    assert check_cells([["0.2596", "0.2597"]], [1] * 5, NORMALS, [1, 0, 0, 0, 0], SETS, halvings=1, data=data)
+
+
+def test_the_library_leaves_undecided_what_it_cannot_prove() -> None:
+    """A sweep that reaches below eps* proves nothing there: its cells stop short of eps*, the rest undecided."""
+    a, b = F("0.25961618"), F("0.25961619")
+    found = exit_cells(_period(a, b), VELOCITY, a, b, min_width=F(1, 10**9))
+    assert found.undecided and found.undecided[0][0] == a
+    assert all(x > STAR for c in found.cells for x in c)
+
+
+def test_no_float_enters_the_cells() -> None:
+    """Velocities are read exactly (a binary float is refused) and the numbers of a cell are balls, not floats."""
+    a, b = F("0.27"), F("0.2701")
+    with pytest.raises(BadNumber):
+        exit_cells(_period(a, b), [1.0, 0, 0, 0, 0], a, b)
+    with working_precision():
+        e = cell(a, b)
+        assert type(e.point).__name__ == "arb" and type(e.slope).__name__ == "arb"
+
+    class Poisoned(F):
+        def __float__(self) -> float:
+            raise AssertionError("a float was taken")
+
+    found = exit_cells(_period(a, b), [Poisoned(1), Poisoned(0), 0, 0, 0], a, b)
+    assert found.decided == b - a
+
+
+def test_the_projectors_are_identities(data) -> None:
+    """E1 + E2 = 1 splits the period: checked exactly by the checker (it raises otherwise)."""
+    _G, P, _root, _taus, E1 = period_data([1] * 5, NORMALS, SETS)
+    assert sp.simplify((P * E1 - E1 * P)[0, 0]) == 0
+    with pytest.raises(Refused):
+        period_data([1] * 5, NORMALS, [(0, 1), (2, 3)])
+
+
+def _cells_of(certificate: dict) -> list[list[str]]:
+    cuts = certificate["cuts"]
+    return [[a, b] for a, b in itertools.pairwise(cuts)]
+
+
+def test_the_map_above_eps_star_proves_every_piece_and_the_checker_agrees(data) -> None:
+    """``cradle_map(..., leaving=True)`` on an interval above eps*: the pieces whose runs end on the period at the
+    bound and those that left it before (and had not exited yet) are each proved to exit, cell by cell, and the
+    checker proves every cell of every certificate."""
+    m = cradle_map(balls=5, lower="0.2685", upper="0.2715", max_impulses=20, leaving=True)
+    proved = [p for p in m.unexplored if p.exits_beyond_bound]
+    assert len(proved) >= 3 and all(p.certificate["kind"] == "exits on cells" for p in proved)
+    assert all(p.piece.is_point for p in m.unexplored if not p.exits_beyond_bound)
+    assert undecided_length(m.parts)[1] < F(1, 10**15)  # the points between pieces (measure 0)
+    for p in proved:
+        cells = _cells_of(p.certificate)
+        assert p.piece.lower.cmp(RealAlgebraic.rational(F(cells[0][0]))) >= 0
+        assert p.piece.upper.cmp(RealAlgebraic.rational(F(cells[-1][1]))) <= 0
+        assert check_cells(cells, [1] * 5, NORMALS, [1, 0, 0, 0, 0], SETS, data=data) == []
+
+
+def test_just_above_eps_star_a_gap_of_5e_minus_7_stays_undecided() -> None:
+    """The cells start 5e-7 above eps* (within 1e-15): a piece that starts at eps* keeps that gap undecided."""
+    piece = Piece(RealAlgebraic.from_number(STAR), RealAlgebraic.from_number(STAR + sp.Rational(52, 10**8)),
+                  False, True)  # fmt: skip
+    found = exits_on_cells(_build, VELOCITY, piece, Pattern(2, tuple(SETS)), above_boundary=True)
+    assert found is not None and found.undecided == []
+    assert F(0) < found.lower - sp.Rational(5, 10**7) - STAR < F(1, 10**14)
+    assert piece.upper.cmp(RealAlgebraic.rational(found.cells[-1][1])) <= 0
+
+
+@pytest.mark.slow
+def test_five_unit_balls_every_eps_above_eps_star_exits_but_less_than_1e_minus_6(data) -> None:
+    """The whole map of five unit balls with ``leaving`` (minutes): up to and at eps* never exits, and above it
+    every eps exits but a set of length below 1e-6 (the gap of 5e-7 above eps* and cells narrower than 1e-14);
+    the checker proves every cell of every certificate on its own."""
+    m = cradle_map(balls=5, max_impulses=20, leaving=True)
+    assert undecided_length(m.parts)[1] < F(1, 10**6)
+    star = RealAlgebraic.from_number(STAR)
+    assert all(p.piece.lower.cmp(star) >= 0 for p in m.unexplored)
+    proved = [p for p in m.unexplored if p.exits_beyond_bound]
+    assert proved
+    cells = [cell for p in proved for cell in _cells_of(p.certificate)]
+    assert len(cells) > 1000
+    assert check_cells(cells, [1] * 5, NORMALS, [1, 0, 0, 0, 0], SETS, data=data) == []
