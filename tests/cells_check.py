@@ -128,7 +128,8 @@ def _evaluator(expr, root):
             c = sp.expand(c)
             a = c.subs(root, 0)
             b = sp.expand((c - a) / root)
-            out.append((Fraction(str(sp.nsimplify(a))), Fraction(str(sp.nsimplify(b)))))
+            assert a.is_Rational and b.is_Rational, (a, b)
+            out.append((Fraction(int(a.p), int(a.q)), Fraction(int(b.p), int(b.q))))
         return out
 
     return coeffs(num), coeffs(den)

@@ -42,7 +42,7 @@ the period starts its closed form again (at most :data:`ENTRIES` times).
 from __future__ import annotations
 
 from collections.abc import Callable, Sequence
-from dataclasses import dataclass, field
+from dataclasses import dataclass
 from fractions import Fraction
 from typing import Any, cast
 
@@ -95,12 +95,15 @@ class TorusPeriod:
     M: sp.Matrix
     ext: Any
     taus: list[Any]
-    normals: list[list[Fraction]] = field(default_factory=list)
+    normals: list[list[Fraction]]
 
 
 def _fraction(x: Any) -> Fraction:
-    n, d = sp.fraction(sp.nsimplify(x))
-    return Fraction(int(n), int(d))
+    """A SymPy rational as a Fraction (anything else is refused, never approximated)."""
+    x = sp.sympify(x)
+    if not x.is_Rational:
+        raise InvalidInput(f"not a rational: {x}")
+    return Fraction(int(x.p), int(x.q))
 
 
 def torus_period(build: Build, piece: Piece, pattern: Pattern, cache: RootCache | None = None) -> TorusPeriod | None:
@@ -129,9 +132,12 @@ def torus_period(build: Build, piece: Piece, pattern: Pattern, cache: RootCache 
     if any(sp.simplify(a / top - b) != 0 for a, b in zip(monic.all_coeffs(), product.all_coeffs())):
         return None
     K = system.backend
-    gram = [[_fraction(sympified(K, x)) for x in row] for row in system.gram]
+    try:
+        gram = [[_fraction(sympified(K, x)) for x in row] for row in system.gram]
+        normals = [[_fraction(sympified(K, x)) for x in row] for row in system.normals]
+    except InvalidInput:  # masses or normals that are not rational: no cells here
+        return None
     restitution = [sp.cancel(sympified(K, x)) for x in system.restitution]
-    normals = [[_fraction(sympified(K, x)) for x in row] for row in system.normals]
     return TorusPeriod(pattern, gram, restitution, M, ext, taus, normals)
 
 
