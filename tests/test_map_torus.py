@@ -152,3 +152,14 @@ def test_five_unit_balls_every_eps_above_eps_star_exits_but_less_than_1e_minus_6
     cells = [cell for p in proved for cell in _cells_of(p.certificate)]
     assert len(cells) > 1000
     assert check_cells(cells, [1] * 5, NORMALS, [1, 0, 0, 0, 0], SETS, data=data) == []
+
+
+def test_any_phase_of_the_period_gives_the_same_cells(data) -> None:
+    """The period taken from its other phase, (S2,S4)(S1,S3) from impulse 3 on: the run looks for it from there,
+    and the cells prove the same interval (checked by the checker with that phase)."""
+    a, b = F("0.27"), F("0.2705")
+    phase = Pattern(3, ((1, 3), (0, 2)))
+    found = exit_cells(torus_period(_build, Piece.closed(a, b), phase), VELOCITY, a, b)
+    assert found.undecided == [] and found.decided == b - a
+    cells = [[str(x), str(y)] for x, y in found.cells]
+    assert check_cells(cells, [1] * 5, NORMALS, [1, 0, 0, 0, 0], [(1, 3), (0, 2)]) == []

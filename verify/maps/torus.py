@@ -293,13 +293,14 @@ class _Cell:
                 out.append(all(G[i][j] == 0 for j in J) and (known[i] or i in open_))
         return out
 
-    def run(self, b: list[MeanValue], tail: int = 0, entries: int = 0) -> None:
-        """Prove that every branch from the rates ``b`` exits (else raise :class:`CellUndecided`)."""
+    def run(self, b: list[MeanValue], tail: int = 0, entries: int = 0, *, steps: int = 0) -> None:
+        """Prove that every branch from the rates ``b`` exits (else raise :class:`CellUndecided`), looking for the
+        period every p impulses (after ``steps`` impulses first, when given: the pattern's start modulo p)."""
         p = len(self.pattern.sets)
         if tail > TAIL:
             bounds.reached("cell_tail")
             raise CellUndecided(f"a branch still impacting {TAIL} impulses after it left the period")
-        found = self.branches(b, p)
+        found = self.branches(b, steps or p)
         if all(exited for _, _, exited in found):
             bounds.use("cell_tail", tail)
         for sets, after, exited in found:
@@ -312,7 +313,7 @@ class _Cell:
                 bounds.use("cell_entries", entries + 1)
                 self.period(b, entries + 1)
             else:
-                self.run(after, tail + p, entries)
+                self.run(after, tail + len(sets), entries)
 
     def _closed(self, y: list[MeanValue]) -> list[tuple[list[MeanValue], list[MeanValue], MeanValue, MeanValue]]:
         parts = []
@@ -448,7 +449,7 @@ def exit_cells(
             b = min(upper, a + width)
             try:
                 c = _Cell(period, compiled, a, b)
-                c.run([c.e.constant(x) for x in rates])
+                c.run([c.e.constant(x) for x in rates], steps=period.pattern.start % len(period.pattern.sets))
             except CellUndecided:
                 if b - a >= min_width:
                     width = (b - a) / 2
