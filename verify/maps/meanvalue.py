@@ -69,7 +69,7 @@ class MeanValue:
         return MeanValue(b, b, ball(0), self.h)
 
     def _lift(self, other: Any) -> MeanValue:
-        return other if isinstance(other, MeanValue) else self.constant(other)
+        return other if type(other) is MeanValue else self.constant(other)
 
     def __add__(self, other: Any) -> MeanValue:
         o = self._lift(other)
@@ -88,7 +88,7 @@ class MeanValue:
         return MeanValue(-self.point, -self.value, -self.slope, self.h)
 
     def __mul__(self, other: Any) -> MeanValue:
-        if not isinstance(other, MeanValue):
+        if type(other) is not MeanValue:
             b = ball(other)
             return MeanValue(self.point * b, self.value * b, self.slope * b, self.h)
         return MeanValue(self.point * other.point, self.value * other.value,
@@ -149,6 +149,24 @@ def working_precision(bits: int = PRECISION) -> Iterator[None]:
         yield
     finally:
         flint.ctx.prec = before
+
+
+def combination(pairs: list[tuple[MeanValue, MeanValue]]) -> MeanValue:
+    """sum a * b over the pairs (a number of each pair's cell), without the numbers in between.
+
+    >>> with working_precision():
+    ...     e = cell(Fraction(1, 4), Fraction(1, 2))
+    ...     x = combination([(e, e), (e.constant(2), e)]) - (e * e + e * 2)
+    >>> x.is_zero() or x.enclosure().contains(0)
+    True
+    """
+    a, b = pairs[0]
+    point, value, slope = a.point * b.point, a.value * b.value, a.slope * b.value + a.value * b.slope
+    for a, b in pairs[1:]:
+        point += a.point * b.point
+        value += a.value * b.value
+        slope += a.slope * b.value + a.value * b.slope
+    return MeanValue(point, value, slope, a.h)
 
 
 def cell(lo: Fraction, hi: Fraction) -> MeanValue:

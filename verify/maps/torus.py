@@ -56,7 +56,7 @@ from verify.core.parse import to_number
 from verify.core.system import System
 from verify.errors import InvalidInput
 from verify.maps.boundary import LAM, Pattern, characteristic, pattern_map, sympified
-from verify.maps.meanvalue import MeanValue, ball, cell, working_precision
+from verify.maps.meanvalue import MeanValue, ball, cell, combination, working_precision
 from verify.maps.turning import extension, field_factors
 from verify.maps.watch import Watch
 
@@ -354,13 +354,10 @@ class _Cell:
     def _stays(self, forms: list[Any], parts: list[Any], k: Any) -> bool:
         """Every eps of the cell follows the period at its k-th time (k an integer or a ball of them), certified
         by the signs of the forms alone."""
-        weights = [((alpha * k).sin() / s, (alpha * (k - 1)).sin() / s) for _, _, alpha, s in parts]
+        weights = [((alpha * k).sin() / s, -((alpha * (k - 1)).sin() / s)) for _, _, alpha, s in parts]
         for values, wanted in forms:
-            total = None
-            for (now, before), (la, le) in zip(weights, values):
-                term = now * la - before * le
-                total = term if total is None else total + term
-            if total is None or total.sign() != wanted:
+            pairs = [pair for (now, before), (la, le) in zip(weights, values) for pair in ((now, la), (before, le))]
+            if combination(pairs).sign() != wanted:
                 return False
         return True
 
