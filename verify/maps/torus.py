@@ -52,7 +52,6 @@ from verify.core import bounds
 from verify.core.backends.symbolic import EPS, Piece, RootCache, SymbolicBackend
 from verify.core.engines.rates import coefficients
 from verify.core.format import format_decimal
-from verify.core.parse import to_number
 from verify.core.system import System
 from verify.errors import InvalidInput
 from verify.maps.boundary import LAM, Pattern, characteristic, pattern_map, sympified
@@ -87,7 +86,8 @@ class CellUndecided(Exception):
 @dataclass
 class TorusPeriod:
     """The exact data of a period of two turning pairs: the system's Gram matrix and CORs, the period M on the
-    rates (before the pattern's first impact set), sqrt(d) and tau1, tau2 over Q(sqrt(d))(eps)."""
+    rates (before the pattern's first impact set), sqrt(d) and tau1, tau2 over Q(sqrt(d))(eps), and the system
+    itself (on the symbolic backend: it gives the rates of a velocity)."""
 
     pattern: Pattern
     gram: list[list[Fraction]]
@@ -95,7 +95,7 @@ class TorusPeriod:
     M: sp.Matrix
     ext: Any
     taus: list[Any]
-    normals: list[list[Fraction]]
+    system: System
 
 
 def _fraction(x: Any) -> Fraction:
@@ -134,11 +134,10 @@ def torus_period(build: Build, piece: Piece, pattern: Pattern, cache: RootCache 
     K = system.backend
     try:
         gram = [[_fraction(sympified(K, x)) for x in row] for row in system.gram]
-        normals = [[_fraction(sympified(K, x)) for x in row] for row in system.normals]
     except InvalidInput:  # masses or normals that are not rational: no cells here
         return None
     restitution = [sp.cancel(sympified(K, x)) for x in system.restitution]
-    return TorusPeriod(pattern, gram, restitution, M, ext, taus, normals)
+    return TorusPeriod(pattern, gram, restitution, M, ext, taus, system)
 
 
 def _compile(expr: Any, ext: Any) -> Compiled:
@@ -417,10 +416,12 @@ class Cells:
 
 
 def _initial_rates(period: TorusPeriod, velocity: Sequence[Any]) -> list[Fraction]:
-    v = [to_number(x) for x in velocity]
-    if not all(isinstance(x, Fraction) for x in v):
-        raise InvalidInput("the certified cells of eps start from a rational velocity")
-    return [sum((n * x for n, x in zip(row, v)), Fraction(0)) for row in period.normals]
+    system = period.system
+    rates = system.rates(system.velocity(velocity))  # a number that is not one (a binary float) is refused here
+    try:
+        return [_fraction(sympified(system.backend, x)) for x in rates]
+    except InvalidInput:
+        raise InvalidInput("the certified cells of eps start from a rational velocity") from None
 
 
 def exit_cells(
