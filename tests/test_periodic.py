@@ -307,3 +307,34 @@ def test_without_the_lift_the_face_run_stays_at_its_budget(monkeypatch):
 
     monkeypatch.setattr(period, "_lift", lambda *args: None)
     assert _face_run().stop == "budget"
+
+
+# three plastic contacts under the symmetric rule, left at its size budget by the thorough census when it decided
+# such runs at 400 digits and capped them at 1000 impulses: a slow transient of multiple impulses on (0,2)(1,2)
+# whose Gram matrix is nearly singular, so its intervals lose about a digit per impulse. At the census' digits and
+# cap it reaches the period whose cone proves it, after more than 1000 impulses
+SLOW = {
+    "mass_matrix": [["4", "2", "-2", "0", "-2", "0"], ["2", "2", "0", "-1", "-2", "-1"],
+                    ["-2", "0", "6", "1", "-1", "-2"], ["0", "-1", "1", "19/9", "5/6", "5/6"],
+                    ["-2", "-2", "-1", "5/6", "121/36", "23/12"], ["0", "-1", "-2", "5/6", "23/12", "7/2"]],
+    "normals": [["1", "-1", "0", "-1", "2", "0"], ["-1/2", "0", "-2", "1/2", "2", "0"],
+                ["1", "0", "0", "-2", "0", "2"]],
+    "time_terms": ["0", "0", "0"],
+    "restitution": ["0", "0", "0"],
+    "velocity": ["-940864/325479", "297069/216986", "345278/325479", "-336811/108493", "-105585/108493",
+                 "-12649/4227"],
+}  # fmt: skip
+
+
+def test_a_slow_transient_is_proved_past_1000_impulses_at_the_census_digits_and_the_checker_agrees():
+    from verify.checks.properties.catalogue import LONG_RUNS
+    from verify.checks.properties.verdicts import DECIDING_BUDGET, Runner
+
+    record = dict(SLOW, id="general-symmetric", max_iterations=LONG_RUNS)
+    r = Runner()(record, "symmetric", decide=True)
+    assert (r.stop, r.backend.name) == ("non_terminating", "interval") and r.iterations > 1000, r.notes
+    args = (r.certificate, SLOW["mass_matrix"], SLOW["normals"])
+    assert certificate_check.check_period(*args, restitution=SLOW["restitution"]) == []
+    system = System(SLOW["mass_matrix"], SLOW["normals"], SLOW["restitution"], SLOW["time_terms"])
+    budget = Budget(bits=DECIDING_BUDGET.bits, intervals=True)  # the library's default digits: 400
+    assert solve(system, SLOW["velocity"], rule="symmetric", max_iterations=1000, budget=budget).stop == "budget"

@@ -31,8 +31,10 @@ from verify.checks.properties.catalogue import (
     property_named,
 )
 from verify.checks.properties.strategies import Drawn, cases
-from verify.checks.properties.verdicts import Runner, search
+from verify.checks.properties.verdicts import CENSUS_BITS, CENSUS_DIGITS, Runner, search
 from verify.cli import main
+from verify.core import bounds
+from verify.core.rule import Budget, solve
 from verify.core.system import System
 from verify.records.results import case_from_record
 
@@ -317,6 +319,28 @@ STUCK_CRADLE = {
 }
 
 
+#: four contacts under the general rule (CORs 0, 1, 1, 0), found by the thorough census: its exact numbers pass
+#: 4096 bits after 7 impulses, and a rate that tends to 0 stays undecided on intervals at the census' digits
+PAST_BOTH = {
+    "id": "general-general",
+    "mass_matrix": [
+        ["1", "-1", "1", "0", "1", "-1"],
+        ["-1", "5/4", "-1/2", "-1/2", "-3/4", "3/2"],
+        ["1", "-1/2", "22/9", "-5/3", "13/6", "-2/3"],
+        ["0", "-1/2", "-5/3", "6", "1/2", "-1"],
+        ["1", "-3/4", "13/6", "1/2", "133/36", "-7/3"],
+        ["-1", "3/2", "-2/3", "-1", "-7/3", "65/18"],
+    ],
+    "normals": [["2", "-2", "1/2", "0", "0", "0"], ["0", "2", "-1", "-1", "0", "0"], ["0", "2", "2", "0", "-2", "0"],
+                ["0", "-1", "2", "0", "0", "-1"]],
+    "time_terms": ["0", "0", "0", "0"],
+    "restitution": ["0", "1", "1", "0"],
+    "velocity": ["-217289/1160780", "-151813/1160780", "65476/290195", "-56553/116078", "245169/290195",
+                 "675621/1160780"],
+    "max_iterations": 200,
+}  # fmt: skip
+
+
 def test_a_run_past_both_budgets_ends_with_budget(monkeypatch: pytest.MonkeyPatch) -> None:
     """At the intervals' precision limit an undecided sign is checked by replaying the run exactly; that
     replay gives up past the same 4096 bits as the exact run, so the run ends with ``budget`` instead of
@@ -327,12 +351,68 @@ def test_a_run_past_both_budgets_ends_with_budget(monkeypatch: pytest.MonkeyPatc
         nonlocal exact_impulses
         if system.backend.is_exact:
             exact_impulses += 1
-            assert exact_impulses <= 12, "the exact check replays past the size budget"  # 5 + 5 (the run, the check)
+            assert exact_impulses <= 16, "the exact check replays past the size budget"  # 7 + 7 (the run, the check)
         return _original_impulse(system, b, J)
 
     monkeypatch.setattr(rule_module, "_impulse_from_rates", counted)
-    result = Runner()(dict(STUCK_CRADLE, max_iterations=LONG_RUNS), "symmetric", decide=True)
-    assert (result.stop, result.backend.name) == ("budget", "exact"), result.notes
+    with bounds.recording() as seen:
+        result = Runner()(dict(PAST_BOTH, max_iterations=LONG_RUNS), "general", decide=True)
+    assert (result.stop, result.backend.name, result.iterations) == ("budget", "exact", 7), result.notes
+    assert seen["run_digits:reached"] == 1 and "run_digits" not in seen
+
+
+def test_the_census_digits_carry_a_plastic_cradle_to_its_cap_with_every_sign_certified() -> None:
+    """STUCK_CRADLE's plastic rates tend to 0: at 400 digits its intervals lose them within its first 1000
+    impulses (stop budget), at the census' digits (CENSUS_DIGITS) every sign of its LONG_RUNS impulses is
+    certified. It is still impacting there: the census counts it at its cap (max_iterations), not at the size
+    budget."""
+    record = dict(STUCK_CRADLE, max_iterations=LONG_RUNS)
+    system = System(record["mass_matrix"], record["normals"], record["restitution"], record["time_terms"])
+    fewer = solve(system, record["velocity"], rule="symmetric", max_iterations=1000,
+                  budget=Budget(bits=CENSUS_BITS, intervals=True, interval_dps=400))  # fmt: skip
+    assert (fewer.stop, fewer.backend.name) == ("budget", "exact"), fewer.notes
+    with bounds.recording() as seen:
+        result = Runner()(record, "symmetric", decide=True)
+    assert (result.stop, result.backend.name, result.iterations) == ("max_iterations", "interval", LONG_RUNS)
+    assert 400 < result.backend.dps <= CENSUS_DIGITS and seen["run_digits"] == result.backend.dps
+
+
+#: four contacts under the general rule (CORs 1, 1, 1, 5/6), found by the thorough census: it exits after 391
+#: impulses, decided at 800 digits; at 400 the intervals lose a sign first, and it stayed at the size budget
+LONG_EXIT = {
+    "id": "general-general",
+    "mass_matrix": [
+        ["4/9", "-2/3", "2/3", "0", "0", "1/3"],
+        ["-2/3", "5/4", "-1/2", "-1/2", "-1/2", "0"],
+        ["2/3", "-1/2", "22/9", "-1/3", "-5/3", "11/6"],
+        ["0", "-1/2", "-1/3", "22/9", "2/3", "1/6"],
+        ["0", "-1/2", "-5/3", "2/3", "4", "1/2"],
+        ["1/3", "0", "11/6", "1/6", "1/2", "15/2"],
+    ],
+    "normals": [["1/2", "-1", "0", "0", "2", "0"], ["2", "0", "2", "0", "-1/2", "0"], ["1", "0", "0", "1", "-3/2", "0"],
+                ["-2", "0", "0", "0", "-1", "2"]],
+    "time_terms": ["0", "0", "0", "0"],
+    "restitution": ["1", "1", "1", "5/6"],
+    "velocity": ["150877/133062", "96209/22177", "-1117/44354", "-184393/66531", "181277/199593", "400174/199593"],
+    "max_iterations": 200,
+}  # fmt: skip
+
+
+def test_the_census_digits_decide_a_long_exit_that_400_digits_left_at_the_budget() -> None:
+    record = dict(LONG_EXIT, max_iterations=LONG_RUNS)
+    system = System(record["mass_matrix"], record["normals"], record["restitution"], record["time_terms"])
+    fewer = solve(system, record["velocity"], max_iterations=LONG_RUNS,
+                  budget=Budget(bits=CENSUS_BITS, intervals=True, interval_dps=400))  # fmt: skip
+    assert fewer.stop == "budget", fewer.notes
+    prop = property_named("the rule exits")
+    runner = Runner()
+    assert prop.check(runner, Drawn("general", "general", record), None) is None
+    result = runner(record, "general", decide=True)
+    assert (result.stop, result.backend.name, result.iterations) == ("exit", "interval", 391), result.notes
+    assert result.backend.dps == 800  # past the library's default of 400 digits
+    assert runner.counts["decided on certified intervals past the size budget"] == 1
+    rates = result.system.rates(result.exit_velocity)
+    assert all(result.backend.sign(x) >= 0 for x in rates)  # outgoing, every sign certified
 
 
 # -- tests of the tests: each property catches a broken rule --------------------------------------

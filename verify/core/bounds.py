@@ -145,6 +145,11 @@ BOUNDS: dict[str, Bound] = {
         "bits of the exact numbers of a run under a size budget (the verdicts' and the census': this one)",
         "the run is decided again on certified intervals",
     ),
+    "run_digits": Bound(
+        "verify.checks.properties.verdicts:CENSUS_DIGITS",
+        "digits of the certified intervals that decide a run past its size budget (the census': this one)",
+        "the run ends with stop budget (a sign its intervals cannot decide)",
+    ),
 }
 
 _PATH = os.environ.get("VERIFY_BOUNDS") or None
@@ -236,16 +241,18 @@ def table(measured: dict[str, tuple[int | None, int]] | None = None) -> str:
     (:func:`summary`), the largest use and the times reached.
 
     >>> print(table().splitlines()[0])
-    bound                 value  constant                                     bounds
+    bound                   value  constant                                         bounds
     """
-    head = f"{'bound':<20}  {'value':>5}  "
+    value = max(len("value"), *(len(str(b.value)) for b in BOUNDS.values()))
+    constant = max(len(b.constant) for b in BOUNDS.values())
+    head = f"{'bound':<20}  {'value':>{value}}  "
     if measured is not None:
         head += f"{'largest used':>12}  {'reached':>7}  "
-    rows = [head + f"{'constant':<46}  bounds"]
+    rows = [head + f"{'constant':<{constant}}  bounds"]
     for name, b in BOUNDS.items():
-        row = f"{name:<20}  {b.value:>5}  "
+        row = f"{name:<20}  {b.value:>{value}}  "
         if measured is not None:
             peak, count = measured[name]
             row += f"{'-' if peak is None else f'{peak:,}':>12}  {count:>7}  "
-        rows.append(row + f"{b.constant:<46}  {b.bounds}")
+        rows.append(row + f"{b.constant:<{constant}}  {b.bounds}")
     return "\n".join(rows)

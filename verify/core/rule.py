@@ -38,6 +38,7 @@ from fractions import Fraction
 from functools import cached_property, partial
 from typing import Any
 
+from verify.core import bounds
 from verify.core.backends import Backend
 from verify.core.engines import balls
 from verify.core.engines import integer as fraction_free
@@ -691,10 +692,14 @@ def _decided_on_intervals(
             searched=searched,
             exact_bits=budget.bits,
         )
-    except (NoConvergence, InvalidInput):
+    except NoConvergence:  # a sign undecided at budget.interval_dps digits
+        bounds.reached("run_digits")
+        return result
+    except InvalidInput:
         return result
     if decided.stop == "budget":
         return result
+    bounds.use("run_digits", decided.system.backend.dps or 0)  # an interval backend: its digits
     note = (
         f"the exact numbers passed {budget.bits} bits after {result.iterations} impulses: run again on certified "
         f"intervals (every branch decided with proof), which end it with {decided.stop}"

@@ -14,7 +14,7 @@ still runs: it tests that the implementation agrees with the proof (a counterexa
 means the code is wrong, and the verdict is ``refuted``).
 
 Every run has a size budget (:data:`BUDGET`) and the record's ``max_iterations`` (200, or the
-property's own: 1000 for termination), so that a search never hangs on cases whose exact numbers
+property's own: 4000 for termination), so that a search never hangs on cases whose exact numbers
 explode; such runs are counted in the note. Profiles: ``dev`` (25 cases a row), ``ci`` (100),
 ``thorough`` (100,000 cases per property and law, shared evenly between its rows).
 
@@ -52,8 +52,11 @@ from verify.core.sequential import Law, Sequential
 #: the size budget of a run of the verdicts (bits of its exact numbers; :mod:`verify.core.bounds`)
 CENSUS_BITS = 4096
 BUDGET = Budget(bits=CENSUS_BITS)
-#: the census' budget: a run past CENSUS_BITS is decided on certified intervals (up to 400 digits)
-DECIDING_BUDGET = Budget(bits=CENSUS_BITS, intervals=True)
+#: the digits of the certified intervals on which the census decides a run past CENSUS_BITS. Its long runs lose
+#: about a digit per impulse (the dependency problem of component-wise intervals), so the precision follows the
+#: termination property's cap of 4000 impulses (``LONG_RUNS``) with room to spare
+CENSUS_DIGITS = 6400
+DECIDING_BUDGET = Budget(bits=CENSUS_BITS, intervals=True, interval_dps=CENSUS_DIGITS)
 INTERVAL_DPS, INTERVAL_MAX_DPS, MP_DPS = 30, 120, 30
 #: the COR variants each law is checked with: every rule for the rule; for the simultaneous law
 #: the general, symmetric and ideal CORs (the asymmetric rule's cases are general ones with r = 2)
