@@ -14,6 +14,7 @@ tests/test_properties_simultaneous.py; here they are counted, and their refutati
 
 from __future__ import annotations
 
+import dataclasses
 import json
 from fractions import Fraction
 from typing import Any
@@ -31,7 +32,8 @@ from verify.checks.properties.catalogue import (
     property_named,
 )
 from verify.checks.properties.strategies import Drawn, cases
-from verify.checks.properties.verdicts import CENSUS_BITS, CENSUS_DIGITS, Runner, search
+from verify.checks.properties.verdicts import CENSUS_BITS, CENSUS_DIGITS, Runner, Verdict, merge_chunks, search
+from verify.checks.tasks import decode, encode
 from verify.cli import main
 from verify.core import bounds
 from verify.core.rule import Budget, solve
@@ -355,10 +357,26 @@ def test_a_run_past_both_budgets_ends_with_budget(monkeypatch: pytest.MonkeyPatc
         return _original_impulse(system, b, J)
 
     monkeypatch.setattr(rule_module, "_impulse_from_rates", counted)
+    record = dict(PAST_BOTH, max_iterations=LONG_RUNS)
+    runner = Runner()
     with bounds.recording() as seen:
-        result = Runner()(dict(PAST_BOTH, max_iterations=LONG_RUNS), "general", decide=True)
+        assert property_named("the rule exits").check(runner, Drawn("general", "general", record), None) is None
+    result = runner(record, "general", decide=True)
     assert (result.stop, result.backend.name, result.iterations) == ("budget", "exact", 7), result.notes
     assert seen["run_digits:reached"] == 1 and "run_digits" not in seen
+    # the census lists the case it left undecided, once however often it is drawn, as a case record of its row
+    assert property_named("the rule exits").check(runner, Drawn("general", "general", record), None) is None
+    assert runner.undecided == {"budget": [record]} and runner.counts["stop budget"] == 2
+    v = Verdict("the rule exits (termination)", "general", "general", "holds", 2, counts=dict(runner.counts),
+                undecided=runner.undecided)  # fmt: skip
+    listed = v.record()["undecided"]
+    assert listed == {"max_iterations": [], "budget": [dict(record, id="general-general-budget-1")]}
+    case = case_from_record(listed["budget"][0])  # a valid case record, as verify solve reads it
+    assert case.velocity_source == PAST_BOTH["velocity"]
+    merged = merge_chunks([v, dataclasses.replace(v, undecided={"budget": [record], "max_iterations": [STUCK_CRADLE]})])
+    assert merged.undecided == {"budget": [record], "max_iterations": [STUCK_CRADLE]}
+    assert merged.census() == {"exit": 0, "non_terminating": 0, "max_iterations": 0, "budget": 4}
+    assert decode(json.loads(json.dumps(encode(merged)))) == merged  # a checkpoint keeps them
 
 
 def test_the_census_digits_carry_a_plastic_cradle_to_its_cap_with_every_sign_certified() -> None:

@@ -157,6 +157,8 @@ def exit_is_outgoing(run: Any, d: Drawn, extra: Any) -> str | None:
 def terminates(run: Any, d: Drawn, extra: Any) -> str | None:
     r = run(d.record, d.rule, decide=True)  # a long run past the size budget: decided on certified intervals
     run.count(f"stop {r.stop}")
+    if r.stop in ("max_iterations", "budget"):  # undecided: the census lists the case
+        run.keep(r.stop, d.record)
     if r.backend.name == "interval":
         run.count("decided on certified intervals past the size budget")
     if r.stop == "non_terminating":

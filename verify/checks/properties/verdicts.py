@@ -72,7 +72,8 @@ class Runner:
     compares several runs). A check may ask another law's run with ``law=``.
 
     ``cap``, when set, lowers the records' ``max_iterations`` to it (the search sets it while it shrinks a
-    failure); ``deepest`` is the most impulses of a run it returned since it was last set to 0."""
+    failure); ``deepest`` is the most impulses of a run it returned since it was last set to 0. ``undecided``
+    holds the case records whose runs a census left undecided (:meth:`keep`), by stop."""
 
     def __init__(self, law: Law = "rule") -> None:
         self.law = law
@@ -80,9 +81,16 @@ class Runner:
         self.counts: Counter[str] = Counter()
         self.cap: int | None = None
         self.deepest = 0
+        self.undecided: dict[str, list[dict[str, Any]]] = {}
 
     def count(self, what: str) -> None:
         self.counts[what] += 1
+
+    def keep(self, stop: str, record: dict[str, Any]) -> None:
+        """Keep a case whose run ended with ``stop`` undecided (once, however often it was drawn)."""
+        kept = self.undecided.setdefault(stop, [])
+        if record not in kept:
+            kept.append(record)
 
     def __call__(
         self, record: dict[str, Any], rule: str, backend: str = "exact", *, law: Law | None = None, decide: bool = False
@@ -148,6 +156,8 @@ class Verdict:
     tally: dict[str, int] = field(default_factory=dict, repr=False)
     counts: dict[str, int] = field(default_factory=dict, repr=False)
     detail: str = field(default="", repr=False)
+    #: a census row's cases left undecided, by stop (``max_iterations``, ``budget``): case records
+    undecided: dict[str, list[dict[str, Any]]] = field(default_factory=dict, repr=False)
 
     def record(self) -> dict[str, Any]:
         """The row as JSON (contracts); a census row (termination) also has its ``census``."""
@@ -164,6 +174,22 @@ class Verdict:
         census = self.census()
         if census is not None:
             out["census"] = census
+            out["undecided"] = self.undecided_cases()
+        return out
+
+    def undecided_cases(self) -> dict[str, list[dict[str, Any]]]:
+        """A census row's distinct cases left undecided, by stop, as case records named after the row (the
+        cases of a ``verify solve --rule RULE`` case file); every stop of :data:`UNDECIDED_STOPS` is shown.
+
+        >>> v = Verdict("the rule exits (termination)", "general", "cradle", "holds", 2,
+        ...             undecided={"budget": [{"id": "x", "velocity": ["1"]}]})
+        >>> v.undecided_cases()
+        {'max_iterations': [], 'budget': [{'id': 'cradle-general-budget-1', 'velocity': ['1']}]}
+        """
+        out: dict[str, list[dict[str, Any]]] = {}
+        for stop in UNDECIDED_STOPS:
+            kept = self.undecided.get(stop, [])
+            out[stop] = [dict(r, id=f"{self.family}-{self.rule}-{stop}-{k}") for k, r in enumerate(kept, 1)]
         return out
 
     def census(self) -> dict[str, int] | None:
@@ -187,6 +213,8 @@ class Verdict:
 
 #: the stops a census always shows (a run ends in one of them, or is undecided on a backend that cannot tell)
 CENSUS_STOPS = ("exit", "non_terminating", "max_iterations", "budget")
+#: the stops of a census that leave a run undecided: its cases are listed (:meth:`Verdict.undecided_cases`)
+UNDECIDED_STOPS = ("max_iterations", "budget")
 
 
 def rows(
@@ -281,7 +309,7 @@ def search(
     try:
         item = find(strategy, fails, settings=config, random=None if seed is None else random.Random(seed))
     except (NoSuchExample, Unsatisfiable):
-        return _holds(prop, (family, rule, law), dict(tally), dict(runner.counts), proof)
+        return _holds(prop, (family, rule, law), dict(tally), dict(runner.counts), proof, undecided=runner.undecided)
     d, extra = item if prop.extra is not None else (item, None)
     why = _check(prop, Runner(law), item) or ""
     note = why + (f" (with {_describe(extra)})" if extra is not None else "")
@@ -299,7 +327,8 @@ def search(
     found = Verdict(prop.name, rule, family, "refuted", tally["applied"], record, note, extra, name, dict(tally))
     found.detail = note
     if prop.census:
-        found.counts = dict(_census(prop, strategy, examples, law, seed))
+        counts, found.undecided = _census(prop, strategy, examples, law, seed)
+        found.counts = dict(counts)
         found.cases, found.note = _census_note(found.detail, found.counts)
     return found
 
@@ -321,9 +350,11 @@ def _census_note(detail: str, counts: dict[str, int]) -> tuple[int, str]:
 CENSUS_CASES = "cases"
 
 
-def _census(prop: Property, strategy: Any, examples: int, law: Law, seed: int | None = None) -> Counter[str]:
+def _census(
+    prop: Property, strategy: Any, examples: int, law: Law, seed: int | None = None
+) -> tuple[Counter[str], dict[str, list[dict[str, Any]]]]:
     """How the runs of a refuted row end, over all its cases (the search stops at the first failure),
-    with the number of cases under :data:`CENSUS_CASES`."""
+    with the number of cases under :data:`CENSUS_CASES`; and the cases it left undecided (:attr:`Runner.undecided`)."""
     from hypothesis import HealthCheck, Phase, given, settings
     from hypothesis import seed as seeded
 
@@ -345,7 +376,7 @@ def _census(prop: Property, strategy: Any, examples: int, law: Law, seed: int | 
         _check(prop, runner, item)
 
     seeded(CENSUS_SEED if seed is None else seed)(count)()
-    return Counter({**runner.counts, CENSUS_CASES: seen})
+    return Counter({**runner.counts, CENSUS_CASES: seen}), runner.undecided
 
 
 #: the seed of an unsplit row's census. Derandomised, Hypothesis would seed it from a digest of the source
@@ -355,7 +386,13 @@ CENSUS_SEED = 0
 
 
 def _holds(
-    prop: Property, row: tuple[str, str, Law], tally: dict[str, int], counts: dict[str, int], proof: str | None
+    prop: Property,
+    row: tuple[str, str, Law],
+    tally: dict[str, int],
+    counts: dict[str, int],
+    proof: str | None,
+    *,
+    undecided: dict[str, list[dict[str, Any]]] | None = None,
 ) -> Verdict:
     family, rule, law = row[0], row[1], law_name(row[2])
     parts = [f"no counterexample in {tally.get('applied', 0)} cases"]
@@ -364,7 +401,7 @@ def _holds(
     parts += [f"{k}: {v}" for k, v in sorted(counts.items())]
     verdict, note = ("proved", proof + "; " + "; ".join(parts)) if proof else ("holds", "; ".join(parts))
     return Verdict(prop.name, rule, family, verdict, tally.get("applied", 0), None, note, law=law, tally=tally,
-                   counts=counts)  # fmt: skip
+                   counts=counts, undecided=dict(undecided or {}))  # fmt: skip
 
 
 def merge_chunks(parts: list[Verdict]) -> Verdict:
@@ -387,8 +424,8 @@ def merge_chunks(parts: list[Verdict]) -> Verdict:
     if refuted is None:
         tally = sum((Counter(v.tally) for v in parts), Counter())
         counts = sum((Counter(v.counts) for v in parts), Counter())
-        proof = _proof(prop, first.rule, first.law)
-        return _holds(prop, (first.family, first.rule, first.law), dict(tally), dict(counts), proof)
+        proof, row = _proof(prop, first.rule, first.law), (first.family, first.rule, first.law)
+        return _holds(prop, row, dict(tally), dict(counts), proof, undecided=_undecided(parts))
     found = dataclasses.replace(parts[refuted])
     found.cases = sum(v.tally.get("applied", 0) for v in parts[: refuted + 1])
     if prop.census:  # every chunk's census: a holding chunk counted its runs while searching
@@ -396,8 +433,19 @@ def merge_chunks(parts: list[Verdict]) -> Verdict:
         for v in parts:
             counts += Counter(v.counts if v.verdict == "refuted" else {**v.counts, CENSUS_CASES: v.tally["drawn"]})
         found.counts = dict(counts)
+        found.undecided = _undecided(parts)
         found.cases, found.note = _census_note(found.detail, found.counts)
     return found
+
+
+def _undecided(parts: list[Verdict]) -> dict[str, list[dict[str, Any]]]:
+    """The undecided cases of a row's chunks, in chunk order (each once)."""
+    runner = Runner()
+    for v in parts:
+        for stop, records in v.undecided.items():
+            for record in records:
+                runner.keep(stop, record)
+    return runner.undecided
 
 
 def _describe(extra: Any) -> str:
