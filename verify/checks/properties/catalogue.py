@@ -40,6 +40,9 @@ SKIP = "skip"  #: a check's answer when the property does not apply to the case
 #: on certified intervals: ``tests/test_periodic.py``, ``verify.checks.properties.verdicts.CENSUS_DIGITS``)
 LONG_RUNS = 4000
 DONE = ("exit", "non_terminating", "max_iterations")  #: stops that do not depend on number sizes
+#: the stops of a census that leave a run undecided: its cases are listed
+#: (:meth:`verify.checks.properties.verdicts.Verdict.undecided_cases`)
+UNDECIDED_STOPS = ("max_iterations", "budget")
 
 
 def q(result: Any, xs: Any) -> list[Fraction]:
@@ -157,7 +160,7 @@ def exit_is_outgoing(run: Any, d: Drawn, extra: Any) -> str | None:
 def terminates(run: Any, d: Drawn, extra: Any) -> str | None:
     r = run(d.record, d.rule, decide=True)  # a long run past the size budget: decided on certified intervals
     run.count(f"stop {r.stop}")
-    if r.stop in ("max_iterations", "budget"):  # undecided: the census lists the case
+    if r.stop in UNDECIDED_STOPS:  # the census lists the case
         run.keep(r.stop, d.record)
     if r.backend.name == "interval":
         run.count("decided on certified intervals past the size budget")

@@ -41,7 +41,7 @@ from concurrent.futures import Executor
 from dataclasses import dataclass, field
 from typing import Any
 
-from verify.checks.properties.catalogue import PROPERTIES, SKIP, Property, property_named
+from verify.checks.properties.catalogue import PROPERTIES, SKIP, UNDECIDED_STOPS, Property, property_named
 from verify.checks.properties.profiles import PER_PROPERTY, PROFILES
 from verify.checks.properties.proofs import PROOFS, prove
 from verify.checks.properties.strategies import FAMILIES, MAX_ITERATIONS, RULES, Drawn, capped, cases
@@ -88,9 +88,7 @@ class Runner:
 
     def keep(self, stop: str, record: dict[str, Any]) -> None:
         """Keep a case whose run ended with ``stop`` undecided (once, however often it was drawn)."""
-        kept = self.undecided.setdefault(stop, [])
-        if record not in kept:
-            kept.append(record)
+        _keep(self.undecided, stop, record)
 
     def __call__(
         self, record: dict[str, Any], rule: str, backend: str = "exact", *, law: Law | None = None, decide: bool = False
@@ -213,8 +211,6 @@ class Verdict:
 
 #: the stops a census always shows (a run ends in one of them, or is undecided on a backend that cannot tell)
 CENSUS_STOPS = ("exit", "non_terminating", "max_iterations", "budget")
-#: the stops of a census that leave a run undecided: its cases are listed (:meth:`Verdict.undecided_cases`)
-UNDECIDED_STOPS = ("max_iterations", "budget")
 
 
 def rows(
@@ -438,14 +434,21 @@ def merge_chunks(parts: list[Verdict]) -> Verdict:
     return found
 
 
+def _keep(undecided: dict[str, list[dict[str, Any]]], stop: str, record: dict[str, Any]) -> None:
+    """Add ``record`` to the cases of ``stop`` in ``undecided``, unless it is there already."""
+    kept = undecided.setdefault(stop, [])
+    if record not in kept:
+        kept.append(record)
+
+
 def _undecided(parts: list[Verdict]) -> dict[str, list[dict[str, Any]]]:
     """The undecided cases of a row's chunks, in chunk order (each once)."""
-    runner = Runner()
+    out: dict[str, list[dict[str, Any]]] = {}
     for v in parts:
         for stop, records in v.undecided.items():
             for record in records:
-                runner.keep(stop, record)
-    return runner.undecided
+                _keep(out, stop, record)
+    return out
 
 
 def _describe(extra: Any) -> str:
