@@ -50,6 +50,7 @@ from fractions import Fraction
 from typing import Any
 
 from verify.core import bounds
+from verify.core.cones.face import HEIGHTS, face_cone
 from verify.core.cones.lp import SearchTooLong, feasible, pivot_budget, solve_columns
 from verify.core.cones.polar import MAX_VECTORS, extreme, forms, polar_values, pushed
 from verify.core.cones.shape import rounded_direction, shaped_seeds
@@ -557,6 +558,8 @@ def cone_search(
             bounds.reached("pivots")
         if found is None and limit is not None:
             found = _shaped(system, p, seeds, limit)
+        if found is None and limit is not None:
+            found = _face(system, p, seeds, limit)
     return found
 
 
@@ -573,18 +576,85 @@ def _shaped(system: System, p: int, seeds: Sequence[Vector], limit: tuple[Vector
     shaped = shaped_seeds(K, *limit, lambda x: _rule_steps(system, x, p), seeds) if staged is None and not lift else []
     if staged is None and not shaped:
         return None
+    if staged is not None:
+        return _own_pivots(
+            lambda: close(system, p, seeds, staged[0], 2, polar=True, outer=staged[1], combine=staged[2])
+        )
+    return _own_pivots(lambda: close(system, p, seeds, shaped, 2, polar=True))
+
+
+def _own_pivots(search: Callable[[], Found | None]) -> Found | None:
+    """``search()`` with :data:`MAX_PIVOTS` of its own, or None when it spends them (the bound ``pivots`` reached)."""
     try:
         with pivot_budget(MAX_PIVOTS) as left:
-            if staged is not None:
-                found = close(system, p, seeds, staged[0], 2, polar=True, outer=staged[1], combine=staged[2])
-            else:
-                found = close(system, p, seeds, shaped, 2, polar=True)
+            found = search()
     except SearchTooLong:
         bounds.reached("pivots")
         return None
     if found is not None:
         bounds.use("pivots", MAX_PIVOTS - left[0])
     return found
+
+
+def _face(system: System, p: int, seeds: Sequence[Vector], limit: tuple[Vector, list[int]]) -> Found | None:
+    """A cone of the seeds closed around the face that ``limit``'s direction lies on, where rates the period hits
+    tend to 0 against the others (:mod:`verify.core.cones.face`), multiple impulses carried by polar values: the
+    seeds lie in the cone of the face's generators and are not carried, and after each impulse but the last the
+    vectors are enclosed in such a cone around the direction and the run carried as far (:func:`_face_stages`). A
+    search with :data:`MAX_PIVOTS` of its own."""
+    K = system.backend
+    direction, on = limit
+    gens = face_cone(K, direction, on, seeds)
+    if gens is None:
+        return None
+
+    def combine(y: Vector, first: int, generators: Sequence[Vector]) -> dict[int, Any] | None:
+        d = feasible(K, y, generators[first:])
+        return None if d is None else {first + k: c for k, c in d.items()}
+
+    def search() -> Found | None:
+        if any(combine(s, 0, gens) is None for s in seeds):
+            return None
+        for height in HEIGHTS:  # the enclosures' wedges, higher or lower against their face parts
+            outer = _face_stages(system, p, seeds[0], limit, height)
+            found = (
+                None if outer is None else close(system, p, seeds, gens, 2, polar=True, outer=outer, combine=combine)
+            )
+            if found is not None:
+                return found
+        return None
+
+    return _own_pivots(search)
+
+
+def _face_stages(
+    system: System, p: int, point: Sequence[Any], limit: tuple[Vector, list[int]], height: Fraction
+) -> Outer | None:
+    """The ``outer`` of :func:`carry` for :func:`_face`: after impulse n < p, the generators of a face cone
+    (:func:`verify.core.cones.face.face_cone`) around the limit's direction carried n impulses on its own
+    constraints, turned to ``point`` carried n impulses by the rule, that holds every vector (exact linear
+    programming; None when one lies outside), snug with the wedge's ``height``; after impulse p, the vectors
+    themselves."""
+    K = system.backend
+    direction, on = limit
+    step = _on_step(system, on)
+    directions, points = [direction], [list(point)]
+    for _ in range(p - 1):
+        d, x = step(directions[-1]), _rule_step(system, points[-1])
+        if d is None or x is None or all(d[i] == K.zero for i in on):
+            return None
+        directions.append(rounded_direction(K, d, on))
+        points.append(x)
+
+    def outer(n: int, vectors: Carried) -> Carried | None:
+        if n == p:
+            return vectors
+        gens = face_cone(K, directions[n], on, [v for v, _ in vectors], points[n], snug=height)
+        if gens is None or any(feasible(K, v, gens) is None for v, _ in vectors):
+            return None
+        return [(g, True) for g in gens]
+
+    return outer
 
 
 def _lift(system: System, p: int, point: Sequence[Any], limit: tuple[Vector, list[int]]) -> Lift | None:

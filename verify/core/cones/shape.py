@@ -50,9 +50,12 @@ import mpmath
 from verify.core.cones.lp import solve_columns
 
 Vector = list[Any]
-#: the largest modulus of the chart's eigenvalues for which seeds are made: a direction drawn in more slowly
-#: than this gives a cone too thin for the nonlinear terms
+#: the largest modulus of a complex pair of the chart's eigenvalues for which seeds are made: a direction turned
+#: and drawn in more slowly than this needs a polygon of more sides than :data:`SIDES`
 MAX_MODULUS = Fraction(63, 64)
+#: the bound of a real eigenvalue's modulus (not reached): its interval is scaled by it exactly, so any contraction
+#: will do, and whether the nonlinear terms leave it room is decided by the search
+REAL_MODULUS = Fraction(1)
 #: the polygon of a complex pair: the fewest sides whose inner radius cos(pi / sides) exceeds the modulus by 1/16
 SIDES = (4, 8, 16, 32)
 
@@ -67,8 +70,8 @@ def shaped_seeds(
     """The corners of a polytope around ``direction`` (rationals) shaped by the linear part of ``period_map``
     there (a direction to a direction), wide enough to hold every one of ``points`` (module docstring). The
     chart runs over the entries ``on`` (the rates hit in a period; the others are 0 in the corners, for the weak
-    generators of the cone to add). Empty when the direction is not drawn in (a
-    modulus at least :data:`MAX_MODULUS`), when the points are still far from it, or when the chart fails."""
+    generators of the cone to add). Empty when the direction is not drawn in (a modulus of 1, or a turning pair's
+    of at least :data:`MAX_MODULUS`), when the points are still far from it, or when the chart fails."""
     chart = Chart(K, direction, on)
     if not chart.axes:
         return []
@@ -141,10 +144,10 @@ Block = tuple[list[list[Fraction]], int]  #: (one real column, or the real and i
 
 def real_blocks(L: list[list[Fraction]]) -> list[Block] | None:
     """The real eigenbasis of L in blocks, each with the sides of its polygon (0 for a real column), or None when
-    a modulus is at least :data:`MAX_MODULUS`. A 2 x 2 matrix with complex eigenvalues alpha +- i beta (a spiral)
-    takes the exact eigenvector (b, lambda - a) (beta rounded to 24 bits) and a polygon of 16 sides; otherwise
-    mpmath's eigenvectors at 30 digits, rounded to 24 bits, and polygons of the fewest sides each modulus allows
-    (every corner adds polar values to carry)."""
+    a real eigenvalue has a modulus of at least :data:`REAL_MODULUS`, or a complex pair one of :data:`MAX_MODULUS`.
+    A 2 x 2 matrix with complex eigenvalues alpha +- i beta (a spiral) takes the exact eigenvector (b, lambda - a)
+    (beta rounded to 24 bits) and a polygon of 16 sides; otherwise mpmath's eigenvectors at 30 digits, rounded to 24
+    bits, and polygons of the fewest sides each modulus allows (every corner adds polar values to carry)."""
     m = len(L)
     if m == 2:
         (a, bb), (c, dd) = L
@@ -161,12 +164,13 @@ def real_blocks(L: list[list[Fraction]]) -> list[Block] | None:
         bound = mpmath.mpf(MAX_MODULUS.numerator) / MAX_MODULUS.denominator
         blocks: list[Block] = []
         for n, lam in enumerate(values):
-            if abs(lam) >= bound:
+            real = abs(mpmath.im(lam)) <= abs(lam) * mpmath.mpf(10) ** -20
+            if abs(lam) >= (mpmath.mpf(REAL_MODULUS.numerator) / REAL_MODULUS.denominator if real else bound):
                 return None
             vec = [vectors[i, n] for i in range(m)]
             top = max(vec, key=abs)
             vec = [x / top for x in vec]  # the largest entry 1: a real eigenvector has real entries
-            if abs(mpmath.im(lam)) <= abs(lam) * mpmath.mpf(10) ** -20:
+            if real:
                 blocks.append(([_short([mpmath.re(x) for x in vec])], 0))
             elif mpmath.im(lam) > 0:
                 modulus2 = Fraction(int(mpmath.nint(abs(lam) ** 2 * 2**24)) + 1, 2**24)  # rounded up
