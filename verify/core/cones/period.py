@@ -545,7 +545,9 @@ def cone_search(
     with points around that direction (:func:`_limit`, :func:`_around`), then, when that direction draws the
     rates in, with a polytope around it shaped by the period's linear part there and multiple impulses carried
     by their polar values (:func:`_shaped`, a search with pivots of its own; lifted along the rates the run holds
-    positive off the period when the hit rates tend to 0 against them, :func:`_lift`)."""
+    positive off the period when the hit rates tend to 0 against them, :func:`_lift`), and last, when some hit rates
+    tend to 0 against the other hit rates (the direction on a face between impact sets), with a cone of that face and
+    a wedge across it (:func:`_face`)."""
     K = system.backend
     b, _ = guide
     found = close(system, p, seeds, _beyond(system, p, guide))
