@@ -380,6 +380,14 @@ def test_a_run_past_both_budgets_ends_with_budget(monkeypatch: pytest.MonkeyPatc
     assert decode(json.loads(json.dumps(encode(merged)))) == merged  # a checkpoint keeps them
 
 
+def _at_400_digits(record: dict[str, Any], max_iterations: int) -> Any:
+    """The record's general-rule run under the census' size budget, decided on intervals of the library's default
+    400 digits instead of the census' CENSUS_DIGITS."""
+    system = System(record["mass_matrix"], record["normals"], record["restitution"], record["time_terms"])
+    budget = Budget(bits=CENSUS_BITS, intervals=True, interval_dps=400)
+    return solve(system, record["velocity"], max_iterations=max_iterations, budget=budget)
+
+
 #: five balls under the general rule (CORs 1, 1/10, 0, 0), found by the thorough census: it is still impacting after
 #: 4000 impulses, (1,3) every other impulse and (0,2) or (2) between, and no cone of a period is found; its intervals
 #: need more than 400 digits for that
@@ -401,9 +409,7 @@ def test_the_census_digits_carry_a_long_run_to_its_cap_with_every_sign_certified
     digits (CENSUS_DIGITS) every sign of its LONG_RUNS impulses is certified. It is still impacting there: the
     census counts it at its cap (max_iterations), not at the size budget."""
     record = dict(AT_CAP, max_iterations=LONG_RUNS)
-    system = System(record["mass_matrix"], record["normals"], record["restitution"], record["time_terms"])
-    fewer = solve(system, record["velocity"], max_iterations=1000,
-                  budget=Budget(bits=CENSUS_BITS, intervals=True, interval_dps=400))  # fmt: skip
+    fewer = _at_400_digits(record, 1000)
     assert (fewer.stop, fewer.backend.name) == ("budget", "exact"), fewer.notes
     with bounds.recording() as seen:
         result = Runner()(record, "general", decide=True)
@@ -434,9 +440,7 @@ LONG_EXIT = {
 
 def test_the_census_digits_decide_a_long_exit_that_400_digits_left_at_the_budget() -> None:
     record = dict(LONG_EXIT, max_iterations=LONG_RUNS)
-    system = System(record["mass_matrix"], record["normals"], record["restitution"], record["time_terms"])
-    fewer = solve(system, record["velocity"], max_iterations=LONG_RUNS,
-                  budget=Budget(bits=CENSUS_BITS, intervals=True, interval_dps=400))  # fmt: skip
+    fewer = _at_400_digits(record, LONG_RUNS)
     assert fewer.stop == "budget", fewer.notes
     prop = property_named("the rule exits")
     runner = Runner()

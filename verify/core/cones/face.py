@@ -46,7 +46,7 @@ from collections.abc import Sequence
 from fractions import Fraction
 from typing import Any
 
-from verify.core.cones.shape import round_up
+from verify.core.cones.shape import exponent, round_up
 
 Vector = list[Any]
 
@@ -168,8 +168,5 @@ def _power_up(q: Fraction) -> Fraction:
     >>> _power_up(Fraction(3, 1000))
     Fraction(1, 256)
     """
-    e = q.numerator.bit_length() - q.denominator.bit_length()
-    e += 1 if Fraction(2) ** e < q else 0
-    while Fraction(2) ** (e - 1) >= q:
-        e -= 1
-    return Fraction(2) ** e
+    below = Fraction(2) ** (exponent(q) - 1)  # at most q
+    return below if below == q else 2 * below

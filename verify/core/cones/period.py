@@ -53,7 +53,7 @@ from verify.core import bounds
 from verify.core.cones.face import HEIGHTS, face_cone
 from verify.core.cones.lp import SearchTooLong, feasible, pivot_budget, solve_columns
 from verify.core.cones.polar import MAX_VECTORS, extreme, forms, polar_values, pushed
-from verify.core.cones.shape import rounded_direction, shaped_seeds
+from verify.core.cones.shape import exponent, rounded_direction, shaped_seeds
 from verify.core.cones.stages import Combine, Lift, Outer, product_cone
 from verify.core.engines.rates import beta_from_rates
 from verify.core.system import System, on_exact_field
@@ -677,7 +677,7 @@ def _lift(system: System, p: int, point: Sequence[Any], limit: tuple[Vector, lis
     if size == 0:
         return None
     u = [point[i] / K.convert(a) if i in off else K.zero for i in range(system.r)]
-    return u, Fraction(2) ** (_exponent(a / size) - 2)  # 2^(e-1) <= a / size: half of that
+    return u, Fraction(2) ** (exponent(a / size) - 2)  # 2^(e-1) <= a / size: half of that
 
 
 def _on_step(system: System, on: list[int]) -> Callable[[Vector], Vector | None]:
@@ -794,7 +794,7 @@ def rounded_box(K: Any, b: Sequence[Any], bits: int = 64) -> tuple[Vector, Vecto
             center.append(K.zero)
             radius.append(K.zero)
             continue
-        unit = Fraction(2) ** (_exponent(abs(q)) - bits)  # a unit of the bits-th significant bit of q
+        unit = Fraction(2) ** (exponent(abs(q)) - bits)  # a unit of the bits-th significant bit of q
         center.append(K.convert(Fraction(math.floor(q / unit)) * unit))
         radius.append(K.convert(unit))
     return center, radius
@@ -819,21 +819,11 @@ def enclosing_box(K: Any, ends: Sequence[tuple[Fraction, Fraction]], bits: int =
             center.append(K.zero)
             radius.append(K.zero)
             continue
-        unit = Fraction(2) ** (_exponent(top) - bits)
+        unit = Fraction(2) ** (exponent(top) - bits)
         a, b = Fraction(math.floor(Fraction(lo) / unit)) * unit, Fraction(math.ceil(Fraction(hi) / unit)) * unit
         center.append(K.convert((a + b) / 2))
         radius.append(K.convert((b - a) / 2))
     return center, radius
-
-
-def _exponent(q: Fraction) -> int:
-    """The e with 2^(e-1) <= q < 2^e (q > 0), from the exact integers of q."""
-    e = q.numerator.bit_length() - q.denominator.bit_length()
-    while Fraction(2) ** e <= q:
-        e += 1
-    while Fraction(2) ** (e - 1) > q:
-        e -= 1
-    return e
 
 
 def certificate_of(

@@ -237,6 +237,20 @@ def _corners(
     return [point([x + round(s / unit) * unit for x, s in zip(c0, shift)]) for shift in shifts]
 
 
+def exponent(q: Fraction) -> int:
+    """The e with 2^(e-1) <= q < 2^e (q > 0), from the exact integers of q.
+
+    >>> exponent(Fraction(1, 3)), exponent(Fraction(4))
+    (-1, 3)
+    """
+    e = q.numerator.bit_length() - q.denominator.bit_length()
+    while Fraction(2) ** e <= q:
+        e += 1
+    while Fraction(2) ** (e - 1) > q:
+        e -= 1
+    return e
+
+
 def round_up(x: Fraction) -> Fraction:
     """x rounded up to 8 significant bits (x > 0): a short size that is at least x.
 
