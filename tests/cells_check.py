@@ -220,30 +220,41 @@ class _Check:
             else:
                 self.run(after, tail + len(sets), entries)
 
-    def powers(self, y, k):
-        out = [self.e.c(0)] * self.r
+    def planes(self, y):
+        """For each turning pair: z = E y, (A - cos(a)) z and sin(a), which the powers of A combine."""
+        out = []
         for E, a, c in zip(self.E, self.angles, self.cos):
             z = self.mv(E, y)
             Az = [x / self.e for x in self.mv(self.P, z)]
-            ck, sk = (a * k).cos(), (a * k).sin() / a.sin()
-            out = [out[i] + ck * z[i] + sk * (Az[i] - c * z[i]) for i in range(self.r)]
+            out.append((a, z, [Az[i] - c * z[i] for i in range(self.r)], a.sin()))
+        return out
+
+    def powers(self, planes, k):
+        out = [self.e.c(0)] * self.r
+        for a, z, turned, s in planes:
+            ck, sk = (a * k).cos(), (a * k).sin() / s
+            out = [out[i] + ck * z[i] + sk * turned[i] for i in range(self.r)]
         return out
 
     def follow(self, y, entries):
-        k, step = 1, 1
+        planes = self.planes(y)
+        k, step, cap, cap_end = 1, 1, 10**6, 0  # a block that failed: blocks within half of it up to its end
         while k < 10**6:
             ks = arb(k) if step == 1 else arb(k) + (step - 1) * arb(0.5, 0.5)
             try:
-                found = self.paths(self.powers(y, ks), len(self.sets))
+                found = self.paths(self.powers(planes, ks), len(self.sets))
             except Refused:
                 if step == 1:
                     raise
                 found = None
             if found is not None and all(s == self.sets and not x for s, _, x in found):
-                k, step = k + step, step * 2
+                k += step
+                cap = cap if k < cap_end else 10**6
+                step = min(step * 2, cap)
                 continue
             if step > 1:
-                step = max(1, step // 4)
+                cap, cap_end = step // 2, k + step
+                step = step // 2
                 continue
             stays = False
             for s, after, x in found:

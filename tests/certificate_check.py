@@ -42,10 +42,63 @@ def _read_masses(masses: list) -> list:
 
 
 def _sign_at(p: sp.Expr, point: sp.Expr) -> int:
+    quick = _poly_sign_at(p, point)
+    if quick is not None:
+        return quick
     value = sp.radsimp(sp.expand(p.subs(EPS, point)))
     if value == 0 or sp.simplify(value) == 0:
         return 0
     return 1 if value.evalf(60) > 0 else -1
+
+
+def _poly_sign_at(p: sp.Expr, point: sp.Expr) -> int | None:
+    """The sign of p at the point when p is a polynomial in eps over Q and the point rational (exactly) or a real
+    CRootOf of an irreducible polynomial f: p(point) = r(point) for r the remainder of p by f, which is 0 exactly
+    when r is (f is the point's minimal polynomial and deg r < deg f), else has the sign of its value to 60
+    digits. None for other p or points."""
+    point = sp.sympify(point)
+    if not _real_algebraic(point):
+        return None
+    c = sp.expand(EPS - p)
+    if isinstance(c, sp.CRootOf) and c.is_real:  # p = eps - c: the sign of point - c
+        return _compare(point, c)
+    try:
+        poly = sp.Poly(p, EPS, domain="QQ")
+    except (sp.PolynomialError, sp.CoercionFailed, sp.GeneratorsNeeded):
+        return None
+    if point.is_Rational:
+        value = poly.eval(point)
+        return 1 if value > 0 else -1 if value < 0 else 0
+    f = sp.Poly(point.poly.as_expr().subs(point.poly.gen, EPS), EPS, domain="QQ")
+    if not f.is_irreducible:
+        return None
+    rest = poly.rem(f)
+    if rest.is_zero:
+        return 0
+    return 1 if rest.as_expr().subs(EPS, point).evalf(60) > 0 else -1
+
+
+def _real_algebraic(x: sp.Expr) -> bool:
+    """A rational, or a real CRootOf."""
+    return bool(x.is_Rational or (isinstance(x, sp.CRootOf) and x.is_real))
+
+
+def _compare(t: sp.Expr, c: sp.Expr) -> int | None:
+    """The sign of t - c for rationals and real CRootOfs: exactly when one is rational (by :func:`_poly_sign_at`);
+    for two roots of the same irreducible polynomial by their indices (CRootOf numbers the real roots in
+    increasing order); for roots of different irreducible polynomials (never equal) by their values to 60 digits.
+    None when a polynomial is not irreducible."""
+    if c.is_Rational:
+        return _poly_sign_at(EPS - c, t)
+    if t.is_Rational:
+        back = _poly_sign_at(EPS - t, c)
+        return None if back is None else -back
+    f, g = (sp.Poly(x.poly.as_expr().subs(x.poly.gen, EPS), EPS, domain="QQ") for x in (t, c))
+    if not (f.is_irreducible and g.is_irreducible):
+        return None
+    if f.monic() == g.monic():
+        return (t.index > c.index) - (t.index < c.index)
+    return 1 if (t - c).evalf(60) > 0 else -1
 
 
 def nonnegative_on(p: sp.Expr, lo: sp.Expr, hi: sp.Expr) -> bool:

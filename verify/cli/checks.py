@@ -240,6 +240,13 @@ def oracle_check(args: argparse.Namespace) -> int:
 
     if (args.results is None) == (args.impl is None):
         raise UsageError(f"{PROG} oracle check: give either RESULTS.json or --impl COMMAND")
+    if args.junit_as is not None and not args.junit:
+        raise UsageError(f"{PROG} oracle check: --junit-as needs --junit FILE")
+    budgets = None  # the options are read before the cases, so that a bad one is told at once
+    if args.tolerances:
+        from verify.checks.grading import Budgets, Tolerance
+
+        budgets = Budgets.load(args.tolerances, Tolerance(rtol=args.rtol, atol=args.atol, floor=args.floor))
     load_cases(args.cases)  # validates the file: schema, then every number
     with open(args.cases, encoding="utf-8") as fh:
         case_text = fh.read()
@@ -247,8 +254,6 @@ def oracle_check(args: argparse.Namespace) -> int:
     if args.max_iterations is not None:  # the cases as if each had this cap: for the exact runs and --impl
         records = [dict(r, max_iterations=args.max_iterations) for r in records]
         case_text = dumps({"cases": records})
-    if args.junit_as is not None and not args.junit:
-        raise UsageError(f"{PROG} oracle check: --junit-as needs --junit FILE")
     status = StatusLine.for_args(args)
     got, skipped = oracle.load_result_file(*other_results(args, case_text, status))
 
@@ -261,11 +266,6 @@ def oracle_check(args: argparse.Namespace) -> int:
                                          progress=progress if status.enabled else None)  # fmt: skip
     finally:
         status.close()
-    budgets = None
-    if args.tolerances:
-        from verify.checks.grading import Budgets, Tolerance
-
-        budgets = Budgets.load(args.tolerances, Tolerance(rtol=args.rtol, atol=args.atol, floor=args.floor))
     comparison = oracle.compare(records, expected, got, rtol=args.rtol, atol=args.atol, floor=args.floor,
                                 skipped=skipped, budgets=budgets)  # fmt: skip
     if args.junit:

@@ -44,10 +44,15 @@ def _flint() -> Any:
     return flint
 
 
+_ARB: list[Any] = []  # flint.arb, once found
+
+
 def ball(x: Any) -> Any:
     """An exact ``flint.arb`` for an int or a Fraction (a ball is returned as it is)."""
-    arb = _flint().arb
-    if isinstance(x, arb):
+    if not _ARB:
+        _ARB.append(_flint().arb)
+    arb = _ARB[0]
+    if type(x) is arb:
         return x
     if isinstance(x, Fraction):
         return arb(x.numerator) / x.denominator
@@ -72,14 +77,18 @@ class MeanValue:
         return other if type(other) is MeanValue else self.constant(other)
 
     def __add__(self, other: Any) -> MeanValue:
-        o = self._lift(other)
-        return MeanValue(self.point + o.point, self.value + o.value, self.slope + o.slope, self.h)
+        if type(other) is not MeanValue:  # a constant: its slope is 0, which adds nothing (exactly)
+            b = ball(other)
+            return MeanValue(self.point + b, self.value + b, self.slope, self.h)
+        return MeanValue(self.point + other.point, self.value + other.value, self.slope + other.slope, self.h)
 
     __radd__ = __add__
 
     def __sub__(self, other: Any) -> MeanValue:
-        o = self._lift(other)
-        return MeanValue(self.point - o.point, self.value - o.value, self.slope - o.slope, self.h)
+        if type(other) is not MeanValue:
+            b = ball(other)
+            return MeanValue(self.point - b, self.value - b, self.slope, self.h)
+        return MeanValue(self.point - other.point, self.value - other.value, self.slope - other.slope, self.h)
 
     def __rsub__(self, other: Any) -> MeanValue:
         return self._lift(other) - self

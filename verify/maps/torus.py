@@ -55,7 +55,7 @@ from verify.core.format import format_decimal
 from verify.core.system import System
 from verify.errors import InvalidInput
 from verify.maps.boundary import LAM, Pattern, characteristic, pattern_map, sympified
-from verify.maps.meanvalue import MeanValue, ball, cell, combination, working_precision
+from verify.maps.meanvalue import MeanValue, ball, cell, working_precision
 from verify.maps.turning import extension, field_factors
 from verify.maps.watch import Watch
 
@@ -155,13 +155,23 @@ def _compile(expr: Any, ext: Any) -> Compiled:
     return coefficients_of(num), coefficients_of(den)
 
 
-def _evaluate(f: Compiled, e: MeanValue, root: MeanValue) -> MeanValue:
-    """The compiled rational function at the cell's eps (``root`` stands for sqrt(d))."""
+#: a compiled rational function's coefficients as balls (a + b sqrt(d), highest degree first): (numerator, denominator)
+Balls = tuple[list[Any], list[Any]]
 
-    def horner(p: list[tuple[Fraction, Fraction]]) -> MeanValue:
-        acc = e.constant(0)
-        for a, b in p:
-            acc = acc * e + (root * b + a)
+
+def _balls(f: Compiled, root: Any) -> Balls:
+    """The coefficients of ``f`` as balls of the working precision (``root`` the ball of sqrt(d)): the same for
+    every cell, so computed once."""
+    return [root * ball(b) + ball(a) for a, b in f[0]], [root * ball(b) + ball(a) for a, b in f[1]]
+
+
+def _evaluate(f: Balls, e: MeanValue) -> MeanValue:
+    """The rational function at the cell's eps (Horner's scheme on each part)."""
+
+    def horner(p: list[Any]) -> MeanValue:
+        acc = e.constant(p[0])
+        for c in p[1:]:
+            acc = acc * e + c
         return acc
 
     return horner(f[0]) / horner(f[1])
@@ -169,20 +179,23 @@ def _evaluate(f: Compiled, e: MeanValue, root: MeanValue) -> MeanValue:
 
 @dataclass
 class _Evaluators:
-    """A :class:`TorusPeriod` compiled for evaluation on cells."""
+    """A :class:`TorusPeriod` compiled for evaluation on cells: the coefficients of its functions as balls."""
 
-    M: list[list[Compiled]]
-    taus: list[Compiled]
-    restitution: list[Compiled]
-    d: Fraction
+    M: list[list[Balls]]
+    taus: list[Balls]
+    restitution: list[Balls]
 
 
 def _compiled(period: TorusPeriod) -> _Evaluators:
+    """The period's functions compiled (call it in :func:`~verify.maps.meanvalue.working_precision`)."""
     r = len(period.gram)
-    d = _fraction(period.ext**2)
-    return _Evaluators([[_compile(period.M[i, j], period.ext) for j in range(r)] for i in range(r)],
-                     [_compile(t, period.ext) for t in period.taus],
-                     [_compile(x, period.ext) for x in period.restitution], d)  # fmt: skip
+    root = ball(_fraction(period.ext**2)).sqrt()
+
+    def at(x: Any) -> Balls:
+        return _balls(_compile(x, period.ext), root)
+
+    return _Evaluators([[at(period.M[i, j]) for j in range(r)] for i in range(r)], [at(t) for t in period.taus],
+                       [at(x) for x in period.restitution])  # fmt: skip
 
 
 class _RuleOnCell:
@@ -206,10 +219,9 @@ class _Cell:
         self.Gb = [[ball(x) for x in row] for row in self.G]
         self.r = len(self.G)
         self.e = e = cell(lo, hi)
-        root = e.constant(ball(compiled.d).sqrt())
-        self.rule = _RuleOnCell(self.G, [_evaluate(x, e, root) for x in compiled.restitution])
-        self.M = [[_evaluate(x, e, root) for x in row] for row in compiled.M]
-        taus = [_evaluate(t, e, root) for t in compiled.taus]
+        self.rule = _RuleOnCell(self.G, [_evaluate(x, e) for x in compiled.restitution])
+        self.M = [[_evaluate(x, e) for x in row] for row in compiled.M]
+        taus = [_evaluate(t, e) for t in compiled.taus]
         cosines = [t / (e * 2) for t in taus]
         if not all(c.below(1) for c in cosines):
             raise CellUndecided("a pair of the period's eigenvalues may be real on the cell")
@@ -330,7 +342,7 @@ class _Cell:
             out = [out[i] + now * ay[i] - before * ey[i] for i in range(self.r)]
         return out
 
-    def _forms(self, parts: list[Any]) -> list[tuple[list[tuple[MeanValue, MeanValue]], int]] | None:
+    def _forms(self, parts: list[Any]) -> _Forms | None:
         """The signs that keep a run in the period, as linear forms of the rates at its start, each evaluated on
         the parts of :meth:`_closed` (l(A E_j y), l(E_j y)), with the sign it must have (-1: hit, 1: not hit);
         None when an impulse of the period is not linear."""
@@ -345,43 +357,47 @@ class _Cell:
             if any(G[i][j] for i in J for j in J if i != j):
                 return None
             columns = [self.impulse(col, J) for col in columns]
-        return out
+        return _Forms(out, self.e.h)
 
     def _dot(self, row: list[MeanValue], x: list[MeanValue]) -> MeanValue:
         return sum((a * b for a, b in zip(row[1:], x[1:])), row[0] * x[0])
 
-    def _stays(self, forms: list[Any], parts: list[Any], k: Any) -> bool:
+    def _stays(self, forms: _Forms, parts: list[Any], k: Any) -> bool:
         """Every eps of the cell follows the period at its k-th time (k an integer or a ball of them), certified
         by the signs of the forms alone."""
-        weights = [((alpha * k).sin() / s, -((alpha * (k - 1)).sin() / s)) for _, _, alpha, s in parts]
-        for values, wanted in forms:
-            pairs = [pair for (now, before), (la, le) in zip(weights, values) for pair in ((now, la), (before, le))]
-            if combination(pairs).sign() != wanted:
-                return False
-        return True
+        weights = []
+        for _, _, alpha, s in parts:
+            weights += [(alpha * k).sin() / s, -((alpha * (k - 1)).sin() / s)]
+        return forms.signs(weights) == forms.wanted
 
     def period(self, y: list[MeanValue], entries: int) -> None:
         """Follow the period from the rates ``y`` (before its first impact set) while any branch does, and every
         branch that leaves it."""
         parts, k, step = self._closed(y), 1, 1
+        # a block that failed is not tried again whole: blocks stay within half its length until its end
+        cap, cap_end = MAX_PERIODS, 0
         forms = self._forms(parts)
         arb = type(ball(0))
         while k <= MAX_PERIODS:
             ks = ball(k) if step == 1 else ball(k) + (step - 1) * arb(0.5, 0.5)
-            if forms is not None and self._stays(forms, parts, ks):
-                k, step = k + step, step * 2
-                continue
-            try:
-                found = self.branches(self._after(parts, ks), len(self.pattern.sets))
-            except CellUndecided:
-                if step == 1:
-                    raise
-                found = None
-            if found is not None and all(sets == self.pattern.sets and not ex for sets, _, ex in found):
-                k, step = k + step, step * 2
+            passed = forms is not None and self._stays(forms, parts, ks)
+            if not passed:
+                try:
+                    found = self.branches(self._after(parts, ks), len(self.pattern.sets))
+                except CellUndecided:
+                    if step == 1:
+                        raise
+                    found = None
+                passed = found is not None and all(sets == self.pattern.sets and not ex for sets, _, ex in found)
+            if passed:
+                k += step
+                if k >= cap_end:
+                    cap = MAX_PERIODS
+                step = min(step * 2, cap)
                 continue
             if step > 1:
-                step = max(1, step // 4)
+                cap, cap_end = step // 2, k + step
+                step = step // 2
                 continue
             assert found is not None
             stays = False
@@ -397,6 +413,34 @@ class _Cell:
             k += 1
         bounds.reached("cell_periods")
         raise CellUndecided(f"a branch follows the period for more than {MAX_PERIODS} periods")
+
+
+class _Forms:
+    """The forms of :meth:`_Cell._forms` as three matrices of balls (values at the midpoint, on the cell, slopes),
+    a row a form and a column a value: the combination of every form with the same weights is three products of
+    a matrix with a vector, made by FLINT (one rounding a dot product); each form's sign as
+    :meth:`~verify.maps.meanvalue.MeanValue.sign` gives it."""
+
+    def __init__(self, forms: list[tuple[list[tuple[MeanValue, MeanValue]], int]], h: Any) -> None:
+        from flint import arb_mat
+
+        self.h, self.wanted = h, [wanted for _, wanted in forms]
+        rows = [[x for pair in values for x in pair] for values, _ in forms]
+        self.rows, self.columns = len(rows), len(rows[0])
+        self.point, self.value, self.slope = (
+            arb_mat(self.rows, self.columns, [getattr(x, part) for row in rows for x in row])
+            for part in ("point", "value", "slope")
+        )
+        self._vector = lambda xs: arb_mat(self.columns, 1, xs)
+
+    def signs(self, weights: list[MeanValue]) -> list[int | None]:
+        """The sign of each form combined with ``weights`` (one per column)."""
+        vector = self._vector
+        point = (self.point * vector([w.point for w in weights])).entries()
+        on_cell = vector([w.value for w in weights])
+        value = (self.value * on_cell).entries()
+        slope = (self.slope * on_cell + self.value * vector([w.slope for w in weights])).entries()
+        return [MeanValue(p, v, d, self.h).sign() for p, v, d in zip(point, value, slope)]
 
 
 @dataclass
@@ -435,11 +479,11 @@ def exit_cells(
 ) -> Cells:
     """Sweep [lower, upper] with cells on which every eps exits from ``velocity`` (see the module). A ``watch``'s
     clock or Ctrl-C stops the sweep: what is left is then undecided (``watch.stopped`` says why)."""
-    compiled = _compiled(period)
     rates = _initial_rates(period, velocity)
     out = Cells(lower, upper, [], [])
     a, width = lower, (upper - lower) / 8
     with working_precision():
+        compiled = _compiled(period)
         while a < upper:
             if watch is not None and watch.check():
                 out.undecided.append((a, upper))

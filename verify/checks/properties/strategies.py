@@ -29,6 +29,7 @@ asymmetric rule (7) is for two constraints: its cases have r = 2.
 
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass
 from fractions import Fraction
 from functools import cache
@@ -47,7 +48,10 @@ RULES = (*CORE_RULES[1:], CORE_RULES[0])  # the core's rules in the suite's orde
 FAMILIES = ("general", "cradle", "corner")
 MAX_ITERATIONS = 200  #: the cap of impulses in a drawn case record (a property may raise it: :func:`capped`)
 
-_Q = RationalBackend("python")  # plain Fractions: the strategies need no speed
+_Q = RationalBackend("python")  # plain Fractions: what the strategies draw and give
+#: the fastest installed rationals, for the linear algebra of a draw (its results are given back as Fractions:
+#: the same numbers, exactly; a draw is solved thousands of times in a verdict table's searches)
+_F = RationalBackend("auto")
 
 
 @dataclass(frozen=True)
@@ -114,19 +118,32 @@ def spd_matrices(draw: Any, n: int) -> list[list[Fraction]]:
         L[i][i] = draw(positive_rationals(3, 2))
         for j in range(i):
             L[i][j] = draw(small_rationals(2, 1))
-    return [[sum((L[i][k] * L[j][k] for k in range(n)), Fraction(0)) for j in range(n)] for i in range(n)]
+    return _times_transpose(L)
+
+
+def _times_transpose(L: list[list[Fraction]]) -> list[list[Fraction]]:
+    """``L L^T``, exactly: over integers (L scaled by the least common denominator D), then over D^2.
+
+    >>> _times_transpose([[Fraction(1, 2), Fraction(0)], [Fraction(1, 3), Fraction(2)]])
+    [[Fraction(1, 4), Fraction(1, 6)], [Fraction(1, 6), Fraction(37, 9)]]
+    """
+    n = len(L)
+    D = math.lcm(*(x.denominator for row in L for x in row))
+    M = [[x.numerator * (D // x.denominator) for x in row] for row in L]
+    return [[Fraction(sum(M[i][k] * M[j][k] for k in range(n)), D * D) for j in range(n)] for i in range(n)]
 
 
 _FACTORS: dict[str, Any] = {}
 
 
-def _metric_inverse_apply(g: list[list[Fraction]], a: list[Fraction]) -> tuple:
-    """``g^-1 a``; the factorisation of the last g is kept (a draw asks it several times)."""
+def _metric_inverse_apply(g: list[list[Fraction]], a: list[Any]) -> tuple:
+    """``g^-1 a`` in the rationals of :data:`_F` (``a`` Fractions or those); the factorisation of the last g is
+    kept (a draw asks it several times)."""
     key = repr(g)
     if key not in _FACTORS:
         _FACTORS.clear()
-        _FACTORS[key] = ldl(_Q, g)
-    return solve_spd(_Q, _FACTORS[key], a)
+        _FACTORS[key] = ldl(_F, [_F.convert_all(row) for row in g])
+    return solve_spd(_F, _FACTORS[key], [x if type(x) is not Fraction else _F.convert(x) for x in a])
 
 
 @st.composite
@@ -147,12 +164,14 @@ def independent_normals(draw: Any, g: list[list[Fraction]], r: int, orthogonal: 
         rows.append(row)
     if orthogonal:  # Gram-Schmidt for <a, b> = a g^-1 b^T: keeps independence
         U: list[tuple] = []
+        done = [_F.convert_all(row) for row in rows]
         for i in range(r):
             for k in range(i):
                 u_k = U[k]
-                c = dot(_Q, rows[i], u_k) / dot(_Q, rows[k], u_k)
-                rows[i] = [x - c * y for x, y in zip(rows[i], rows[k])]
-            U.append(_metric_inverse_apply(g, rows[i]))
+                c = dot(_F, done[i], u_k) / dot(_F, done[k], u_k)
+                done[i] = [x - c * y for x, y in zip(done[i], done[k])]
+            U.append(_metric_inverse_apply(g, done[i]))
+        rows = [[_F.to_number(x) for x in row] for row in done]
     return rows
 
 
@@ -193,14 +212,14 @@ def velocity_with_rates(system: tuple, w: list[Fraction], targets: dict[int, Fra
     [Fraction(-1, 1), Fraction(-1, 1)]
     """
     g, normals, time_terms = (_fractions(x) for x in system)  # never ints: int / int is a float
-    w = _fractions(list(w))
-    targets = {j: Fraction(t) for j, t in targets.items()}
     chosen = sorted(targets)
     U = [_metric_inverse_apply(g, normals[k]) for k in chosen]
-    rates = [time_terms[j] + dot(_Q, normals[j], w) for j in chosen]
-    G = [[dot(_Q, normals[j], u) for u in U] for j in chosen]
-    c = solve_spd(_Q, ldl(_Q, G), [targets[j] - b for j, b in zip(chosen, rates)])
-    return [x + dot(_Q, c, [u[i] for u in U]) for i, x in enumerate(w)]
+    a = {j: _F.convert_all(normals[j]) for j in chosen}
+    w = _F.convert_all(_fractions(list(w)))
+    rates = [_F.convert(time_terms[j]) + dot(_F, a[j], w) for j in chosen]
+    G = [[dot(_F, a[j], u) for u in U] for j in chosen]
+    c = solve_spd(_F, ldl(_F, G), [_F.convert(Fraction(targets[j])) - b for j, b in zip(chosen, rates)])
+    return [_F.to_number(x + dot(_F, c, [u[i] for u in U])) for i, x in enumerate(w)]
 
 
 @st.composite

@@ -34,9 +34,10 @@ import hashlib
 import json
 import math
 import random
+import secrets
 import sys
 import warnings
-from collections import Counter
+from collections import Counter, OrderedDict
 from concurrent.futures import Executor
 from dataclasses import dataclass, field
 from typing import Any
@@ -67,6 +68,62 @@ LAW_RULES = {
 }
 
 
+class TableShare:
+    """What the rows of one verdict table share in a process: the runs of case records (a case drawn for one
+    property is run again by the next ones, under the same law), and the cases each strategy drew for a row
+    that held.
+
+    Hypothesis, derandomised, draws the same cases for every row with the same strategy (family, rule, cap,
+    what the property draws besides) and number of cases, up to the first failure: the draws depend on the
+    choices made, never on a check that passes. So a row whose strategy has already been drawn in full (for a
+    row that held) checks those cases again without drawing them; when one of them fails, the row is searched
+    by Hypothesis as usual, which draws the same cases, fails at the same one and shrinks it. The verdicts are
+    those of rows searched one by one (``tests/test_properties.py`` compares both).
+
+    One share belongs to one table (:func:`row_tasks` gives its rows a token): nothing outlives it, in the
+    process that computed the table or in a pool's worker (:func:`share_for`)."""
+
+    #: the most runs kept (the least recently used go first)
+    RUNS = 2048
+    #: the most strategies whose cases are kept
+    STRATEGIES = 128
+
+    def __init__(self, token: str) -> None:
+        self.token = token
+        self.runs: OrderedDict[str, Any] = OrderedDict()
+        self.drawn: OrderedDict[tuple, list[Any]] = OrderedDict()
+
+    def run(self, key: str, compute: Any) -> Any:
+        """The run of ``key``, computed once."""
+        found = self.runs.get(key)
+        if found is None:
+            found = self.runs[key] = compute()
+            if len(self.runs) > self.RUNS:
+                self.runs.popitem(last=False)
+        else:
+            self.runs.move_to_end(key)
+        return found
+
+    def keep_drawn(self, key: tuple, items: list[Any]) -> None:
+        """The cases a strategy drew in full (for a row that held)."""
+        self.drawn[key] = items
+        if len(self.drawn) > self.STRATEGIES:
+            self.drawn.popitem(last=False)
+
+
+#: the share of the table whose rows this process is running (one at a time)
+_SHARE: list[TableShare] = []
+
+
+def share_for(token: str | None) -> TableShare | None:
+    """The share of the table with this token in this process (a new one when the token is new), or None."""
+    if token is None:
+        return None
+    if not _SHARE or _SHARE[0].token != token:
+        _SHARE[:] = [TableShare(token)]
+    return _SHARE[0]
+
+
 class Runner:
     """Runs case records on the engine under one law (``rule`` by default), memoised (a property
     compares several runs). A check may ask another law's run with ``law=``.
@@ -75,8 +132,9 @@ class Runner:
     failure); ``deepest`` is the most impulses of a run it returned since it was last set to 0. ``undecided``
     holds the case records whose runs a census left undecided (:meth:`keep`), by stop."""
 
-    def __init__(self, law: Law = "rule") -> None:
+    def __init__(self, law: Law = "rule", share: TableShare | None = None) -> None:
         self.law = law
+        self.share = share
         self.memo: dict[str, Any] = {}
         self.counts: Counter[str] = Counter()
         self.cap: int | None = None
@@ -102,7 +160,10 @@ class Runner:
         if key not in self.memo:
             if len(self.memo) > 512:
                 self.memo.clear()
-            self.memo[key] = run_record(record, rule, backend, law=law, decide=decide)
+            if self.share is not None:
+                self.memo[key] = self.share.run(key, lambda: run_record(record, rule, backend, law=law, decide=decide))
+            else:
+                self.memo[key] = run_record(record, rule, backend, law=law, decide=decide)
         result = self.memo[key]
         self.deepest = max(self.deepest, result.iterations)
         return result
@@ -259,35 +320,21 @@ def search(
     law: Law = "rule",
     seed: int | None = None,
     strategy: Any = None,
+    share: TableShare | None = None,
 ) -> Verdict:
     """Search one row for a counterexample with ``examples`` cases (the law's runs). Hypothesis is
     derandomised (the same cases on every run), or seeded with ``seed`` (another chunk of a split row's
     cases, :func:`merge_chunks`). The cases are the family's, or those of ``strategy`` (of
-    :class:`~verify.checks.properties.strategies.Drawn` cases: :mod:`verify.checks.properties.own`)."""
+    :class:`~verify.checks.properties.strategies.Drawn` cases: :mod:`verify.checks.properties.own`). With a
+    ``share`` (:class:`TableShare`), the row shares runs and drawn cases with the other rows of its table."""
     from hypothesis import HealthCheck, Phase, find, settings
     from hypothesis import strategies as st
     from hypothesis.errors import NoSuchExample, Unsatisfiable
 
-    runner = Runner(law)
-    tally: Counter[str] = Counter()
-    shrinking = False  # once a failure is found, Hypothesis shrinks it: those calls are not counted
-
-    def fails(item: Any) -> bool:
-        nonlocal shrinking
-        runner.deepest = 0
-        why = _check(prop, runner, item)
-        if not shrinking:
-            tally["drawn"] += 1
-            tally["skipped" if why == SKIP else "applied"] += 1
-        if why is None or why == SKIP:
-            return False
-        if not shrinking and prop.max_iterations is not None:
-            # a property's long runs are not repeated for every smaller candidate: those run no longer than
-            # the failure found (which fails again so: a run is the same up to its cap), or the usual cap
-            runner.cap = max(MAX_ITERATIONS, runner.deepest)
-        shrinking = True
-        return True
-
+    # the cases this row's strategy draws, when another row of the table has drawn them all
+    key = (family, rule, examples, seed, prop.max_iterations, prop.name if prop.extra is not None else None)
+    shared = share if share is not None and strategy is None else None
+    drawn = shared.drawn.get(key) if shared is not None else None
     strategy = cases(family, rule) if strategy is None else strategy
     if prop.max_iterations is not None:
         strategy = capped(strategy, prop.max_iterations)
@@ -301,13 +348,70 @@ def search(
         phases=[Phase.generate, Phase.shrink],
         suppress_health_check=list(HealthCheck),
     )
+    row = (family, rule, law)
     proof = _proof(prop, rule, law)
+    probe = _Probe(prop, law, share, record=shared is not None and drawn is None)
+    if drawn is not None:
+        if not any(probe(item) for item in drawn):
+            return probe.holds(row, proof)
+        # a shared case fails: Hypothesis searches the row afresh (the same cases, up to this one), and shrinks it
+        probe = _Probe(prop, law, share)
     try:
-        item = find(strategy, fails, settings=config, random=None if seed is None else random.Random(seed))
-    except (NoSuchExample, Unsatisfiable):
-        return _holds(prop, (family, rule, law), dict(tally), dict(runner.counts), proof, undecided=runner.undecided)
+        item = find(strategy, probe, settings=config, random=None if seed is None else random.Random(seed))
+    except NoSuchExample:
+        if shared is not None and probe.recorded is not None:
+            shared.keep_drawn(key, probe.recorded)
+        return probe.holds(row, proof)
+    except Unsatisfiable:
+        return probe.holds(row, proof)
+    found = _refuted(prop, row, item, probe, proof)
+    if prop.census:
+        counts, found.undecided = _census(prop, strategy, examples, law, seed, share=share)
+        found.counts = dict(counts)
+        found.cases, found.note = _census_note(found.detail, found.counts)
+    return found
+
+
+class _Probe:
+    """A row's check of one drawn case, as Hypothesis (or a replay of a table's shared cases) calls it: True when
+    the case fails. It counts the cases drawn, applied and skipped until the first failure (the shrinking that
+    follows is not counted), and with ``record`` keeps the cases it is given."""
+
+    def __init__(self, prop: Property, law: Law, share: TableShare | None, *, record: bool = False) -> None:
+        self.prop, self.runner = prop, Runner(law, share)
+        self.tally: Counter[str] = Counter()
+        self.shrinking = False
+        self.recorded: list[Any] | None = [] if record else None
+
+    def __call__(self, item: Any) -> bool:
+        runner, prop = self.runner, self.prop
+        if self.recorded is not None and not self.shrinking:
+            self.recorded.append(item)
+        runner.deepest = 0
+        why = _check(prop, runner, item)
+        if not self.shrinking:
+            self.tally["drawn"] += 1
+            self.tally["skipped" if why == SKIP else "applied"] += 1
+        if why is None or why == SKIP:
+            return False
+        if not self.shrinking and prop.max_iterations is not None:
+            # a property's long runs are not repeated for every smaller candidate: those run no longer than
+            # the failure found (which fails again so: a run is the same up to its cap), or the usual cap
+            runner.cap = max(MAX_ITERATIONS, runner.deepest)
+        self.shrinking = True
+        return True
+
+    def holds(self, row: tuple[str, str, Law], proof: str | None) -> Verdict:
+        """The row's verdict when no case failed."""
+        runner = self.runner
+        return _holds(self.prop, row, dict(self.tally), dict(runner.counts), proof, undecided=runner.undecided)
+
+
+def _refuted(prop: Property, row: tuple[str, str, Law], item: Any, probe: _Probe, proof: str | None) -> Verdict:
+    """The verdict of a row whose search found ``item`` (shrunk), with what fails and how to reproduce it."""
+    family, rule, law = row
     d, extra = item if prop.extra is not None else (item, None)
-    why = _check(prop, Runner(law), item) or ""
+    why = _check(prop, Runner(law, probe.runner.share), item) or ""
     note = why + (f" (with {_describe(extra)})" if extra is not None else "")
     explain = prop.statement(law_name(law))[1]
     if proof:
@@ -320,12 +424,9 @@ def search(
     record = dict(d.record, id=f"{family}-{rule}-{law_part}{_slug(prop.name)}")
     flags = "" if name == "rule" else " " + (law.flags() if isinstance(law, Sequential) else f"--law {name}")
     note += f"; reproduce with: verify solve CASE.json --rule {rule}{flags}"
+    tally = probe.tally
     found = Verdict(prop.name, rule, family, "refuted", tally["applied"], record, note, extra, name, dict(tally))
     found.detail = note
-    if prop.census:
-        counts, found.undecided = _census(prop, strategy, examples, law, seed)
-        found.counts = dict(counts)
-        found.cases, found.note = _census_note(found.detail, found.counts)
     return found
 
 
@@ -347,14 +448,14 @@ CENSUS_CASES = "cases"
 
 
 def _census(
-    prop: Property, strategy: Any, examples: int, law: Law, seed: int | None = None
+    prop: Property, strategy: Any, examples: int, law: Law, seed: int | None = None, *, share: TableShare | None = None
 ) -> tuple[Counter[str], dict[str, list[dict[str, Any]]]]:
     """How the runs of a refuted row end, over all its cases (the search stops at the first failure),
     with the number of cases under :data:`CENSUS_CASES`; and the cases it left undecided (:attr:`Runner.undecided`)."""
     from hypothesis import HealthCheck, Phase, given, settings
     from hypothesis import seed as seeded
 
-    runner = Runner(law)
+    runner = Runner(law, share)
     seen = 0
 
     @settings(
@@ -478,15 +579,17 @@ def examples_per_row(profile: str, n_rows: int) -> int:
 CHUNK = 2000
 
 
-def _run_row(args: tuple[str, str, str, int, str] | tuple[str, str, str, int, str, int | None]) -> Verdict:
-    name, family, rule, examples, law, *seed = args
+def _run_row(args: tuple[Any, ...]) -> Verdict:
+    """One row's task: (property, family, rule, cases, law[, seed[, token]]); the token of its table's share."""
+    name, family, rule, examples, law, *rest = args
+    seed, token = [*rest, None, None][:2]
     with warnings.catch_warnings():
         if _in_dask_worker():
             # Hypothesis warns when the global random state changes while a case is drawn; in a Dask worker
             # the worker's own threads use the random module meanwhile (our strategies do not: in one process
             # the warning is an error of the test suite). The cases come from Hypothesis' own generator.
             warnings.filterwarnings("ignore", message="Do not use the `random` module inside strategies")
-        return search(property_named(name), family, rule, examples, law=law, seed=seed[0] if seed else None)
+        return search(property_named(name), family, rule, examples, law=law, seed=seed, share=share_for(token))
 
 
 def _in_dask_worker() -> bool:
@@ -530,19 +633,21 @@ def row_tasks(
     """
     table = rows(properties, families, rules, laws)
     per_prop = Counter((p.name, law) for p, _, _, law in table)
+    token = secrets.token_hex(8)  # the table's share (:class:`TableShare`): its rows, and none of another table
     out = []
     for p, f, r, law in table:
         examples = examples_per_row(profile, per_prop[p.name, law])
         label = f"{p.name} | {law} | {r} | {f}"
         n = math.ceil(examples / chunk)
         if n == 1:
-            out.append(Task(f"{label} | {examples}", _run_row, (p.name, f, r, examples, law), label))
+            out.append(Task(f"{label} | {examples}", _run_row, (p.name, f, r, examples, law, None, token), label))
             continue
         for j in range(n):
             size = examples // n + (1 if j < examples % n else 0)
             task_id = f"{label} | {examples} | chunk {j + 1}/{n}"
             seed = None if j == 0 else _chunk_seed(task_id)
-            out.append(Task(task_id, _run_row, (p.name, f, r, size, law, seed), f"{label} (chunk {j + 1}/{n})"))
+            payload = (p.name, f, r, size, law, seed, token)
+            out.append(Task(task_id, _run_row, payload, f"{label} (chunk {j + 1}/{n})"))
     return out
 
 

@@ -18,6 +18,10 @@ if TYPE_CHECKING:
     from verify.core.algebraic import RealAlgebraic
 
 
+#: the most SymPy numbers a field keeps converted (:meth:`NumberFieldBackend.convert`)
+_CONVERTED = 4096
+
+
 class NumberFieldBackend(Backend):
     """Exact arithmetic in a real number field: ``sqrt(3)/3``, ``cos(pi/12)``, ``3 - 2*sqrt(2)``.
 
@@ -51,16 +55,27 @@ class NumberFieldBackend(Backend):
         self.zero = self.field.zero
         self.one = self.field.one
         self._norms: dict[Any, Any] = {}
+        #: SymPy numbers already converted (each conversion searches an isomorphism of fields: the same inputs
+        #: come back with every case and every system built on this field); elements are immutable
+        self._converted: dict[Any, Any] = {}
 
     def convert(self, value: Number) -> Any:
         import sympy as sp
 
         if isinstance(value, Fraction):  # from QQ: SymPy's from_sympy would search an isomorphism of fields
             return self.field.convert_from(sp.QQ(value.numerator, value.denominator), sp.QQ)
+        key = (type(value), value)  # the type too: a value must never stand for an equal one of another kind
+        found = self._converted.get(key)
+        if found is not None:
+            return found
         try:
-            return self.field.from_sympy(value)
+            found = self.field.from_sympy(value)
         except Exception as exc:  # CoercionFailed, NotAlgebraic: not in this field
             raise BadNumber(f"{value} is not in the number field of {list(self.generators)} ({exc})") from None
+        if len(self._converted) >= _CONVERTED:
+            self._converted.clear()
+        self._converted[key] = found
+        return found
 
     def sign(self, x: Any) -> int:
         import sympy as sp

@@ -24,6 +24,7 @@ import math
 from collections.abc import Callable, Iterator, Sequence
 from contextlib import contextmanager
 from contextvars import ContextVar
+from operator import mul
 from typing import Any
 
 from verify.core.linalg import matvec
@@ -85,7 +86,9 @@ def solve_columns(K: Any, columns: Sequence[Sequence[Any]], y: Sequence[Any]) ->
     return [rows[i][m] for i in range(m)]
 
 
-def feasible(K: Any, y: Sequence[Any], gens: Sequence[Sequence[Any]]) -> dict[int, Any] | None:
+def feasible(
+    K: Any, y: Sequence[Any], gens: Sequence[Sequence[Any]], *, scaled: Scaled | None = None
+) -> dict[int, Any] | None:
     """Non-negative coefficients ``{k: d_k}`` (the non-zero ones) with ``y = sum d_k gens[k]``, or None
     when there are none (decided exactly: phase one of the simplex method).
 
@@ -100,9 +103,13 @@ def feasible(K: Any, y: Sequence[Any], gens: Sequence[Sequence[Any]]) -> dict[in
     >>> g = [[K.one, K.zero], [K.convert(Fraction(-1)), K.one]]
     >>> sorted((k, str(d)) for k, d in feasible(K, [K.zero, K.convert(Fraction(2))], g).items())
     [(0, '2'), (1, '2')]
+
+    ``scaled`` (over the rationals) keeps each generator's integer form by the generator's ``id``, for a caller
+    that asks about the same generators many times (:func:`verify.core.cones.period.close`): the generators
+    must then stay alive and unchanged while it keeps the dict.
     """
     if getattr(K, "rationals", False):
-        return _feasible_integers(K, y, gens)
+        return _feasible_integers(K, y, gens, {} if scaled is None else scaled)
     n, m = len(y), len(gens)
     zero, one = K.zero, K.one
     # each row i is multiplied by -1 where y_i < 0, so that the right-hand side starts >= 0
@@ -138,15 +145,23 @@ def feasible(K: Any, y: Sequence[Any], gens: Sequence[Sequence[Any]]) -> dict[in
     return {basis[i]: rhs[i] for i in range(n) if basis[i] < m and rhs[i] != zero}
 
 
+#: the integer form of generators (:func:`_integers`), by ``id``
+Scaled = dict[int, tuple[list[Any], Any]]
+
+
 def _integers(values: Sequence[Any]) -> tuple[list[Any], int]:
     """Integers ``L * values`` and ``L``, the least common denominator (a positive factor). The integers are
     the backend's own (``int``, gmpy2's ``mpz``, flint's ``fmpz``: exact, and GMP's for long ones)."""
-    denominators = [int(v.denominator) for v in values]
-    common = math.lcm(*denominators) if denominators else 1
+    denominators = [v.denominator for v in values]
+    if all(d == 1 for d in denominators):
+        return [v.numerator for v in values], 1
+    common = math.lcm(*denominators)
     return [v.numerator * (common // d) for v, d in zip(values, denominators)], common
 
 
-def _feasible_integers(K: Any, y: Sequence[Any], gens: Sequence[Sequence[Any]]) -> dict[int, Any] | None:
+def _feasible_integers(
+    K: Any, y: Sequence[Any], gens: Sequence[Sequence[Any]], scaled: Scaled
+) -> dict[int, Any] | None:
     """:func:`feasible` over the rationals, fraction-free: the same pivots, the same coefficients.
 
     Each generator and y are scaled to integers by positive factors (which changes no sign of a reduced cost
@@ -160,15 +175,18 @@ def _feasible_integers(K: Any, y: Sequence[Any], gens: Sequence[Sequence[Any]]) 
     rhs = [-v if f else v for v, f in zip(b, flip)]
     cols, scales = [], []
     for g in gens:
-        column, scale = _integers(g)
-        cols.append([-v if f else v for v, f in zip(column, flip)])
+        found = scaled.get(id(g))
+        if found is None:
+            found = scaled[id(g)] = _integers(g)
+        column, scale = found
+        cols.append([-v if f else v for v, f in zip(column, flip)] if any(flip) else column)
         scales.append(scale)
     adjugate = [[1 if k == i else 0 for k in range(n)] for i in range(n)]
     det = 1
     basis = [m + i for i in range(n)]  # the artificial variables start in the basis
     while (entering := _entering(cols, adjugate, basis, det, lambda c: c < 0)) is not None:
         if entering < m:
-            a = [sum(u * v for u, v in zip(row, cols[entering])) for row in adjugate]
+            a = [sum(map(mul, row, cols[entering])) for row in adjugate]
         else:
             a = [row[entering - m] for row in adjugate]
         leave = None
@@ -213,7 +231,7 @@ def _entering(
     for j in range(m + n):
         if j in basic:
             continue
-        cost = (zero - sum((p * a for p, a in zip(pi, cols[j])), zero)) if j < m else (one - pi[j - m])
+        cost = (zero - sum(map(mul, pi, cols[j]), zero)) if j < m else (one - pi[j - m])
         if negative(cost):
             return j
     return None

@@ -51,7 +51,7 @@ from typing import Any
 
 from verify.core import bounds
 from verify.core.cones.face import HEIGHTS, face_cone
-from verify.core.cones.lp import SearchTooLong, feasible, pivot_budget, solve_columns
+from verify.core.cones.lp import Scaled, SearchTooLong, feasible, pivot_budget, solve_columns
 from verify.core.cones.polar import MAX_VECTORS, extreme, forms, polar_values, pushed
 from verify.core.cones.shape import exponent, rounded_direction, shaped_seeds
 from verify.core.cones.stages import Combine, Lift, Outer, product_cone
@@ -207,9 +207,10 @@ def _prune(K: Any, vectors: Carried) -> Carried:
     if not getattr(K, "rationals", False) or len(vectors) <= len(vectors[0][0]) + 1:
         return vectors
     kept = list(vectors)
+    scaled: Scaled = {}  # each vector's integer form, found once for all the tests
     for item in list(vectors):
         others = [x for x in kept if x is not item]
-        d = feasible(K, item[0], [v for v, _ in others])
+        d = feasible(K, item[0], [v for v, _ in others], scaled=scaled)
         if d is not None and (not item[1] or any(others[k][1] for k in d)):
             kept = others
     return kept
@@ -297,12 +298,13 @@ def carry(
     return current
 
 
-def member(K: Any, y: Sequence[Any], gens: Sequence[Vector]) -> dict[int, Any] | None:
+def member(K: Any, y: Sequence[Any], gens: Sequence[Vector], scaled: Scaled | None = None) -> dict[int, Any] | None:
     """Non-negative coefficients ``{k: d_k}`` with ``y = sum d_k gens[k]``, or None if there are none.
 
     Exact linear programming (:func:`verify.core.cones.lp.feasible`). On a parameter backend the
     basis is found at one rational value of the parameter (a combination for the whole range is one
     there too), then solved for the whole range and its signs decided there (which may cut the range).
+    ``scaled`` keeps the generators' integer forms for the next calls (:func:`verify.core.cones.lp.feasible`).
 
     >>> from verify.core.backends.rational import RationalBackend
     >>> K = RationalBackend("python")
@@ -312,7 +314,7 @@ def member(K: Any, y: Sequence[Any], gens: Sequence[Vector]) -> dict[int, Any] |
     """
     at = getattr(K, "at_sample", None)
     if at is None or at(K.zero) is None:
-        return feasible(K, y, gens)
+        return feasible(K, y, gens, scaled=scaled)
     from verify.core.backends.rational import RationalBackend
 
     d = feasible(RationalBackend("python"), [at(x) for x in y], [[at(x) for x in g] for g in gens])
@@ -383,6 +385,7 @@ def close(
         strict.append(False)
     start = len(gens)
     limit = start + MAX_GENERATORS
+    scaled: Scaled = {}  # the generators' integer forms (the list only grows: each stays alive, unchanged)
     for done in range(1, rounds + 1):
         stages: list[Carried] | None = [] if polar else None
         inner = _inside(K, gens, strict, len(seeds), combine)
@@ -393,7 +396,7 @@ def close(
         out, missing = [], []
         for y, s in carried:
             d = combine(y, len(seeds), gens) if combine is not None else None
-            d = d if d is not None else member(K, y, gens)
+            d = d if d is not None else member(K, y, gens, scaled)
             if d is None or (s and not any(strict[k] for k in d)):
                 missing.append((y, s))
             else:

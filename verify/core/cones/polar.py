@@ -32,12 +32,11 @@ to, shaped by the linear part of the period map there.
 from __future__ import annotations
 
 import itertools
-import math
 from collections.abc import Sequence
 from fractions import Fraction
 from typing import Any
 
-from verify.core.cones.lp import feasible
+from verify.core.cones.lp import Scaled, feasible
 
 Vector = list[Any]
 Carried = list[tuple[Vector, bool]]
@@ -141,10 +140,11 @@ def extreme(K: Any, vectors: Carried) -> Carried:
     if len(vectors) <= 3:
         return list(vectors)
     corners = _hull3(K, vectors) if len(vectors[0][0]) == 3 else None
+    scaled: Scaled = {}  # the kept vectors' integer forms, found once for all the tests
     if corners is None:
         kept: Carried = []
         for v, s in sorted(vectors, key=lambda item: not item[1]):
-            d = feasible(K, v, [g for g, _ in kept]) if kept else None
+            d = feasible(K, v, [g for g, _ in kept], scaled=scaled) if kept else None
             if d is None or (s and not any(kept[k][1] for k in d)):
                 kept.append((v, s))
         return kept
@@ -153,7 +153,7 @@ def extreme(K: Any, vectors: Carried) -> Carried:
         return kept
     for i, (v, s) in enumerate(vectors):
         if s and i not in corners:
-            d = feasible(K, v, [g for g, _ in kept])
+            d = feasible(K, v, [g for g, _ in kept], scaled=scaled)
             if d is None or not any(kept[k][1] for k in d):
                 kept.append((v, s))
     return kept
@@ -163,12 +163,15 @@ def _hull3(K: Any, vectors: Carried) -> list[int] | None:
     """The indices of the vectors on the corners of the cone's section by the plane ``h . x = 1`` (exact
     signs, the backend's rationals), with h the sum of the vectors each scaled to a largest entry of 1 and
     rounded to 16 bits; None when h is not positive on every vector (then the section does not show the
-    cone)."""
-    h = [Fraction(0)] * 3
+    cone). Each turn of the hull is decided by :func:`_turn`: in floating point where its error bound decides
+    it, else exactly."""
+    exact = getattr(K, "rationals", False)  # the elements are rationals themselves: no conversion to Fraction
+    units = [0, 0, 0]  # h in units of 2^-16
     for v, _ in vectors:
-        q = [Fraction(K.to_number(x)) for x in v]
+        q = v if exact else [Fraction(K.to_number(x)) for x in v]
         top = max(abs(x) for x in q)
-        h = [a + Fraction(math.floor(x * 2**16 / top), 2**16) for a, x in zip(h, q)]
+        units = [a + int(x * 2**16 // top) for a, x in zip(units, q)]
+    h = [Fraction(a, 2**16) for a in units]
     hk = [K.convert(x) for x in h]
     heights = [sum((a * b for a, b in zip(hk, v)), K.zero) for v, _ in vectors]
     if any(K.sign(t) <= 0 for t in heights):
@@ -176,9 +179,10 @@ def _hull3(K: Any, vectors: Carried) -> list[int] | None:
     k = max(range(3), key=lambda i: abs(h[i]))
     axes = [i for i in range(3) if i != k]  # the section seen along e_k: a projection, corners kept
     points = sorted((v[axes[0]] / t, v[axes[1]] / t, n) for n, ((v, _), t) in enumerate(zip(vectors, heights)))
+    near = {pt[2]: _near(K, pt) for pt in points}
 
     def turn(o: tuple, a: tuple, b: tuple) -> int:
-        return int(K.sign((a[0] - o[0]) * (b[1] - o[1]) - (a[1] - o[1]) * (b[0] - o[0])))
+        return _turn(K, near, o, a, b)
 
     lower: list[tuple] = []
     upper: list[tuple] = []
@@ -189,3 +193,53 @@ def _hull3(K: Any, vectors: Carried) -> list[int] | None:
             chain.append(pt)
     corners = {pt[2] for pt in lower[:-1] + upper[:-1]}
     return sorted(corners) if len(corners) >= 3 else None
+
+
+#: the relative error of a rational rounded to a float (one unit in the last place: a rounding that truncates
+#: errs by up to one, to nearest by half)
+_ULP = 2.0**-52
+#: floats beyond these magnitudes are not used (over- and underflow would void the error bound)
+_LARGEST, _SMALLEST = 2.0**500, 2.0**-500
+
+
+def _near(K: Any, point: tuple) -> tuple[float, float] | None:
+    """The point's coordinates as floats, each within a relative :data:`_ULP` of the exact one (None when
+    a coordinate is too large, or too small but not 0, for the error bound of :func:`_turn`)."""
+    out = []
+    for x in point[:2]:
+        try:
+            f = float(K.to_number(x)) if not getattr(K, "rationals", False) else float(x)
+        except (OverflowError, TypeError, ValueError):
+            return None
+        if not (f == 0 and x == K.zero) and not _SMALLEST < abs(f) < _LARGEST:
+            return None
+        out.append(f)
+    return out[0], out[1]
+
+
+def _turn(K: Any, near: dict[int, Any], o: tuple, a: tuple, b: tuple) -> int:
+    """The sign of the cross product ``(a - o) x (b - o)`` of three points (exact rationals (x, y, n), with their
+    floats ``near[n]`` from :func:`_near` or None). In floating point when the rounded product is farther
+    from 0 than a bound on its error, else exactly.
+
+    Each float coordinate errs by at most u |c| (u = :data:`_ULP`), a difference of two by u (|c| + |c'|) from
+    the inputs and its own rounding, half an ulp of the result; each of the two products then by about
+    2 u (|a_x| + |o_x|)(|b_y| + |o_y|), and the final difference adds half an ulp of its own. So
+    16 u (P + Q), with P and Q those products of sums of magnitudes, bounds the error with room to spare.
+
+    >>> from verify.core.backends.rational import RationalBackend
+    >>> K = RationalBackend("python")
+    >>> pts = [(Fraction(0), Fraction(0), 0), (Fraction(1), Fraction(0), 1), (Fraction(1), Fraction(1, 10**30), 2)]
+    >>> near = {p[2]: _near(K, p) for p in pts}
+    >>> [_turn(K, near, *pts), _turn(K, {}, pts[0], pts[2], pts[1])]
+    [1, -1]
+    """
+    fo, fa, fb = near.get(o[2]), near.get(a[2]), near.get(b[2])
+    if fo is not None and fa is not None and fb is not None:
+        dax, day, dbx, dby = fa[0] - fo[0], fa[1] - fo[1], fb[0] - fo[0], fb[1] - fo[1]
+        cross = dax * dby - day * dbx
+        bound = 16 * _ULP * ((abs(fa[0]) + abs(fo[0])) * (abs(fb[1]) + abs(fo[1]))
+                             + (abs(fa[1]) + abs(fo[1])) * (abs(fb[0]) + abs(fo[0])))  # fmt: skip
+        if bound > _SMALLEST and abs(cross) > bound:
+            return 1 if cross > 0 else -1
+    return int(K.sign((a[0] - o[0]) * (b[1] - o[1]) - (a[1] - o[1]) * (b[0] - o[0])))
