@@ -165,15 +165,23 @@ class _Check:
                 raise Refused("a pair of the period's eigenvalues may be real on the cell")
         self.angles = [c.acos() for c in self.cos]
 
+    def constants(self):
+        """G as numbers of the cell, 1 + e and -e: the single kicks' (the same numbers each time)."""
+        if not hasattr(self, "_constants"):
+            e = self.e
+            self._constants = ([[e.c(x) for x in row] for row in self.G], e + 1, e.c(0) - e)
+        return self._constants
+
     def mv(self, A, x):
         return [sum((A[i][j] * x[j] for j in range(self.r)), self.e.c(0)) for i in range(self.r)]
 
     def kick(self, b, J):
         G, e, b = self.G, self.e, list(b)
         if all(G[i][j] == 0 for i in J for j in J if i != j):
+            Gc, plus, minus = self.constants()
             for j in J:
-                c = b[j] * (e + 1) / G[j][j]
-                b = [b[i] - c * G[i][j] if i != j else b[i] * (e.c(0) - e) for i in range(self.r)]
+                c = b[j] * plus / Gc[j][j]
+                b = [b[i] - c * Gc[i][j] if i != j else b[i] * minus for i in range(self.r)]
             return b
         lam = {j: b[j] / G[j][j] for j in J}
         beta = sum((b[j] * lam[j] for j in J), e.c(0)) / sum((lam[i] * lam[j] * G[i][j] for i in J for j in J), e.c(0))

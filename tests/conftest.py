@@ -9,13 +9,14 @@ left in ``.hypothesis/``. ``ci`` is also derandomised, so the suite passes or fa
 way on every run; the failures Hypothesis has found are kept as ``@example`` lines instead.
 """
 
-import fcntl
 import json
 import os
 
 import mpmath
 import pytest
 from hypothesis import HealthCheck, settings
+
+from tests.helpers import shared
 
 settings.register_profile(
     "ci",
@@ -49,23 +50,12 @@ PROPERTY_PROFILE = {"dev": "dev", "ci": "ci", "thorough": "ci"}.get(PROFILE, "ci
 
 @pytest.fixture(scope="session")
 def property_verdicts(tmp_path_factory):
-    """The verdict table at the test profile, computed once per command (properties and reports share it).
-
-    The test processes of pytest-xdist (``-n``, pyproject.toml) share it too: the first to need it computes
-    it (on both cores) while holding a lock, and writes it, exactly (the checkpoints' encoding), into this
-    run's temporary folder; the others wait for the lock and read it. Nothing outlives the command."""
+    """The verdict table at the test profile, computed once per command (properties and reports share it), on
+    both cores, and written exactly (the checkpoints' encoding) for the other test process (:func:`shared`)."""
     from verify.checks.properties.verdicts import verdicts
     from verify.checks.tasks import decode, encode
 
-    if not os.environ.get("PYTEST_XDIST_WORKER"):
-        return verdicts(PROPERTY_PROFILE, workers=2)
-    shared = tmp_path_factory.getbasetemp().parent  # this run's folder, common to its test processes
-    path = shared / f"property-verdicts-{PROPERTY_PROFILE}.json"
-    with open(shared / "property-verdicts.lock", "w") as lock:
-        fcntl.flock(lock, fcntl.LOCK_EX)
-        if not path.exists():
-            found = verdicts(PROPERTY_PROFILE, workers=2)
-            path.with_suffix(".tmp").write_text(json.dumps(encode(found)), encoding="utf-8")
-            path.with_suffix(".tmp").replace(path)
-            return found
-    return decode(json.loads(path.read_text(encoding="utf-8")))
+    return shared(tmp_path_factory, f"property-verdicts-{PROPERTY_PROFILE}",
+                  lambda: verdicts(PROPERTY_PROFILE, workers=2),
+                  dump=lambda found: json.dumps(encode(found)).encode(),
+                  load=lambda text: decode(json.loads(text)))  # fmt: skip

@@ -1,9 +1,16 @@
-"""Shared test helpers: exactness checks in the manner of CPython's test_fractions."""
+"""Shared test helpers: exactness checks in the manner of CPython's test_fractions, and long results shared by the
+test processes."""
 
 from __future__ import annotations
 
+import fcntl
+import os
+import pickle
+from collections.abc import Callable
 from fractions import Fraction
 from typing import Any
+
+import pytest
 
 
 class Poison(Fraction):
@@ -43,3 +50,29 @@ def cradle_case(case_id: str, masses: list[str], restitution: list[str], velocit
 
     g, normals = cradle_geometry([to_number(m) for m in masses])
     return case_record(case_id, g, normals, [to_number(e) for e in restitution], [to_number(x) for x in velocity])
+
+
+def shared(
+    tmp_path_factory: pytest.TempPathFactory,
+    name: str,
+    compute: Callable[[], Any],
+    *,
+    dump: Callable[[Any], bytes] = pickle.dumps,
+    load: Callable[[bytes], Any] = pickle.loads,
+) -> Any:
+    """``compute()``, once per command, for every test process of pytest-xdist (``-n``, pyproject.toml): the
+    first to need it computes it while holding a lock, and writes it (``dump``) into this run's temporary
+    folder; the others wait for the lock and read it (``load``). Nothing outlives the command. Use it from a
+    session fixture (then once per process, and once per command)."""
+    if not os.environ.get("PYTEST_XDIST_WORKER"):
+        return compute()
+    folder = tmp_path_factory.getbasetemp().parent  # this run's folder, common to its test processes
+    path = folder / f"shared-{name}"
+    with open(folder / f"shared-{name}.lock", "w") as lock:
+        fcntl.flock(lock, fcntl.LOCK_EX)
+        if not path.exists():
+            found = compute()
+            path.with_suffix(".tmp").write_bytes(dump(found))
+            path.with_suffix(".tmp").replace(path)
+            return found
+    return load(path.read_bytes())

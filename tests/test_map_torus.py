@@ -10,6 +10,9 @@ import pytest
 import sympy as sp
 
 from tests.cells_check import Refused, check_cells, period_data, prepare
+from tests.helpers import shared
+from tests.sweeps import MAP, cells_of, replayed
+from tests.sweeps import load as load_sweeps
 from tests.test_map_cautious import POINTS, _drawn, _first_decided, _normals, _unit_balls
 from verify.core.algebraic import RealAlgebraic
 from verify.core.backends.symbolic import EPS, Piece
@@ -19,6 +22,7 @@ from verify.maps.cradle import cradle_map
 from verify.maps.line import undecided_length
 from verify.maps.meanvalue import cell, working_precision
 from verify.maps.torus import exit_cells, exits_on_cells, torus_period
+from verify.maps.watch import Watch
 from verify.models.cradle import cradle_system
 
 NORMALS = [[-1, 1, 0, 0, 0], [0, -1, 1, 0, 0], [0, 0, -1, 1, 0], [0, 0, 0, -1, 1]]
@@ -139,21 +143,85 @@ def test_just_above_eps_star_a_gap_of_5e_minus_7_stays_undecided() -> None:
     assert piece.upper.cmp(RealAlgebraic.rational(found.cells[-1][1])) <= 0
 
 
+@pytest.fixture(scope="session")
+def five_balls(tmp_path_factory):
+    """The whole map of five unit balls with ``leaving``, its sweeps of cells replayed from their record
+    (tests/sweeps.py: the cells found once, each proved by the checker in the tests below), computed once for
+    both test processes; with the keys of the sweeps the map asked for."""
+
+    def compute():
+        with replayed() as asked:
+            return cradle_map(**MAP), asked
+
+    return shared(tmp_path_factory, "five-balls-map", compute)
+
+
 @pytest.mark.slow
-def test_five_unit_balls_every_eps_above_eps_star_exits_but_less_than_1e_minus_6(data) -> None:
-    """The whole map of five unit balls with ``leaving`` (minutes): up to and at eps* never exits, and above it
-    every eps exits but a set of length below 1e-6 (the gap of 5e-7 above eps* and cells narrower than 1e-14);
-    the checker proves every cell of every certificate on its own."""
-    m = cradle_map(balls=5, max_impulses=20, leaving=True)
+def test_five_unit_balls_every_eps_above_eps_star_exits_but_less_than_1e_minus_6(five_balls) -> None:
+    """The whole map of five unit balls with ``leaving``: up to and at eps* never exits, and above it every eps
+    exits but a set of length below 1e-6 (the gap of 5e-7 above eps* and cells narrower than 1e-14). Its cells are
+    the recorded sweeps', every one of which the checker proves (the next test); the map asks for each recorded
+    sweep, and its certificates list exactly their cells."""
+    m, asked = five_balls
+    recorded = load_sweeps()
+    assert sorted(key for key, *_ in asked) == sorted(recorded)
     assert undecided_length(m.parts)[1] < F(1, 10**6)
     star = RealAlgebraic.from_number(STAR)
     assert all(p.piece.lower.cmp(star) >= 0 for p in m.unexplored)
     proved = [p for p in m.unexplored if p.exits_beyond_bound]
-    assert proved
-    cells = [cell for p in proved for cell in _cells_of(p.certificate)]
-    assert len(cells) > 1000
-    assert check_cells(cells, [1] * 5, NORMALS, [1, 0, 0, 0, 0], SETS, data=data) == []
-    # never more cautious than a single run: what the cells leave is not decided by verify solve with the cap
+    listed = sorted((F(a), F(b)) for p in proved for a, b in _cells_of(p.certificate))
+    assert len(listed) > 1000
+    assert listed == sorted(cell for sweep in recorded.values() for cell in cells_of(sweep))
+
+
+class _Cells(Watch):
+    """A watch that stops a sweep after its first ``count`` steps (a step tries one cell)."""
+
+    def __init__(self, count: int) -> None:
+        super().__init__()
+        self.count = count
+
+    def check(self) -> bool:
+        self.count -= 1
+        return self.count < 0
+
+
+#: the steps of the long sweep made again by the library (its first ones)
+AGAIN = 400
+
+
+def test_the_recorded_sweeps_are_what_the_sweep_finds_now(five_balls) -> None:
+    """The record is not stale: the short sweeps the map asks for are found again, cell for cell, and the
+    long one's cells found in its first steps (a sweep's cells depend only on those before them), so a change
+    to the sweep that moves a cell fails here (record them again: ``python3 -m tests.sweeps``)."""
+    _, asked = five_balls
+    recorded = load_sweeps()
+    for key, period, velocity, lower, upper in asked:
+        mine = cells_of(recorded[key])
+        short = len(mine) <= AGAIN
+        found = exit_cells(period, velocity, lower, upper, watch=None if short else _Cells(AGAIN))
+        assert found.cells == (mine if short else mine[: len(found.cells)]), key
+        assert short or len(found.cells) > AGAIN // 4
+
+
+#: the recorded cells are checked in this many tests, each a share of every sweep (so both test processes share them)
+CHECKS = 4
+
+
+@pytest.mark.slow
+@pytest.mark.parametrize("share", range(CHECKS))
+def test_every_recorded_cell_of_the_five_ball_map_exits_by_the_checker(share: int, data) -> None:
+    """The checker proves every cell of the recorded sweeps on its own (its own period, runs and numbers)."""
+    cells = [cell for sweep in load_sweeps().values() for cell in cells_of(sweep)][share::CHECKS]
+    assert cells
+    assert check_cells([[str(a), str(b)] for a, b in cells], [1] * 5, NORMALS, [1, 0, 0, 0, 0], SETS, data=data) == []
+
+
+@pytest.mark.slow
+def test_no_eps_the_five_ball_cells_leave_is_decided_by_a_single_run(five_balls) -> None:
+    """Never more cautious than a single run: what the cells leave (the gap above eps*, the cells left undecided)
+    is not decided by verify solve with the map's cap of 20, at 100 rational points drawn in it."""
+    m, _ = five_balls
     points = _drawn([p for p in m.parts if not p.exits_beyond_bound], POINTS, seed=36)
     assert len(points) == POINTS
     assert _first_decided(_unit_balls(5), _normals(5), points, 20) is None
