@@ -35,6 +35,19 @@ PROFILE = os.environ.get("HYPOTHESIS_PROFILE", "").strip() or "ci"
 settings.load_profile(PROFILE)
 
 
+def _seconds(item: pytest.Item) -> float:
+    """How long a test takes on one core, about: its ``slow`` marker's ``seconds`` (10 without), or 0."""
+    marker = item.get_closest_marker("slow")
+    return 0 if marker is None else float(marker.kwargs.get("seconds", 10))
+
+
+def pytest_collection_modifyitems(items: list[pytest.Item]) -> None:
+    """The longest tests first (their ``slow`` markers' seconds), the others in their order: pytest-xdist then
+    hands them out to the test processes in turn before any short test, so that both processes end together
+    instead of one running a long test alone at the end (tests/README.md lists them)."""
+    items.sort(key=lambda item: -_seconds(item))  # stable: the same order in every test process
+
+
 @pytest.fixture(autouse=True)
 def _reset_mpmath():
     """The library uses private mpmath contexts; make sure nothing leaks into the global one."""

@@ -223,6 +223,7 @@ def test_the_page_shows_what_an_uninterrupted_run_prints(uninterrupted: str) -> 
     assert without_time(shown_output(section("On one machine"))) == without_time(uninterrupted)
 
 
+@pytest.mark.slow(seconds=16)
 def test_on_one_machine_a_killed_worker_and_an_interrupted_run_lose_nothing(tmp_path: Path, uninterrupted: str) -> None:
     text = section("On one machine")
     lines = commands(text)

@@ -107,6 +107,7 @@ def test_the_page_is_rendered_from_the_committed_record() -> None:
         assert f"## {entry['name']} {entry['version']}" in page
 
 
+@pytest.mark.slow(seconds=11)
 def test_the_record_is_what_the_installed_engines_give() -> None:
     """Every installed engine of the recorded version gives the recorded velocities again (to
     1e-9 of the speed: engines compute in binary floating point, and a CPU may round otherwise)."""

@@ -38,6 +38,7 @@ def paper_map():
     return case_map(CASE, max_impulses=CAP)
 
 
+@pytest.mark.slow(seconds=23)
 def test_hundred_points_as_single_runs(paper_map) -> None:
     """100 rational eps1 in [0, 1] (98 drawn, and both ends): a part that exits or never exits gives verify
     solve's stop, impact sets and exit velocity there (equal in the number field); where the map leaves a part
@@ -217,6 +218,7 @@ def test_cells_of_an_algebraic_corner_as_single_runs() -> None:
     assert _cells_against_single_runs(["1", "-1/10", "0"], 4, 41)[0] == {"exit"}
 
 
+@pytest.mark.slow(seconds=34)
 def test_cells_of_the_paper_corner_at_three_impulses_as_single_runs() -> None:
     """The paper's corner (alpha = pi/6) entered in the direction phi = pi/12 as the corner report maps it,
     (1, tan(pi/12), 0): at 3 impulses, cells that exit and cells still impacting, each as single runs answer; and

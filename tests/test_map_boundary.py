@@ -208,7 +208,7 @@ _X = sp.Symbol("x")
 STAR5 = sp.CRootOf(_X**4 - 44 * _X**3 + 166 * _X**2 - 44 * _X + 1, 1)  #: the boundary of five unit balls
 
 
-@pytest.mark.slow
+@pytest.mark.slow(seconds=14)
 def test_five_balls_never_exit_up_to_and_at_their_boundary() -> None:
     """Five unit balls on [1/4, 0.26]: the map proves that every eps up to and with eps* (the boundary of
     (S1,S3)(S2,S4), where the period's largest eigenvalues meet beside a turning pair) never exits, with one

@@ -216,7 +216,7 @@ class _StopsAt(Watch):
         return bool(self.stopped)
 
 
-@pytest.mark.slow
+@pytest.mark.slow(seconds=13)
 @pytest.mark.parametrize("calls", [2, 20])
 def test_a_budget_stops_the_search_for_turning_cones_and_keeps_what_it_proved(calls, monkeypatch) -> None:
     """Five unit balls below their boundary eps* (verify.maps.turning): the search for cones checks the map's budget

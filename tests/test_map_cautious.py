@@ -61,7 +61,7 @@ def _first_decided(masses, normals, points: list[F], cap: int) -> tuple[F, str] 
     return None
 
 
-@pytest.mark.slow
+@pytest.mark.slow(seconds=18)
 @pytest.mark.parametrize("system", ["four unit balls", "masses 2, 1, 1, 2"])
 def test_no_point_left_unexplored_is_decided_by_a_single_run(system) -> None:
     cap = 40
@@ -76,7 +76,7 @@ def test_no_point_left_unexplored_is_decided_by_a_single_run(system) -> None:
     assert _first_decided(masses, normals, points, cap) is None
 
 
-@pytest.mark.slow
+@pytest.mark.slow(seconds=39)
 def test_five_balls_no_point_left_unexplored_is_decided_by_a_single_run() -> None:
     """Five unit balls (at 20 impulses, on the interval that holds all that the whole map leaves unexplored):
     below and at the boundary of (S1,S3)(S2,S4), a root of eps^2 - (22 - 8*sqrt(5)) eps + 1, every eps is proved
@@ -110,7 +110,7 @@ def _at(value, q: F):
     return value
 
 
-@pytest.mark.slow
+@pytest.mark.slow(seconds=33)
 def test_an_interval_below_the_boundary_gets_the_turning_cones_of_the_boundary_above_it(monkeypatch) -> None:
     """Five unit balls on [0.255, 0.2595], below eps* but not holding it, with the growth argument switched off (as
     for a system where it does not hold; on by default, it proves this interval first): the turning cones of the

@@ -49,7 +49,7 @@ def _map(system: str):
                       max_impulses=40, widen=0, leaving=True)  # fmt: skip
 
 
-@pytest.mark.slow
+@pytest.mark.slow(seconds=44)
 @pytest.mark.parametrize("system", list(CASES))
 def test_every_eps_above_the_boundary_exits_but_a_gap_below_1e_minus_9(system) -> None:
     masses, _, star = CASES[system]

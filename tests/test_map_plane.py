@@ -257,6 +257,7 @@ def test_a_budget_leaves_the_rest_unexplored() -> None:
     assert velocity is None or part in done
 
 
+@pytest.mark.slow(seconds=10)
 def test_four_balls_each_drawn_point_as_a_single_run() -> None:
     """Four balls of masses 2, 1, 1, 2 with CORs (e_out, e_mid, e_out) (docs/examples/balls-2112-cors.json) at 8
     impulses: at 300 rational points (270 drawn in the box, 30 on the curves between cells), a cell that exits

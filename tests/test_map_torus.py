@@ -117,6 +117,7 @@ def _cells_of(certificate: dict) -> list[list[str]]:
     return [[a, b] for a, b in itertools.pairwise(cuts)]
 
 
+@pytest.mark.slow(seconds=17)
 def test_the_map_above_eps_star_proves_every_piece_and_the_checker_agrees(data) -> None:
     """``cradle_map(..., leaving=True)`` on an interval above eps*: the pieces whose runs end on the period at the
     bound and those that left it before (and had not exited yet) are each proved to exit, cell by cell, and the
@@ -156,7 +157,7 @@ def five_balls(tmp_path_factory):
     return shared(tmp_path_factory, "five-balls-map", compute)
 
 
-@pytest.mark.slow
+@pytest.mark.slow(seconds=18)
 def test_five_unit_balls_every_eps_above_eps_star_exits_but_less_than_1e_minus_6(five_balls) -> None:
     """The whole map of five unit balls with ``leaving``: up to and at eps* never exits, and above it every eps
     exits but a set of length below 1e-6 (the gap of 5e-7 above eps* and cells narrower than 1e-14). Its cells are
@@ -208,7 +209,7 @@ def test_the_recorded_sweeps_are_what_the_sweep_finds_now(five_balls) -> None:
 CHECKS = 4
 
 
-@pytest.mark.slow
+@pytest.mark.slow(seconds=26)
 @pytest.mark.parametrize("share", range(CHECKS))
 def test_every_recorded_cell_of_the_five_ball_map_exits_by_the_checker(share: int, data) -> None:
     """The checker proves every cell of the recorded sweeps on its own (its own period, runs and numbers)."""
@@ -217,7 +218,7 @@ def test_every_recorded_cell_of_the_five_ball_map_exits_by_the_checker(share: in
     assert check_cells([[str(a), str(b)] for a, b in cells], [1] * 5, NORMALS, [1, 0, 0, 0, 0], SETS, data=data) == []
 
 
-@pytest.mark.slow
+@pytest.mark.slow(seconds=40)
 def test_no_eps_the_five_ball_cells_leave_is_decided_by_a_single_run(five_balls) -> None:
     """Never more cautious than a single run: what the cells leave (the gap above eps*, the cells left undecided)
     is not decided by verify solve with the map's cap of 20, at 100 rational points drawn in it."""

@@ -162,6 +162,7 @@ def test_polar_values_are_strict_when_their_three_vectors_are():
         True, False, False, False]  # fmt: skip
 
 
+@pytest.mark.slow(seconds=14)
 def test_a_spiral_is_proved_by_polar_values_and_the_checker_agrees():
     system = System(SPIRAL["mass_matrix"], SPIRAL["normals"], SPIRAL["restitution"])
     # the census' settings: exact numbers past 4,096 bits go on on certified intervals (without a budget they

@@ -52,6 +52,7 @@ def table(property_verdicts):
     return property_verdicts
 
 
+@pytest.mark.slow(seconds=170)
 def test_every_row_has_a_verdict(table) -> None:
     assert sum(v.law == "rule" for v in table) == 185
     # the law: 14 properties x 3 CORs x 3 families, less mirror symmetry's general family
@@ -344,6 +345,7 @@ PAST_BOTH = {
 }  # fmt: skip
 
 
+@pytest.mark.slow(seconds=10)
 def test_a_run_past_both_budgets_ends_with_budget(monkeypatch: pytest.MonkeyPatch) -> None:
     """At the intervals' precision limit an undecided sign is checked by replaying the run exactly; that
     replay gives up past the same 4096 bits as the exact run, so the run ends with ``budget`` instead of

@@ -48,6 +48,7 @@ def written(tmp_path_factory, property_verdicts):
     return out, code, text.getvalue()
 
 
+@pytest.mark.slow(seconds=70)
 def test_verify_all_succeeds_and_summarises(written) -> None:
     _, code, text = written
     assert code == 0
@@ -74,3 +75,29 @@ def test_every_page_is_in_the_index() -> None:
         for line in (REPORTS / name).read_text().splitlines():
             if line.startswith("!["):
                 assert (REPORTS / line.split("](")[1].rstrip(")")).exists(), line
+
+
+def test_property_rows_started_early_give_their_verdicts_or_their_error(monkeypatch) -> None:
+    """The rows run in a thread of their own while the pages are written (Findings.start_verdicts): the page
+    reads what they found, and an error of theirs is raised where the verdicts are asked for."""
+    from verify.checks.tasks import TaskFailure, TasksFailed
+    from verify.views.pages import Findings
+
+    calls = []
+    monkeypatch.setattr(verify.checks.properties.verdicts, "verdicts", lambda profile, **kw: calls.append(kw) or ["v"])
+    found = Findings("dev")
+    found.start_verdicts()
+    found.start_verdicts()  # started once
+    assert found.verdicts == ["v"] and len(calls) == 1
+
+    def failing(profile, **kw):
+        raise TasksFailed([TaskFailure("row", "a row", "ValueError: no")])
+
+    monkeypatch.setattr(verify.checks.properties.verdicts, "verdicts", failing)
+    found = Findings("dev")
+    found.start_verdicts()
+    with pytest.raises(TasksFailed):
+        found.verdicts  # noqa: B018
+    given = Findings("dev", verdicts=["given"])
+    given.start_verdicts()  # nothing to start
+    assert given.verdicts == ["given"]

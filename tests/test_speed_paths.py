@@ -8,6 +8,7 @@ from __future__ import annotations
 import json
 from fractions import Fraction
 
+import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
@@ -130,6 +131,7 @@ def test_float_path_on_general_systems(drawn) -> None:
     _assert_batch_matches_exact(list(zip(systems, velocities)), out)
 
 
+@pytest.mark.slow(seconds=10)
 def test_bench_quick_smoke(capsys, tmp_path) -> None:
     target = tmp_path / "bench.json"
     assert main(["bench", "--quick", "--size", "40", "--json", "--save", str(target)]) == 0

@@ -125,6 +125,7 @@ def test_a_missing_dask_is_one_line(capsys: pytest.CaptureFixture[str], monkeypa
     assert err == "verify: error: --local-cluster needs dask: install the cluster extra: pip install '.[cluster]'\n"
 
 
+@pytest.mark.slow(seconds=25)
 def test_a_stopped_run_resumes_from_its_checkpoint(
     tmp_path: Path, capsys: pytest.CaptureFixture[str], monkeypatch: pytest.MonkeyPatch, serial_kinetic: dict
 ) -> None:
@@ -206,7 +207,7 @@ def serial_kinetic() -> dict:
     return json.loads(out.getvalue())
 
 
-@pytest.mark.slow
+@pytest.mark.slow(seconds=10)
 def test_a_local_cluster_gives_the_same_verdicts(serial_kinetic: dict, capsys: pytest.CaptureFixture[str]) -> None:
     pytest.importorskip("dask.distributed")
     code, out, err = run_cli(capsys, [*KINETIC, "--local-cluster", "2"])
@@ -214,7 +215,7 @@ def test_a_local_cluster_gives_the_same_verdicts(serial_kinetic: dict, capsys: p
     assert err.startswith("verify properties: 30 of 30 rows")
 
 
-@pytest.mark.slow
+@pytest.mark.slow(seconds=11)
 def test_a_killed_worker_loses_nothing(serial_kinetic: dict, capsys: pytest.CaptureFixture[str]) -> None:
     distributed = pytest.importorskip("dask.distributed")
     import logging

@@ -23,11 +23,13 @@ and lists apart, so that :func:`decode` gives back the same objects:
 
 from __future__ import annotations
 
+import contextlib
 import dataclasses
 import hashlib
 import json
 import os
-from collections.abc import Callable, Sequence
+import threading
+from collections.abc import Callable, Iterator, Sequence
 from concurrent.futures import FIRST_COMPLETED, Executor, Future, ProcessPoolExecutor, wait
 from concurrent.futures.process import BrokenProcessPool
 from dataclasses import dataclass, field
@@ -235,6 +237,7 @@ class TaskRunner:
         self.progress = progress
         self.store = Checkpoint(checkpoint, options or {}) if checkpoint else None
         self.finished: dict[str, Any] = {}
+        self._lock = threading.Lock()  # runs from several threads (:meth:`one_pool`) record their results in turn
 
     def __enter__(self) -> TaskRunner:
         if self.store is not None:
@@ -253,14 +256,38 @@ class TaskRunner:
 
         def done(task: Task, result: Any) -> None:
             nonlocal count
-            count += 1
-            self.finished[task.id] = result
-            if self.store is not None:
-                self.store.add(task.id, result)
-            if progress is not None:
-                progress(count, len(tasks), task, result)
+            with self._lock:
+                count += 1
+                self.finished[task.id] = result
+                if self.store is not None:
+                    self.store.add(task.id, result)
+                if progress is not None:
+                    progress(count, len(tasks), task, result)
 
         return run_tasks(tasks, workers=self.workers, executor=self.executor, finished=self.finished, on_result=done)
+
+    @contextlib.contextmanager
+    def one_pool(self) -> Iterator[TaskRunner]:
+        """Within the block, every run of this runner, from any thread, uses one pool of its local processes,
+        all started here (with ``fork``, no process is then forked while another thread of this one runs), and
+        tasks submitted from two threads share the processes in the order submitted. Nothing changes for a
+        runner with an executor (a cluster) or one local process.
+
+        >>> with TaskRunner(workers=2) as runner, runner.one_pool():
+        ...     runner.map("abs", abs, [-1, -2])
+        [1, 2]
+        """
+        if self.executor is not None or self.workers <= 1:
+            yield self
+            return
+        pool = ProcessPoolExecutor(max_workers=self.workers)
+        try:
+            list(pool.map(abs, range(self.workers)))  # the processes start now
+            self.executor = pool
+            yield self
+        finally:
+            self.executor = None
+            pool.shutdown(cancel_futures=True)
 
     def map(
         self,
