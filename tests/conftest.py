@@ -72,3 +72,12 @@ def property_verdicts(tmp_path_factory):
                   lambda: verdicts(PROPERTY_PROFILE, workers=2),
                   dump=lambda found: json.dumps(encode(found)).encode(),
                   load=lambda text: decode(json.loads(text)))  # fmt: skip
+
+
+@pytest.fixture(scope="session")
+def paper_corner_maps():
+    """The paper's corner mapped over its CORs as the corner report maps it (``corner_maps``: a minute of exact
+    cells), once per test process; the tests that read it share an xdist group, so it is made once per command."""
+    from verify.checks.paper.corner_map import corner_maps
+
+    return corner_maps()

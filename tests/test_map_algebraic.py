@@ -180,29 +180,31 @@ SQRT3_CORNER = {"mass_matrix": [["1", "0", "0"], ["0", "1", "0"], ["0", "0", "1"
                 "restitution": ["e1", "e2"]}  # fmt: skip
 
 
-def _cells_against_single_runs(velocity: list[str], cap: int, seed: int) -> tuple[set[str], Any]:
+def _cells_against_single_runs(velocity: list[str], cap: int, seed: int, m: Any = None) -> tuple[set[str], Any]:
     """The corner of slope sqrt(3)/3 over (e1, e2) in [0, 1]^2 as cells, from ``velocity``: 100 rational points (90
     drawn, 10 on the curves between cells) give a single exact run's stop, impact sets and exit velocity where the
     cell exits, a certificate that the tests' checker passes at the point where it never exits, and a single run
-    that does not exit within the cap where it is unexplored or never exits."""
+    that does not exit within the cap where it is unexplored or never exits. ``m``: that map if already made (its
+    two parameters under any names)."""
     from tests.test_map_plane import _on_curves
     from verify.maps.general import eps_map
 
-    system = corner_system("sqrt(3)/3", "1", "1")
-    m = eps_map(system, velocity, ["e1", "e2"], max_impulses=cap, cells=True)
+    if m is None:
+        m = eps_map(corner_system("sqrt(3)/3", "1", "1"), velocity, ["e1", "e2"], max_impulses=cap, cells=True)
+    names = list(m.parameters)
     rng = random.Random(seed)
     points = [(Fraction(rng.randint(0, 1000), 1000), Fraction(rng.randint(0, 1000), 1000)) for _ in range(90)]
     points += _on_curves(m.plane, rng, 10)
     stops = set()
     for x, y in points:
-        part, at = m.at({"e1": x, "e2": y})
+        part, at = m.at(dict(zip(names, (x, y))))
         run = solve(corner_system("sqrt(3)/3", x, y), velocity, max_iterations=cap)
         stops.add(part.stop)
         if part.stop == "exit":
             assert (part.impact_sets, run.stop) == (list(run.impact_sets), "exit"), (x, y)
             assert [run.backend.convert(v) for v in at] == list(run.exit_velocity), (x, y)
         elif part.stop == "non_terminating":  # its certificate at the point, by the tests' own checker
-            cert = certificate_check.at_point(part.certificate, {"e1": x, "e2": y})
+            cert = certificate_check.at_point(part.certificate, dict(zip(names, (x, y))))
             assert certificate_check.check(cert, ["1", "1", "1"], SQRT3_CORNER["normals"]) == [], (x, y)
             assert run.stop != "exit", (x, y)
         else:
@@ -219,29 +221,35 @@ def test_cells_of_an_algebraic_corner_as_single_runs() -> None:
 
 
 @pytest.mark.slow(seconds=34)
-def test_cells_of_the_paper_corner_at_three_impulses_as_single_runs() -> None:
+@pytest.mark.xdist_group("paper-corner-maps")
+def test_cells_of_the_paper_corner_at_three_impulses_as_single_runs(paper_corner_maps) -> None:
     """The paper's corner (alpha = pi/6) entered in the direction phi = pi/12 as the corner report maps it,
     (1, tan(pi/12), 0): at 3 impulses, cells that exit and cells still impacting, each as single runs answer; and
     at 12 of the points, single runs from the paper's own velocity (cos(pi/12), sin(pi/12), 0) have the same impact
     sets and stop, and the exit velocity times cos(pi/12) (the rule is positively homogeneous). The cells still
     impacting cover 0.3 % of the square, which 100 drawn points may miss: the sample point of each of its open
-    cells is run too."""
+    cells is run too. The map is the corner report's (``corner_maps``, shared with tests/test_reports.py)."""
     from verify.models.corner import direction_of, velocity_of
 
     direction = [str(v) for v in direction_of("pi/12")]
-    stops, m = _cells_against_single_runs(direction, 3, 42)
+    m = paper_corner_maps.plane
+    normals = [[str(a) for a in row] for row in corner_system("sqrt(3)/3", "1", "1").normals]
+    assert ([str(v) for v in m.velocity], m.max_impulses, [[str(a) for a in row] for row in m.system.normals]) == (
+        direction, 3, normals)  # fmt: skip
+    assert m.parameters == {"eps1": (0, 1), "eps2": (0, 1)}
+    stops, m = _cells_against_single_runs(direction, 3, 42, m)
     assert "exit" in stops
     still = [p for p in m.plane.parts if p.stop == "max_iterations" and p.cell.dim == 2]
     assert still
     for p in still:
         x, y = p.cell.sample
-        assert m.at({"e1": x, "e2": y})[0].stop == "max_iterations"
+        assert m.at({"eps1": x, "eps2": y})[0].stop == "max_iterations"
         assert solve(corner_system("sqrt(3)/3", x, y), direction, max_iterations=3).stop != "exit", (x, y)
     rng = random.Random(43)
     cos = sp.cos(sp.pi / 12)
     for _ in range(12):
         x, y = Fraction(rng.randint(0, 100), 100), Fraction(rng.randint(0, 100), 100)
-        part, at = m.at({"e1": x, "e2": y})
+        part, at = m.at({"eps1": x, "eps2": y})
         run = solve(corner_system("sqrt(3)/3", x, y), velocity_of("pi/12", "1"), max_iterations=3)
         assert (run.stop, list(run.impact_sets)) == (part.stop, part.impact_sets), (x, y)
         if run.stop == "exit":

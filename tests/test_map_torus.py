@@ -148,11 +148,12 @@ def test_just_above_eps_star_a_gap_of_5e_minus_7_stays_undecided() -> None:
 def five_balls(tmp_path_factory):
     """The whole map of five unit balls with ``leaving``, its sweeps of cells replayed from their record
     (tests/sweeps.py: the cells found once, each proved by the checker in the tests below), computed once for
-    both test processes; with the keys of the sweeps the map asked for."""
+    both test processes; with the sweeps the map asked for (key, pattern, velocity, interval)."""
 
     def compute():
         with replayed() as asked:
-            return cradle_map(**MAP), asked
+            m = cradle_map(**MAP)
+        return m, [(key, period.pattern, velocity, lower, upper) for key, period, velocity, lower, upper in asked]
 
     return shared(tmp_path_factory, "five-balls-map", compute)
 
@@ -197,7 +198,9 @@ def test_the_recorded_sweeps_are_what_the_sweep_finds_now(five_balls) -> None:
     to the sweep that moves a cell fails here (record them again: ``python3 -m tests.sweeps``)."""
     _, asked = five_balls
     recorded = load_sweeps()
-    for key, period, velocity, lower, upper in asked:
+    for key, pattern, velocity, lower, upper in asked:
+        period = _period(lower, upper)  # as the map makes it for the sweep of [lower, upper]
+        assert period.pattern == pattern, key
         mine = cells_of(recorded[key])
         short = len(mine) <= AGAIN
         found = exit_cells(period, velocity, lower, upper, watch=None if short else _Cells(AGAIN))

@@ -1,7 +1,8 @@
 """The main job and the committed reports: ``verify all`` writes what is committed.
 
 ``verify all --out TMP`` runs once here (the property verdicts of the test profile are
-computed once per session and shared with tests/test_properties.py); every page it writes
+computed once per session and shared with tests/test_properties.py, the corner's maps over its CORs with
+tests/test_map_algebraic.py); every page it writes
 must equal the committed one, byte for byte, or the committed ``reports/`` is stale.
 """
 
@@ -15,6 +16,7 @@ from pathlib import Path
 
 import pytest
 
+import verify.checks.paper.corner_map
 import verify.checks.properties.verdicts
 from tests.conftest import PROPERTY_PROFILE
 from verify.cli import main
@@ -39,16 +41,18 @@ def committed(name: str) -> bytes:
 
 
 @pytest.fixture(scope="module")
-def written(tmp_path_factory, property_verdicts):
+def written(tmp_path_factory, property_verdicts, paper_corner_maps):
     out = tmp_path_factory.mktemp("reports")
     text = io.StringIO()
     with pytest.MonkeyPatch.context() as patch, contextlib.redirect_stdout(text):
         patch.setattr(verify.checks.properties.verdicts, "verdicts", lambda profile, **kw: property_verdicts)
+        patch.setattr(verify.checks.paper.corner_map, "corner_maps", lambda: paper_corner_maps)
         code = main(["all", "--out", str(out), "--workers", "2"])
     return out, code, text.getvalue()
 
 
 @pytest.mark.slow(seconds=70)
+@pytest.mark.xdist_group("paper-corner-maps")
 def test_verify_all_succeeds_and_summarises(written) -> None:
     _, code, text = written
     assert code == 0
@@ -57,6 +61,7 @@ def test_verify_all_succeeds_and_summarises(written) -> None:
         assert line in text, line
 
 
+@pytest.mark.xdist_group("paper-corner-maps")
 def test_committed_reports_are_up_to_date(written) -> None:
     out = written[0]
     names = sorted(p.name for p in out.iterdir())

@@ -246,7 +246,13 @@ class RealAlgebraic:
         if self.poly != other.poly:
             return False
         lo, hi = max(self.lo, other.lo), min(self.hi, other.hi)
-        return lo <= hi and count_roots(self.poly, lo, hi) == 1
+        if lo > hi:
+            return False
+        # [lo, hi] lies in both isolating intervals, so it holds at most one root of the polynomial, which is
+        # irreducible, so square-free: a root there is simple, and there is one exactly when the polynomial is 0
+        # at an end or changes sign between them
+        at_lo, at_hi = _eval(self.poly, lo), _eval(self.poly, hi)
+        return at_lo == 0 or at_hi == 0 or (at_lo > 0) != (at_hi > 0)
 
     def cmp(self, other: RealAlgebraic) -> int:
         """-1, 0 or 1, exactly."""
