@@ -208,3 +208,22 @@ def test_float_backend_refuses_a_value_beyond_the_float_range() -> None:
 
     with pytest.raises(InvalidInput, match=r"1e\+400 is beyond the range"):
         get_backend("float").convert(Fraction(10) ** 400)
+
+
+def test_roots_of_one_polynomial_are_equal_exactly_when_their_intervals_share_the_root() -> None:
+    """Two real algebraic numbers on one polynomial whose isolating intervals overlap: the same root (however
+    narrowed) compares equal, two roots whose intervals overlap where there is no root do not, either order, as
+    count_roots on the overlap says."""
+    from verify.core.algebraic import RealAlgebraic, count_roots, poly_from_coeffs
+
+    first, second = RealAlgebraic.roots_in(poly_from_coeffs([10, -30, 21]))  # 1.11... and 1.88...
+    p = first.poly  # irreducible
+    low, high = RealAlgebraic(p, Fraction(1), Fraction(3, 2)), RealAlgebraic(p, Fraction(7, 5), Fraction(2))
+    assert count_roots(p, Fraction(7, 5), Fraction(3, 2)) == 0
+    assert low.cmp(high) == -1 and RealAlgebraic(p, Fraction(7, 5), Fraction(2)).cmp(first) == 1
+    narrow = RealAlgebraic(p, Fraction(1), Fraction(3, 2))
+    narrow.refine()
+    narrow.refine()
+    assert low.cmp(narrow) == 0 and narrow.cmp(first) == 0 and second.cmp(high) == 0
+    sqrt2 = RealAlgebraic.from_number(sp.sqrt(2))
+    assert sqrt2.cmp(RealAlgebraic(sqrt2.poly, Fraction(1), Fraction(2))) == 0
