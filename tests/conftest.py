@@ -76,8 +76,9 @@ def property_verdicts(tmp_path_factory):
 
 @pytest.fixture(scope="session")
 def paper_corner_maps():
-    """The paper's corner mapped over its CORs as the corner report maps it (``corner_maps``: a minute of exact
-    cells), once per test process; the tests that read it share an xdist group, so it is made once per command."""
+    """The paper's corner mapped over its CORs as the corner report maps it (``corner_maps``: half a minute of
+    exact cells), once per test process (its number fields' arithmetic does not pickle, so it is not shared
+    between processes as ``property_verdicts`` is)."""
     from verify.checks.paper.corner_map import corner_maps
 
     return corner_maps()

@@ -11,6 +11,7 @@
 
 from __future__ import annotations
 
+import hashlib
 import json
 import re
 import shlex
@@ -21,6 +22,8 @@ from typing import Any
 
 import pytest
 
+import verify.checks.bench
+from tests.helpers import shared
 from verify.cli import main
 
 ROOT = Path(__file__).resolve().parents[1]
@@ -404,13 +407,36 @@ def test_the_pages_have_transcripts_and_the_list_of_those_not_run_is_current():
     assert set(NOT_RUN) <= found, set(NOT_RUN) - found
 
 
+#: commands whose measurement the transcripts that run them share (its numbers are the machine's: TIMINGS)
+SHARED = {"bench": verify.checks.bench.bench}
+
+
+def _measured_once(name: str, tmp_path_factory: pytest.TempPathFactory) -> Callable[..., Any]:
+    """The measurement of ``verify NAME`` (:data:`SHARED`), made once per command for each set of options, for
+    both test processes (:func:`tests.helpers.shared`): its transcripts (text and JSON) print the same figures."""
+    measure = SHARED[name]
+
+    def once(**options: Any) -> Any:
+        chosen = sorted((k, v) for k, v in options.items() if k != "progress")
+        key = hashlib.sha256(repr(chosen).encode()).hexdigest()[:16]
+        return shared(tmp_path_factory, f"docs-{name}-{key}", lambda: measure(**options))
+
+    return once
+
+
 @pytest.mark.parametrize("transcript", transcripts(), ids=str)
 def test_every_command_output_in_the_docs_is_the_programs(
-    transcript: Transcript, doc_folder: Path, capsys: pytest.CaptureFixture, monkeypatch: pytest.MonkeyPatch
+    transcript: Transcript,
+    doc_folder: Path,
+    capsys: pytest.CaptureFixture,
+    monkeypatch: pytest.MonkeyPatch,
+    tmp_path_factory: pytest.TempPathFactory,
 ):
     if transcript.command in NOT_RUN:
         pytest.skip(NOT_RUN[transcript.command])
     argv = shlex.split(transcript.command)[1:]
+    if argv[0] in SHARED:
+        monkeypatch.setattr(verify.checks.bench, argv[0], _measured_once(argv[0], tmp_path_factory))
     monkeypatch.chdir(doc_folder)
     capsys.readouterr()
     try:

@@ -221,7 +221,6 @@ def test_cells_of_an_algebraic_corner_as_single_runs() -> None:
 
 
 @pytest.mark.slow(seconds=34)
-@pytest.mark.xdist_group("paper-corner-maps")
 def test_cells_of_the_paper_corner_at_three_impulses_as_single_runs(paper_corner_maps) -> None:
     """The paper's corner (alpha = pi/6) entered in the direction phi = pi/12 as the corner report maps it,
     (1, tan(pi/12), 0): at 3 impulses, cells that exit and cells still impacting, each as single runs answer; and

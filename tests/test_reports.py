@@ -52,7 +52,6 @@ def written(tmp_path_factory, property_verdicts, paper_corner_maps):
 
 
 @pytest.mark.slow(seconds=70)
-@pytest.mark.xdist_group("paper-corner-maps")
 def test_verify_all_succeeds_and_summarises(written) -> None:
     _, code, text = written
     assert code == 0
@@ -61,7 +60,6 @@ def test_verify_all_succeeds_and_summarises(written) -> None:
         assert line in text, line
 
 
-@pytest.mark.xdist_group("paper-corner-maps")
 def test_committed_reports_are_up_to_date(written) -> None:
     out = written[0]
     names = sorted(p.name for p in out.iterdir())

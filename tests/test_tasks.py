@@ -16,6 +16,7 @@ from pathlib import Path
 import pytest
 
 import verify.checks.properties.verdicts as verdicts_module
+from tests.helpers import shared
 from verify.checks.properties.verdicts import Verdict, run_verdicts
 from verify.checks.tasks import Checkpoint, Task, decode, encode, run_tasks
 from verify.cli import main
@@ -196,15 +197,19 @@ def test_a_row_that_fails_twice_is_reported_and_the_others_finish(
 
 
 @pytest.fixture(scope="module")
-def serial_kinetic() -> dict:
-    """``verify properties --profile dev --property 'kinetic energy' --json`` in one process."""
+def serial_kinetic(tmp_path_factory: pytest.TempPathFactory) -> dict:
+    """``verify properties --profile dev --property 'kinetic energy' --json`` in one process, once per command
+    for both test processes (:func:`tests.helpers.shared`)."""
     import contextlib
     import io
 
-    out = io.StringIO()
-    with contextlib.redirect_stdout(out), contextlib.redirect_stderr(io.StringIO()):
-        main([*KINETIC, "--workers", "1"])
-    return json.loads(out.getvalue())
+    def compute() -> dict:
+        out = io.StringIO()
+        with contextlib.redirect_stdout(out), contextlib.redirect_stderr(io.StringIO()):
+            main([*KINETIC, "--workers", "1"])
+        return json.loads(out.getvalue())
+
+    return shared(tmp_path_factory, "serial-kinetic", compute)
 
 
 @pytest.mark.slow(seconds=10)
