@@ -4,6 +4,7 @@ test processes."""
 from __future__ import annotations
 
 import fcntl
+import hashlib
 import os
 import pickle
 from collections.abc import Callable
@@ -76,3 +77,16 @@ def shared(
             path.with_suffix(".tmp").replace(path)
             return found
     return load(path.read_bytes())
+
+
+def measured_once(measure: Callable[..., Any], tmp_path_factory: pytest.TempPathFactory) -> Callable[..., Any]:
+    """``measure`` (e.g. ``verify.checks.bench.bench``) made once per command for each set of options (all but
+    ``progress``), for every test process (:func:`shared`): the commands that print it (text, JSON) in several tests
+    print the same figures, measured once."""
+
+    def once(**options: Any) -> Any:
+        chosen = sorted((k, v) for k, v in options.items() if k != "progress")
+        key = hashlib.sha256(repr((measure.__module__, measure.__name__, chosen)).encode()).hexdigest()[:16]
+        return shared(tmp_path_factory, f"measured-{key}", lambda: measure(**options))
+
+    return once

@@ -11,7 +11,6 @@
 
 from __future__ import annotations
 
-import hashlib
 import json
 import re
 import shlex
@@ -23,7 +22,7 @@ from typing import Any
 import pytest
 
 import verify.checks.bench
-from tests.helpers import shared
+from tests.helpers import measured_once
 from verify.cli import main
 
 ROOT = Path(__file__).resolve().parents[1]
@@ -411,19 +410,6 @@ def test_the_pages_have_transcripts_and_the_list_of_those_not_run_is_current():
 SHARED = {"bench": verify.checks.bench.bench}
 
 
-def _measured_once(name: str, tmp_path_factory: pytest.TempPathFactory) -> Callable[..., Any]:
-    """The measurement of ``verify NAME`` (:data:`SHARED`), made once per command for each set of options, for
-    both test processes (:func:`tests.helpers.shared`): its transcripts (text and JSON) print the same figures."""
-    measure = SHARED[name]
-
-    def once(**options: Any) -> Any:
-        chosen = sorted((k, v) for k, v in options.items() if k != "progress")
-        key = hashlib.sha256(repr(chosen).encode()).hexdigest()[:16]
-        return shared(tmp_path_factory, f"docs-{name}-{key}", lambda: measure(**options))
-
-    return once
-
-
 @pytest.mark.parametrize("transcript", transcripts(), ids=str)
 def test_every_command_output_in_the_docs_is_the_programs(
     transcript: Transcript,
@@ -436,7 +422,7 @@ def test_every_command_output_in_the_docs_is_the_programs(
         pytest.skip(NOT_RUN[transcript.command])
     argv = shlex.split(transcript.command)[1:]
     if argv[0] in SHARED:
-        monkeypatch.setattr(verify.checks.bench, argv[0], _measured_once(argv[0], tmp_path_factory))
+        monkeypatch.setattr(verify.checks.bench, argv[0], measured_once(SHARED[argv[0]], tmp_path_factory))
     monkeypatch.chdir(doc_folder)
     capsys.readouterr()
     try:
