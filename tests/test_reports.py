@@ -19,6 +19,7 @@ import pytest
 import verify.checks.paper.corner_map
 import verify.checks.properties.verdicts
 from tests.conftest import PROPERTY_PROFILE
+from tests.helpers import shared
 from verify.cli import main
 from verify.views.pages import PAGES
 
@@ -41,14 +42,22 @@ def committed(name: str) -> bytes:
 
 
 @pytest.fixture(scope="module")
-def written(tmp_path_factory, property_verdicts, paper_corner_maps):
-    out = tmp_path_factory.mktemp("reports")
-    text = io.StringIO()
-    with pytest.MonkeyPatch.context() as patch, contextlib.redirect_stdout(text):
-        patch.setattr(verify.checks.properties.verdicts, "verdicts", lambda profile, **kw: property_verdicts)
-        patch.setattr(verify.checks.paper.corner_map, "corner_maps", lambda: paper_corner_maps)
-        code = main(["all", "--out", str(out), "--workers", "2"])
-    return out, code, text.getvalue()
+def written(tmp_path_factory, request):
+    """``verify all --out TMP`` once per command, for both test processes (tests.helpers.shared: the folder, the
+    exit code and what it printed); the verdicts and the corner's maps it computes are the tests' own
+    (``property_verdicts``, ``paper_corner_maps``), asked for only by the process that runs it."""
+
+    def compute():
+        out = tmp_path_factory.mktemp("reports")
+        verdicts, maps = request.getfixturevalue("property_verdicts"), request.getfixturevalue("paper_corner_maps")
+        text = io.StringIO()
+        with pytest.MonkeyPatch.context() as patch, contextlib.redirect_stdout(text):
+            patch.setattr(verify.checks.properties.verdicts, "verdicts", lambda profile, **kw: verdicts)
+            patch.setattr(verify.checks.paper.corner_map, "corner_maps", lambda: maps)
+            code = main(["all", "--out", str(out), "--workers", "2"])
+        return out, code, text.getvalue()
+
+    return shared(tmp_path_factory, "verify-all", compute)
 
 
 @pytest.mark.slow(seconds=70)
@@ -60,6 +69,7 @@ def test_verify_all_succeeds_and_summarises(written) -> None:
         assert line in text, line
 
 
+@pytest.mark.slow(seconds=70)
 def test_committed_reports_are_up_to_date(written) -> None:
     out = written[0]
     names = sorted(p.name for p in out.iterdir())
