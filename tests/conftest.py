@@ -38,7 +38,9 @@ settings.load_profile(PROFILE)
 def _seconds(item: pytest.Item) -> float:
     """How long a test takes on one core, about: its ``slow`` marker's ``seconds`` (10 without), or 0."""
     marker = item.get_closest_marker("slow")
-    return 0 if marker is None else float(marker.kwargs.get("seconds", 10))
+    if marker is None:
+        return 0
+    return float(marker.kwargs.get("seconds", marker.args[0] if marker.args else 10))
 
 
 def pytest_collection_modifyitems(items: list[pytest.Item]) -> None:

@@ -63,20 +63,33 @@ def shared(
 ) -> Any:
     """``compute()``, once per command, for every test process of pytest-xdist (``-n``, pyproject.toml): the
     first to need it computes it while holding a lock, and writes it (``dump``) into this run's temporary
-    folder; the others wait for the lock and read it (``load``). Nothing outlives the command. Use it from a
-    session fixture (then once per process, and once per command)."""
+    folder; the others wait for the lock and read it (``load``). A process keeps what it computed or read, by
+    ``name``. Nothing outlives the command."""
+    if name in _HERE:
+        return _HERE[name]
     if not os.environ.get("PYTEST_XDIST_WORKER"):
-        return compute()
+        found = _HERE[name] = compute()
+        return found
     folder = tmp_path_factory.getbasetemp().parent  # this run's folder, common to its test processes
     path = folder / f"shared-{name}"
     with open(folder / f"shared-{name}.lock", "w") as lock:
         fcntl.flock(lock, fcntl.LOCK_EX)
-        if not path.exists():
-            found = compute()
-            path.with_suffix(".tmp").write_bytes(dump(found))
-            path.with_suffix(".tmp").replace(path)
-            return found
-    return load(path.read_bytes())
+        try:
+            if not path.exists():
+                found = compute()
+                part = path.with_name(path.name + ".part")
+                part.write_bytes(dump(found))
+                part.replace(path)
+            else:
+                found = load(path.read_bytes())
+        finally:  # processes forked meanwhile hold the lock's file too: release it for them all
+            fcntl.flock(lock, fcntl.LOCK_UN)
+    _HERE[name] = found
+    return found
+
+
+#: what :func:`shared` computed or read in this process, by name
+_HERE: dict[str, Any] = {}
 
 
 def measured_once(measure: Callable[..., Any], tmp_path_factory: pytest.TempPathFactory) -> Callable[..., Any]:

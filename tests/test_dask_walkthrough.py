@@ -208,7 +208,7 @@ def run(line: str, cwd: Path) -> subprocess.CompletedProcess[str]:
     return subprocess.run(argv(line), cwd=cwd, env=env, capture_output=True, text=True, timeout=WAIT, check=False)
 
 
-@pytest.fixture(scope="module")
+@pytest.fixture(scope="session")  # once per process: the longest tests run first, apart from the module\'s others
 def uninterrupted(tmp_path_factory: pytest.TempPathFactory) -> str:
     """The page's sweep run in one process, no cluster and no checkpoint."""
     line = commands(section("On one machine"))[3]

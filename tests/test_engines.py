@@ -35,7 +35,7 @@ def is_exact_string(text: str) -> bool:
     return not isinstance(value, float)
 
 
-@pytest.fixture(scope="module")
+@pytest.fixture(scope="session")  # once per process: the longest tests run first, apart from the module\'s others
 def box2d_record() -> dict[str, Any]:
     pytest.importorskip("Box2D")
     done = verify_cli("engines", "--engine", "box2d", "--json", "--quiet")
@@ -153,7 +153,7 @@ def test_box2d_is_the_exact_sequential_law_of_its_own_settings(box2d_record: dic
     assert summary["explained"] == sum(1 for row in entry["cases"] if row["model"]) == sum(summary["models"].values())
 
 
-@pytest.fixture(scope="module")
+@pytest.fixture(scope="session")  # once per process: the longest tests run first, apart from the module\'s others
 def sapien_record() -> dict[str, Any]:
     pytest.importorskip("sapien")
     done = verify_cli("engines", "--engine", "sapien", "--json", "--quiet")

@@ -81,3 +81,17 @@ def test_every_basis_change_is_counted_against_the_pivot_budget() -> None:
         assert sorted(feasible(K, y, unit)) == [0, 1, 2]
     with pivot_budget(2), pytest.raises(SearchTooLong, match="spent its 2 pivots"):
         feasible(K, y, unit)
+
+
+def test_the_hull_of_polar_values_is_the_same_on_every_rational_type() -> None:
+    """The corners of a cone's section (polar._hull3: h rounded to 2^-16 units, turns in floating point under a
+    certified bound) on Python's, gmpy2's and FLINT's rationals: the same corners, and h of plain ints."""
+    from verify.core.backends.rational import RationalBackend
+    from verify.core.cones.polar import _hull3
+
+    vectors = [[3, 1, 1], [1, 3, 1], [1, 1, 3], [2, 2, 2], [5, 1, 2], [-1, 4, 4]]
+    corners = []
+    for impl in ("python", "gmpy2", "flint"):
+        K = RationalBackend(impl)
+        corners.append(_hull3(K, [([K.convert(Fraction(x)) for x in v], True) for v in vectors]))
+    assert corners[0] and corners[0] == corners[1] == corners[2]

@@ -33,7 +33,7 @@ def _case() -> dict:
         return json.load(fh)["cases"][0]
 
 
-@pytest.fixture(scope="module")
+@pytest.fixture(scope="session")  # once per process: the longest tests run first, apart from the module\'s others
 def paper_map():
     return case_map(CASE, max_impulses=CAP)
 

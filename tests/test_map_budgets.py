@@ -28,7 +28,7 @@ def _covers_once(parts) -> bool:
                for a, b in itertools.pairwise(parts))  # fmt: skip
 
 
-@pytest.fixture(scope="module")
+@pytest.fixture(scope="session")  # once per process: the longest tests run first, apart from the module\'s others
 def full():
     return cradle_map(4, max_impulses=12)
 

@@ -25,7 +25,7 @@ def _corner(K):
     return corner_system("1/2", sp.Symbol("e1"), sp.Symbol("e2"), backend=K)
 
 
-@pytest.fixture(scope="module")
+@pytest.fixture(scope="session")  # once per process: the longest tests run first, apart from the module\'s others
 def corner_map() -> PlaneMap:
     return plane_parts(_corner, VELOCITY, BOX, NAMES, 40)
 

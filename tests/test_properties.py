@@ -668,3 +668,21 @@ def test_cli_profile_names_are_the_verdict_profiles() -> None:
     loaded = "sorted({'hypothesis', 'sympy'} & set(sys.modules))"
     code = f"import sys, verify.cli; verify.cli.build_parser(); print({loaded})"
     assert subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True).stdout == "[]\n"
+
+
+def test_rows_sharing_runs_and_drawn_cases_give_the_verdicts_of_rows_searched_alone() -> None:
+    """TableShare: rows of one table (here two properties on both families under the rule, rows that hold and
+    rows refuted, several on one strategy) share their runs and the cases drawn for rows that held; each verdict,
+    its counterexample and its census, is the one of the row searched alone, without a share."""
+    from verify.checks.properties.catalogue import property_named
+    from verify.checks.properties.verdicts import _run_row, row_tasks, share_for
+
+    names = ["the exit velocity is outgoing", "kinetic energy does not increase"]
+    tasks = row_tasks("dev", properties=names, families=["cradle", "general"], laws=["rule"])
+    together = [_run_row(t.payload) for t in tasks]
+    share = share_for(tasks[0].payload[-1])
+    assert share is not None and share.runs and share.drawn  # the rows did share
+    alone = [search(property_named(name), f, r, n, law=law, seed=seed) for name, f, r, n, law, seed, _ in
+             (t.payload for t in tasks)]  # fmt: skip
+    assert {v.record()["verdict"] for v in alone} >= {"refuted", "holds"}
+    assert [v.record() for v in together] == [v.record() for v in alone]

@@ -91,26 +91,31 @@ def test_every_page_is_in_the_index() -> None:
 
 
 def test_property_rows_started_early_give_their_verdicts_or_their_error(monkeypatch) -> None:
-    """The rows run in a thread of their own while the pages are written (Findings.start_verdicts): the page
-    reads what they found, and an error of theirs is raised where the verdicts are asked for."""
-    from verify.checks.tasks import TaskFailure, TasksFailed
+    """The rows run in a thread of their own while the pages are written (Findings.start_verdicts), when the
+    runner's processes are started (one_pool, or a cluster): the page reads what they found, and an error of
+    theirs is raised where the verdicts are asked for. Rows that would run in this process are not started."""
+    from verify.checks.tasks import TaskFailure, TaskRunner, TasksFailed
     from verify.views.pages import Findings
 
     calls = []
     monkeypatch.setattr(verify.checks.properties.verdicts, "verdicts", lambda profile, **kw: calls.append(kw) or ["v"])
-    found = Findings("dev")
-    found.start_verdicts()
-    found.start_verdicts()  # started once
-    assert found.verdicts == ["v"] and len(calls) == 1
+    here = Findings("dev", TaskRunner(workers=2))
+    here.start_verdicts()
+    assert here._rows is None and here.verdicts == ["v"]
 
     def failing(profile, **kw):
         raise TasksFailed([TaskFailure("row", "a row", "ValueError: no")])
 
-    monkeypatch.setattr(verify.checks.properties.verdicts, "verdicts", failing)
-    found = Findings("dev")
-    found.start_verdicts()
-    with pytest.raises(TasksFailed):
-        found.verdicts  # noqa: B018
-    given = Findings("dev", verdicts=["given"])
-    given.start_verdicts()  # nothing to start
-    assert given.verdicts == ["given"]
+    with TaskRunner(workers=2) as runner, runner.one_pool():
+        found = Findings("dev", runner)
+        found.start_verdicts()
+        found.start_verdicts()  # started once
+        assert found._rows is not None and found.verdicts == ["v"] and len(calls) == 2
+        monkeypatch.setattr(verify.checks.properties.verdicts, "verdicts", failing)
+        found = Findings("dev", runner)
+        found.start_verdicts()
+        with pytest.raises(TasksFailed):
+            found.verdicts  # noqa: B018
+        given = Findings("dev", runner, verdicts=["given"])
+        given.start_verdicts()  # nothing to start
+        assert given._rows is None and given.verdicts == ["given"]

@@ -18,7 +18,7 @@ import pytest
 import verify.checks.properties.verdicts as verdicts_module
 from tests.helpers import shared
 from verify.checks.properties.verdicts import Verdict, run_verdicts
-from verify.checks.tasks import Checkpoint, Task, decode, encode, run_tasks
+from verify.checks.tasks import Checkpoint, Task, TaskRunner, decode, encode, run_tasks
 from verify.cli import main
 
 #: a small slice of the suite (a few seconds in one process) for the checkpoint tests
@@ -421,3 +421,12 @@ def test_verify_all_gives_each_step_its_own_time(
         "summary",
         f"reports written to {tmp_path / 'reports'}/ in 315 s",
     ]
+
+
+def test_a_dead_worker_process_of_one_pool_is_retried_and_the_next_run_gets_a_new_pool(tmp_path: Path) -> None:
+    """TaskRunner.one_pool (verify all): a process that dies breaks the shared pool; its tasks are run again, each
+    alone, and the next run (here from the same thread) has a new pool."""
+    with TaskRunner(workers=2) as runner, runner.one_pool():
+        first = runner.run([Task(f"a{i}", dies_once, (str(tmp_path / f"a{i}"), i)) for i in range(3)])
+        second = runner.run([Task(f"b{i}", abs, -i) for i in range(3)])
+    assert (first.results, first.failures, second.results, second.failures) == ([0, 1, 2], [], [0, 1, 2], [])

@@ -148,11 +148,18 @@ def _run_in_pool(
     attempts = dict.fromkeys((t.id for t in todo), 0)
     suspects: list[Task] = []  # held by a local pool when one of its processes died: which one killed it is unknown
     pool = executor or ProcessPoolExecutor(max_workers=workers)
+
+    def submit(task: Task) -> None:
+        attempts[task.id] += 1
+        try:
+            pending[pool.submit(task.fn, task.payload)] = task
+        except BrokenProcessPool:  # a given pool that broke (one of its processes died) takes no task
+            suspects.append(task)
+
     try:
         pending: dict[Future[Any], Task] = {}
         for task in todo:
-            attempts[task.id] += 1
-            pending[pool.submit(task.fn, task.payload)] = task
+            submit(task)
         while pending:
             done, _ = wait(pending, return_when=FIRST_COMPLETED)
             retry: list[Task] = []
@@ -177,8 +184,7 @@ def _run_in_pool(
                 pool.shutdown(wait=True, cancel_futures=True)
                 pool = ProcessPoolExecutor(max_workers=workers)
             for task in retry:
-                attempts[task.id] += 1
-                pending[pool.submit(task.fn, task.payload)] = task
+                submit(task)
     finally:
         if executor is None:
             pool.shutdown(cancel_futures=True)
@@ -238,6 +244,7 @@ class TaskRunner:
         self.store = Checkpoint(checkpoint, options or {}) if checkpoint else None
         self.finished: dict[str, Any] = {}
         self._lock = threading.Lock()  # runs from several threads (:meth:`one_pool`) record their results in turn
+        self._pool: ProcessPoolExecutor | None = None  # the pool of :meth:`one_pool`
 
     def __enter__(self) -> TaskRunner:
         if self.store is not None:
@@ -264,14 +271,32 @@ class TaskRunner:
                 if progress is not None:
                     progress(count, len(tasks), task, result)
 
-        return run_tasks(tasks, workers=self.workers, executor=self.executor, finished=self.finished, on_result=done)
+        return run_tasks(tasks, workers=self.workers, executor=self._executor(), finished=self.finished,
+                         on_result=done)  # fmt: skip
+
+    def _executor(self) -> Executor | None:
+        """The executor of a run: the cluster's, or the pool of :meth:`one_pool` (a new one if a process of the
+        last one died: a broken pool takes no task), or None (a pool of the run's own)."""
+        if self._pool is None:
+            return self.executor
+        with self._lock:
+            if getattr(self._pool, "_broken", False):
+                self._pool.shutdown(wait=False, cancel_futures=True)
+                self._pool = ProcessPoolExecutor(max_workers=self.workers)
+            return self._pool
+
+    @property
+    def elsewhere(self) -> bool:
+        """Whether the tasks run in other processes than this one, started already: on a cluster, or on the
+        pool of :meth:`one_pool`."""
+        return self.executor is not None or self._pool is not None
 
     @contextlib.contextmanager
     def one_pool(self) -> Iterator[TaskRunner]:
         """Within the block, every run of this runner, from any thread, uses one pool of its local processes,
-        all started here (with ``fork``, no process is then forked while another thread of this one runs), and
-        tasks submitted from two threads share the processes in the order submitted. Nothing changes for a
-        runner with an executor (a cluster) or one local process.
+        started here (with ``fork``, Linux's default, no process is then forked while another thread of this one
+        runs; a pool replaces one whose process died), and tasks submitted from two threads share the processes
+        in the order submitted. Nothing changes for a runner with an executor (a cluster) or one local process.
 
         >>> with TaskRunner(workers=2) as runner, runner.one_pool():
         ...     runner.map("abs", abs, [-1, -2])
@@ -280,13 +305,12 @@ class TaskRunner:
         if self.executor is not None or self.workers <= 1:
             yield self
             return
-        pool = ProcessPoolExecutor(max_workers=self.workers)
+        self._pool = ProcessPoolExecutor(max_workers=self.workers)
         try:
-            list(pool.map(abs, range(self.workers)))  # the processes start now
-            self.executor = pool
+            list(self._pool.map(abs, range(self.workers)))  # the processes start now
             yield self
         finally:
-            self.executor = None
+            pool, self._pool = self._pool, None
             pool.shutdown(cancel_futures=True)
 
     def map(

@@ -93,10 +93,11 @@ class Findings:
         self._rows: Future[list[Any]] | None = None  # the property rows started by :meth:`start_verdicts`
 
     def start_verdicts(self) -> None:
-        """Start the property rows now, from a thread of this process, on the runner's processes (which must not
-        be this one: its executor), so that they run while this process computes the other topics;
-        :attr:`verdicts` waits for them. Nothing to start when they were given or are started already."""
-        if self.given_verdicts or self._rows is not None:
+        """Start the property rows now, from a thread of this process, on the runner's other processes (a cluster,
+        or its :meth:`~verify.checks.tasks.TaskRunner.one_pool`), so that they run while this process computes the
+        other topics; :attr:`verdicts` waits for them. Nothing to start when they were given or are started
+        already, or when the rows would run in this process (then :attr:`verdicts` computes them)."""
+        if self.given_verdicts or self._rows is not None or not self.runner.elsewhere:
             return
         rows: Future[list[Any]] = Future()
 
@@ -583,7 +584,7 @@ def write_reports(out: str | Path = "reports", *, profile: str = "ci", workers: 
     findings = Findings(profile, runner or TaskRunner(workers=workers), verdicts)
     texts: dict[str, str] = {}
     with findings.runner.one_pool():
-        if findings.runner.executor is not None:  # the rows run on the pool while this process writes the pages
+        if findings.runner.elsewhere:  # the rows run on the pool while this process writes the pages
             findings.start_verdicts()
         for i, (name, page) in enumerate(PAGES, 1):
             if progress:

@@ -36,6 +36,7 @@ import math
 import random
 import secrets
 import sys
+import threading
 import warnings
 from collections import Counter, OrderedDict
 from concurrent.futures import Executor
@@ -80,8 +81,8 @@ class TableShare:
     by Hypothesis as usual, which draws the same cases, fails at the same one and shrinks it. The verdicts are
     those of rows searched one by one (``tests/test_properties.py`` compares both).
 
-    One share belongs to one table (:func:`row_tasks` gives its rows a token): nothing outlives it, in the
-    process that computed the table or in a pool's worker (:func:`share_for`)."""
+    One share belongs to one table (:func:`row_tasks` gives its rows a token): a process (a thread) keeps the share
+    of the last table whose rows it ran, and drops it for the next table's (:func:`share_for`)."""
 
     #: the most runs kept (the least recently used go first)
     RUNS = 2048
@@ -111,17 +112,19 @@ class TableShare:
             self.drawn.popitem(last=False)
 
 
-#: the share of the table whose rows this process is running (one at a time)
-_SHARE: list[TableShare] = []
+#: the share of the table whose rows this thread is running (one at a time; a Dask worker may run rows in
+#: several threads, each with its own share)
+_SHARE = threading.local()
 
 
 def share_for(token: str | None) -> TableShare | None:
-    """The share of the table with this token in this process (a new one when the token is new), or None."""
+    """The share of the table with this token in this thread (a new one when the token is new), or None."""
     if token is None:
         return None
-    if not _SHARE or _SHARE[0].token != token:
-        _SHARE[:] = [TableShare(token)]
-    return _SHARE[0]
+    current = getattr(_SHARE, "share", None)
+    if current is None or current.token != token:
+        current = _SHARE.share = TableShare(token)
+    return current
 
 
 class Runner:

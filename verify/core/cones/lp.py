@@ -145,8 +145,9 @@ def feasible(
     return {basis[i]: rhs[i] for i in range(n) if basis[i] < m and rhs[i] != zero}
 
 
-#: the integer form of generators (:func:`_integers`), by ``id``
-Scaled = dict[int, tuple[list[Any], Any]]
+#: the integer form of generators (:func:`_integers`), by ``id``: the generator itself (kept alive, so that its id
+#: stays its own), its integer form and its scale
+Scaled = dict[int, tuple[Sequence[Any], list[Any], Any]]
 
 
 def _integers(values: Sequence[Any]) -> tuple[list[Any], int]:
@@ -176,9 +177,9 @@ def _feasible_integers(
     cols, scales = [], []
     for g in gens:
         found = scaled.get(id(g))
-        if found is None:
-            found = scaled[id(g)] = _integers(g)
-        column, scale = found
+        if found is None or found[0] is not g:  # an id is a generator's only while it lives: the entry keeps it
+            found = scaled[id(g)] = (g, *_integers(g))
+        _, column, scale = found
         cols.append([-v if f else v for v, f in zip(column, flip)] if any(flip) else column)
         scales.append(scale)
     adjugate = [[1 if k == i else 0 for k in range(n)] for i in range(n)]

@@ -32,6 +32,7 @@ to, shaped by the linear part of the period map there.
 from __future__ import annotations
 
 import itertools
+import math
 from collections.abc import Sequence
 from fractions import Fraction
 from typing import Any
@@ -170,7 +171,8 @@ def _hull3(K: Any, vectors: Carried) -> list[int] | None:
     for v, _ in vectors:
         q = v if exact else [Fraction(K.to_number(x)) for x in v]
         top = max(abs(x) for x in q)
-        units = [a + int(x * 2**16 // top) for a, x in zip(units, q)]
+        # int(): gmpy2's floor is an mpz, which Fraction keeps and the backends do not convert
+        units = [a + int(math.floor(x * 2**16 / top)) for a, x in zip(units, q)]  # noqa: RUF046
     h = [Fraction(a, 2**16) for a in units]
     hk = [K.convert(x) for x in h]
     heights = [sum((a * b for a, b in zip(hk, v)), K.zero) for v, _ in vectors]
