@@ -103,3 +103,11 @@ def measured_once(measure: Callable[..., Any], tmp_path_factory: pytest.TempPath
         return shared(tmp_path_factory, f"measured-{key}", lambda: measure(**options))
 
     return once
+
+
+def bench_measured_once(monkeypatch: pytest.MonkeyPatch, tmp_path_factory: pytest.TempPathFactory) -> None:
+    """Within the test, ``verify bench`` prints the measurement made once per command for its options
+    (:func:`measured_once`): the tests that print it (the docs' text and JSON transcripts, the smoke test) share it."""
+    import verify.checks.bench
+
+    monkeypatch.setattr(verify.checks.bench, "bench", measured_once(verify.checks.bench.bench, tmp_path_factory))

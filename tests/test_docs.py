@@ -21,8 +21,7 @@ from typing import Any
 
 import pytest
 
-import verify.checks.bench
-from tests.helpers import measured_once
+from tests.helpers import bench_measured_once
 from verify.cli import main
 
 ROOT = Path(__file__).resolve().parents[1]
@@ -406,10 +405,6 @@ def test_the_pages_have_transcripts_and_the_list_of_those_not_run_is_current():
     assert set(NOT_RUN) <= found, set(NOT_RUN) - found
 
 
-#: commands whose measurement the transcripts that run them share (its numbers are the machine's: TIMINGS)
-SHARED = {"bench": verify.checks.bench.bench}
-
-
 @pytest.mark.parametrize("transcript", transcripts(), ids=str)
 def test_every_command_output_in_the_docs_is_the_programs(
     transcript: Transcript,
@@ -421,8 +416,8 @@ def test_every_command_output_in_the_docs_is_the_programs(
     if transcript.command in NOT_RUN:
         pytest.skip(NOT_RUN[transcript.command])
     argv = shlex.split(transcript.command)[1:]
-    if argv[0] in SHARED:
-        monkeypatch.setattr(verify.checks.bench, argv[0], measured_once(SHARED[argv[0]], tmp_path_factory))
+    if argv[0] == "bench":  # its numbers are the machine's (TIMINGS): one measurement for its transcripts
+        bench_measured_once(monkeypatch, tmp_path_factory)
     monkeypatch.chdir(doc_folder)
     capsys.readouterr()
     try:

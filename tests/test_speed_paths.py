@@ -12,9 +12,8 @@ import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
-import verify.checks.bench
 import verify.core.rule as rule_module
-from tests.helpers import measured_once
+from tests.helpers import bench_measured_once
 from verify.checks.bench import batch
 from verify.checks.properties.strategies import cases
 from verify.cli import main
@@ -137,7 +136,7 @@ def test_float_path_on_general_systems(drawn) -> None:
 def test_bench_quick_smoke(capsys, tmp_path, tmp_path_factory, monkeypatch) -> None:
     """``verify bench --quick --json --save``: the record's shape (its measurement shared with the docs'
     transcripts of the same command)."""
-    monkeypatch.setattr(verify.checks.bench, "bench", measured_once(verify.checks.bench.bench, tmp_path_factory))
+    bench_measured_once(monkeypatch, tmp_path_factory)
     target = tmp_path / "bench.json"
     assert main(["bench", "--quick", "--json", "--save", str(target)]) == 0
     record = json.loads(capsys.readouterr().out)

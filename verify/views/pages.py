@@ -584,8 +584,7 @@ def write_reports(out: str | Path = "reports", *, profile: str = "ci", workers: 
     findings = Findings(profile, runner or TaskRunner(workers=workers), verdicts)
     texts: dict[str, str] = {}
     with findings.runner.one_pool():
-        if findings.runner.elsewhere:  # the rows run on the pool while this process writes the pages
-            findings.start_verdicts()
+        findings.start_verdicts()  # on the pool (or a cluster) while this process writes the pages
         for i, (name, page) in enumerate(PAGES, 1):
             if progress:
                 progress(f"[report {i}/{len(PAGES)}] {TITLES[name]} ...")
