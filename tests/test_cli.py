@@ -15,7 +15,7 @@ GOOD_CASE = cradle_case("c", ["1", "1", "1"], ["1/2", "1/2"], ["100", "0", "0"])
 
 
 def case_file(tmp_path, **change):
-    case = dict(GOOD_CASE)
+    case = dict(GOOD_CASE, id=f"{GOOD_CASE['id']}-changed")  # each case its own id
     case.update(change)
     path = tmp_path / "cases.json"
     path.write_text(json.dumps({"cases": [GOOD_CASE, case]}))

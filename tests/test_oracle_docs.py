@@ -75,6 +75,7 @@ def changed(value: Any) -> Any:
 ABSENT = {
     "law": "simultaneous",
     "impulses": ["1", "0"],
+    "law_settings": {"iterations": 1, "order": [0], "threshold": ["0"]},
     "notes": ["a note"],
     "exit_velocity_enclosure": [["0", "1"]],
 }

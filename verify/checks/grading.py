@@ -133,7 +133,7 @@ def free_directions(normals: list[list[Fraction]]) -> list[list[Fraction]]:
 
 
 def _conservation(
-    case: dict[str, Any], exact: dict[str, Any], mine: dict[str, Any], tol: Fraction
+    case: dict[str, Any], exact: dict[str, Any], mine: dict[str, Any], tol: Fraction, *, energy: bool = True
 ) -> tuple[str, str] | None:
     """``momentum_drift`` or ``energy_error`` when the exit velocity breaks what the law keeps, with the
     line that shows it: the momentum's drift, or the energy's excess, and the tolerance.
@@ -171,16 +171,16 @@ def _conservation(
                 f"where the entrance has {format_decimal(before, 12)}: drift {format_decimal(after - before, 3)} "
                 f"> tolerance {format_decimal(tol * size, 3)}"
             )
-    if any(_numbers(case.get("time_terms") or ["0"], f"{cid}.time_terms")):
+    if not energy or any(_numbers(case.get("time_terms") or ["0"], f"{cid}.time_terms")):
         return None  # moving constraints: energies are measured in their rest frame, not checked here
-    energy = sum(got[i] * g[i][j] * got[j] for i in range(len(got)) for j in range(len(got))) / 2
+    out = sum(got[i] * g[i][j] * got[j] for i in range(len(got)) for j in range(len(got))) / 2
     allowed = _numbers([exact["kinetic_energy_out"]], f"{cid}.kinetic_energy_out")[0]
     e_in = _numbers([exact["kinetic_energy_in"]], f"{cid}.kinetic_energy_in")[0]
     bound = tol * max(e_in, Fraction(1, 10**30))
-    if energy - allowed > bound:
+    if out - allowed > bound:
         return "energy_error", (
-            f"the kinetic energy of the exit velocity is {format_decimal(energy, 12)}, the law's "
-            f"{format_decimal(allowed, 12)}: {format_decimal(energy - allowed, 3)} too much "
+            f"the kinetic energy of the exit velocity is {format_decimal(out, 12)}, the law's "
+            f"{format_decimal(allowed, 12)}: {format_decimal(out - allowed, 3)} too much "
             f"> tolerance {format_decimal(bound, 3)}"
         )
     return None
@@ -191,7 +191,10 @@ def _sets(result: dict[str, Any]) -> list[list[int]] | None:
 
 
 def _gave_up(exact: dict[str, Any], mine: dict[str, Any]) -> bool:
-    """Stop ``max_iterations`` after fewer impulses than the exact run made or needs, on its path."""
+    """Stop ``max_iterations`` after fewer impulses than the exact run made or needs, on its path (never under
+    the sequential law, whose stop ``max_iterations`` is an answer: the velocity after the sweeps)."""
+    if exact.get("law") == "sequential":
+        return False
     if mine.get("stop") != "max_iterations" or exact["stop"] not in ("exit", "non_terminating", "max_iterations"):
         return False
     sets_e, sets_m = exact["impact_sets"], _sets(mine)
@@ -202,32 +205,43 @@ def _gave_up(exact: dict[str, Any], mine: dict[str, Any]) -> bool:
     return longer and sets_e[: len(sets_m)] == sets_m[: len(sets_e)]
 
 
-def grade_case(
-    case: dict[str, Any], exact: dict[str, Any], mine: dict[str, Any], found: list[Any], tol: Fraction
-) -> Grade:
-    """The class of one case, from the mismatches that :func:`verify.checks.oracle.compare` found
-    (``found``) and the two results; ``tol`` is the relative tolerance of the conservation checks."""
+def grade_case(case: dict[str, Any], exact: dict[str, Any], mine: dict[str, Any], found: Any, tol: Fraction) -> Grade:
+    """The class of one case, from what :func:`verify.checks.oracle.compare` found (``found``: its mismatches,
+    the differences it tolerated, whether it compared the velocity) and the two results; ``tol`` is the
+    relative tolerance of the conservation checks. A velocity that was not compared with an exact one (the
+    exact run has none at the implementation's stop) is checked for the momentum every impulse keeps, and
+    the case is at best ``within_tolerance``: a number that was not compared is never ``exact``."""
     cid = case["id"]
-    kinds = {m.field.split("[")[0] for m in found}
-    first = found[0].detail if found else ""
+    mismatches = found.mismatches
+    kinds = {m.field.split("[")[0] for m in mismatches}
+    first = mismatches[0].detail if mismatches else ""
     if "bad_number" in kinds:
         return Grade(cid, "bad_number", first)
+    kept = None if found.velocity_compared else _conservation(case, exact, mine, tol, energy=False)
+    if kept is not None and kept[0] == "momentum_drift":
+        return Grade(cid, *kept)
     if _gave_up(exact, mine):
         return Grade(
             cid, "gave_up", f"stopped at its cap after {mine.get('iterations', '?')} impulses on the exact path"
         )
     if "impact_sets" in kinds or "betas" in kinds:
-        detail = next(m.detail for m in found if m.field.split("[")[0] in ("impact_sets", "betas"))
-        return Grade(cid, "wrong_branch", detail + divergence(case, exact, found))
+        detail = next(m.detail for m in mismatches if m.field.split("[")[0] in ("impact_sets", "betas"))
+        return Grade(cid, "wrong_branch", detail + divergence(case, exact, mine, mismatches))
     if "stop" in kinds or "iterations" in kinds:
         return Grade(cid, "wrong_stop", first)
-    both_exit = exact["stop"] == "exit" and mine.get("stop", "exit") == "exit"
-    speed, ulp_count = needed(exact, mine, cid) if both_exit else (None, None)
+    speed, ulp_count = needed(exact, mine, cid) if found.velocity_compared else (None, None)
     if "exit_velocity" in kinds:
         cls, detail = _conservation(case, exact, mine, tol) or ("out_of_tolerance", first)
+        if exact.get("law") == "sequential":
+            from verify.checks.sweeps import hint
+
+            detail += hint(case, exact, mine)
         return Grade(cid, cls, detail, needed_speed=speed, needed_ulps=ulp_count)
-    equal = (speed == 0 or (speed is None and not found)) and _betas_equal(exact, mine, cid)
-    return Grade(cid, "exact" if equal else "within_tolerance", needed_speed=speed, needed_ulps=ulp_count)
+    notes = list(found.tolerated)
+    if not found.velocity_compared:
+        notes.append("the velocity at this stop is checked for momentum only (the exact run has none to compare)")
+    equal = speed == 0 and not notes and _betas_equal(exact, mine, cid)
+    return Grade(cid, "exact" if equal else "within_tolerance", "; ".join(notes), speed, ulp_count)
 
 
 def _betas_equal(exact: dict[str, Any], mine: dict[str, Any], cid: str) -> bool:
@@ -241,42 +255,55 @@ def _betas_equal(exact: dict[str, Any], mine: dict[str, Any], cid: str) -> bool:
     )
 
 
-def divergence(case: dict[str, Any], exact: dict[str, Any], found: list[Any]) -> str:
-    """Where the exact run stands at the first impulse the runs part: its rates p(F_i) there (those of
-    its exit velocity when it ends there), and its beta at that impulse (``-`` for a single impact or
-    none). Each is exact when short (at most 24 characters), else ``~`` and its decimal to 6
-    significant digits.
+def divergence(case: dict[str, Any], exact: dict[str, Any], mine: dict[str, Any], found: list[Any]) -> str:
+    """Where the exact run stands at the first impulse (under the sequential law: sweep) the runs part:
+    its rates p(F_i) before it (those of its exit velocity when it ends there), and its beta for a
+    multiple impact; under the sequential law the accumulated impulses after that sweep, the targets, and
+    the implementation's impulses when it gives them (:func:`verify.checks.sweeps.hint`). Each number is
+    exact when short (at most 24 characters), else ``~`` and its decimal to 6 significant digits.
 
     >>> case = {"id": "c", "mass_matrix": [["1", "0", "0"], ["0", "1", "0"], ["0", "0", "1"]],
     ...         "normals": [["-1", "1", "0"], ["0", "-1", "1"]], "restitution": ["1", "1"], "velocity": ["1", "0", "0"]}
     >>> exact = {"impact_sets": [[0], [1]]}
     >>> class M:
     ...     field, detail = "impact_sets", "from impulse 3: expected none (the run ends), got [0]"
-    >>> divergence(case, exact, [M()])
-    '; the exact run there: rates p(F) = (0, 1), beta = - (the run ends: no rate is negative)'
+    >>> divergence(case, exact, {}, [M()])
+    '; the exact run there: rates p(F) = (0, 1): it has exited (no rate is negative)'
     """
+    import dataclasses
     import re
 
     from verify.core.rule import solve
-    from verify.core.sequential import law_of_record
-    from verify.records.results import case_from_record
+    from verify.core.sequential import Sequential, law_of_record
+    from verify.records.results import bare_case
 
     detail = next((m.detail for m in found if m.field.split("[")[0] in ("impact_sets", "betas")), "")
-    match = re.search(r"impulse (\d+)", detail)
+    match = re.search(r"(?:impulse|sweep) (\d+)", detail)
     if not match:
         return ""
     w = int(match.group(1))
-    c = case_from_record({k: v for k, v in case.items() if k in CASE_KEYS}, f"case {case['id']}")
-    run = solve(c.system, c.velocity_source, law=law_of_record(exact), max_iterations=w, certify=False)
+    law = law_of_record(exact)
+    if isinstance(law, Sequential):
+        law = dataclasses.replace(law, iterations=max(1, min(w, law.iterations)))
+    c = bare_case(case)
+    run = solve(c.system, c.velocity_source, law=law, max_iterations=w, certify=False)
     K = run.backend
+    if isinstance(law, Sequential):
+        from verify.checks.sweeps import hint
+
+        settled = "" if len(run.steps) >= w else ": the exact impulses have settled (no sweep changes them)"
+        impulses = ", ".join(_value_text(K, x) for x in run.impulses or ())
+        return (
+            f"; the exact run after sweep {min(w, len(run.steps))}{settled}: accumulated impulses ({impulses})"
+            + hint(case, exact, mine).replace("; the exact run:", "; at the end:", 1)
+        )
     if len(run.steps) >= w:
         step = run.steps[w - 1]
-        rates, beta, end = step.rates, step.beta, ""
-    else:  # the exact run ends before impulse w: the rates of its exit velocity, none of them negative
-        rates, beta, end = run.system.rates(run.exit_velocity), None, " (the run ends: no rate is negative)"
-    shown = ", ".join(_value_text(K, x) for x in rates)
-    beta_text = "-" if beta is None else _value_text(K, beta)
-    return f"; the exact run there: rates p(F) = ({shown}), beta = {beta_text}{end}"
+        shown = ", ".join(_value_text(K, x) for x in step.rates)
+        beta = "a single impact" if step.beta is None else f"beta = {_value_text(K, step.beta)}"
+        return f"; the exact run there: rates p(F) = ({shown}), {beta}"
+    shown = ", ".join(_value_text(K, x) for x in run.system.rates(run.exit_velocity))
+    return f"; the exact run there: rates p(F) = ({shown}): it has exited (no rate is negative)"
 
 
 def _value_text(K: Any, x: Any) -> str:
@@ -286,10 +313,6 @@ def _value_text(K: Any, x: Any) -> str:
         if len(text) <= 24:
             return text
     return "~" + K.to_decimal(x, 6)
-
-
-#: the fields of a case record that :func:`verify.records.results.case_from_record` reads
-CASE_KEYS = ("id", "mass_matrix", "normals", "time_terms", "restitution", "velocity", "max_iterations")
 
 
 @dataclass(frozen=True)
@@ -392,25 +415,27 @@ class Tolerance:
         >>> print(Tolerance(rtol=Fraction(0), floor=Fraction(0)).describe())
         |got_i - exact_i| <= 0; beta within 1e-9 of the exact beta, relative
         """
-        plus = f"{_short(self.atol)} + " if self.atol else ""
+        plus = f"{short_number(self.atol)} + " if self.atol else ""
         if self.rtol:
-            out = f"|got_i - exact_i| <= {plus}{_short(self.rtol)} |v_exit| (the exact exit speed, max_i |exact_i|)"
+            out = (
+                f"|got_i - exact_i| <= {plus}{short_number(self.rtol)} |v_exit| (the exact exit speed, max_i |exact_i|)"
+            )
         else:
-            out = f"|got_i - exact_i| <= {_short(self.atol)}"
-        extra = [f"{_short(self.speed)} |v_exit|"] if self.speed else []
+            out = f"|got_i - exact_i| <= {short_number(self.atol)}"
+        extra = [f"{short_number(self.speed)} |v_exit|"] if self.speed else []
         extra += [f"{self.ulps} binary64 ulps of exact_i"] if self.ulps else []
         if extra:
             out += ", or " + ", or ".join(extra)
         if self.floor:
-            out += f"; where exact_i = 0, also <= {plus}{_short(self.floor)} |v_in| (the entrance speed)"
-        return out + f"; beta within {_short(self.beta)} of the exact beta, relative"
+            out += f"; where exact_i = 0, also <= {plus}{short_number(self.floor)} |v_in| (the entrance speed)"
+        return out + f"; beta within {short_number(self.beta)} of the exact beta, relative"
 
 
-def _short(x: Fraction) -> str:
+def short_number(x: Fraction) -> str:
     """A tolerance in a few characters, computed exactly: decimals from 0.001 up, else ``M e-K``.
 
-    >>> _short(Fraction(1, 10**9)), _short(Fraction(0)), _short(Fraction(25, 10**5)), _short(Fraction(1, 3 * 10**7))
-    ('1e-9', '0', '0.00025', '3.33333e-8')
+    >>> [short_number(x) for x in (Fraction(1, 10**9), Fraction(0), Fraction(25, 10**5), Fraction(1, 3 * 10**7))]
+    ['1e-9', '0', '0.00025', '3.33333e-8']
     """
     from verify.core.format import format_decimal
 

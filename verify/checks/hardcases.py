@@ -492,11 +492,13 @@ def random_cases(seed: int, count: int, prefix: str, tiny: int = 0) -> list[dict
 # -- the whole set ------------------------------------------------------------------------------------
 
 
-def generate(level: int, seed: int) -> list[dict]:
-    """The hard cases of ``level`` (1, 2 or 3) and ``seed``: case records with a ``why`` field.
+def generate(level: int, seed: int, law: str = "rule") -> list[dict]:
+    """The hard cases of ``level`` (1, 2 or 3) and ``seed``: case records with a ``why`` field; with
+    ``law`` ``"simultaneous"`` or ``"sequential"`` also the cases where that law branches
+    (:mod:`verify.checks.lawcases`).
 
     The seed drives the random families only (``general-*``, ``illcond-*``); the same
-    ``(level, seed)`` always gives the same list.
+    ``(level, seed, law)`` always gives the same list.
 
     >>> cases = generate(1, 7)
     >>> len(cases), sum(c["id"].startswith("general-") for c in cases)
@@ -508,13 +510,16 @@ def generate(level: int, seed: int) -> list[dict]:
     out = [record for family in families for record in family(spec)]
     out += random_cases(seed, spec.illcond, "illcond", tiny=8)
     out += random_cases(seed, spec.near, "general")
+    from verify.checks.lawcases import law_cases
+
+    out += law_cases(level, law)
     ids = [c["id"] for c in out]
     if len(ids) != len(set(ids)):
         raise AssertionError("hard case ids are not unique")  # pragma: no cover
     return out
 
 
-def generate_file_text(level: int, seed: int) -> str:
+def generate_file_text(level: int, seed: int, law: str = "rule") -> str:
     """The case file of :func:`generate` as text (sorted keys, two-space indentation), each case with its
     ``decimal`` object (:func:`verify.records.results.with_decimals`): the same bytes for the same
     ``(level, seed)``.
@@ -522,4 +527,4 @@ def generate_file_text(level: int, seed: int) -> str:
     >>> generate_file_text(1, 0).splitlines()[:3]
     ['{', '  "cases": [', '    {']
     """
-    return dumps({"cases": [with_decimals(c) for c in generate(level, seed)]})
+    return dumps({"cases": [with_decimals(c) for c in generate(level, seed, law)]})

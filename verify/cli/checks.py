@@ -14,10 +14,12 @@ from verify.checks.properties.profiles import PROFILES
 from verify.cli.common import (
     PROG,
     BoundedInt,
+    IntList,
     NonNegativeRational,
     OutputDir,
     OutputFile,
     Parser,
+    RationalList,
     Seconds,
     StatusLine,
     UsageError,
@@ -83,18 +85,23 @@ def properties_options(p: argparse.ArgumentParser) -> None:
     p.add_argument("--json", action="store_true", help="print the verdicts as JSON (contracts)")
 
 
-def oracle_options(p: argparse.ArgumentParser) -> None:
-    """The options of ``verify oracle``."""
-    oracle_sub = p.add_subparsers(dest="action", metavar="ACTION", parser_class=Parser, required=True)
-    q = command(oracle_sub, "oracle export", cmd_oracle)
-    q.add_argument("folder", metavar="DIR", type=OutputDir(), help="the folder to write (created if needed)")
-    q = command(oracle_sub, "oracle check", cmd_oracle)
+def implementation_options(q: argparse.ArgumentParser) -> None:
+    """CASES.json and the other implementation's answers: RESULTS.json, or ``--impl COMMAND`` with ``--timeout``."""
     q.add_argument("cases", metavar="CASES.json")
     q.add_argument("results", metavar="RESULTS.json", nargs="?", help="the other implementation's result file")
     q.add_argument("--impl", metavar="COMMAND",
                    help="run COMMAND: case file on stdin, result file on stdout; " + IMPL_NOTE)  # fmt: skip
     q.add_argument("--timeout", type=Seconds(), default=600.0, metavar="SECONDS",
                    help="seconds allowed to --impl (default 600)")  # fmt: skip
+
+
+def oracle_options(p: argparse.ArgumentParser) -> None:
+    """The options of ``verify oracle``."""
+    oracle_sub = p.add_subparsers(dest="action", metavar="ACTION", parser_class=Parser, required=True)
+    q = command(oracle_sub, "oracle export", cmd_oracle)
+    q.add_argument("folder", metavar="DIR", type=OutputDir(), help="the folder to write (created if needed)")
+    q = command(oracle_sub, "oracle check", cmd_oracle)
+    implementation_options(q)
     q.add_argument("--rtol", default="1e-8", type=NonNegativeRational(),
                    help="tolerance on each exit-velocity component, relative to the exact exit speed "
                         "max|v_exit| (default 1e-8)")  # fmt: skip
@@ -116,9 +123,26 @@ def oracle_options(p: argparse.ArgumentParser) -> None:
     budget_options(q, "per case, for the exact results")
     q.add_argument("--quiet", action="store_true", help="no status line on stderr")
     q.add_argument("--json", action="store_true", help="print the comparison as JSON")
+    q = command(oracle_sub, "oracle explain", cmd_oracle)
+    implementation_options(q)
+    q.add_argument("--sweeps", type=IntList(1, 1000), default=None, metavar="K,...",
+                   help="the sequential law's sweeps to try: 1-20,25,30 (default 1-20,25,30,40,50,100)")  # fmt: skip
+    q.add_argument("--thresholds", type=RationalList(), default=None, metavar="T,...",
+                   help="the restitution thresholds to try (speeds; default 0,1/100,1/10,1/4,1/2,1,2)")  # fmt: skip
+    q.add_argument("--tolerance", type=NonNegativeRational(), default="1e-9", metavar="TOL",
+                   help="a model explains an answer within TOL times the entrance speed (default 1e-9, float64; "
+                        "1e-5 for float32)")  # fmt: skip
+    q.add_argument("--junit", metavar="FILE", type=OutputFile(), default=None,
+                   help="also write one test case per case: passed when a model explains it")  # fmt: skip
+    q.add_argument("--quiet", action="store_true", help="no status line on stderr")
+    q.add_argument("--json", action="store_true", help="print the explanation as JSON")
     q = command(oracle_sub, "oracle generate", cmd_oracle)
     q.add_argument("--level", type=BoundedInt(1, 3), default=1, help="1 (small, for CI), 2 or 3 (larger)")
     q.add_argument("--seed", type=BoundedInt(0, 2**63 - 1), default=0, help="the seed of the random cases (default 0)")
+    q.add_argument("--law", default="rule", choices=("rule", "simultaneous", "sequential"),
+                   help="also the cases where this law branches: restitution thresholds, order ties and badly "
+                        "scaled contacts (sequential), the active set's boundary (simultaneous); each sequential "
+                        "case carries its own law_settings")  # fmt: skip
     q.add_argument("--out", metavar="FILE", type=OutputFile(), default=None,
                    help="write the case file there (default stdout)")  # fmt: skip
     q = command(oracle_sub, "oracle table", cmd_oracle)
@@ -215,7 +239,7 @@ def cmd_oracle(args: argparse.Namespace) -> int:
     if args.action == "generate":
         from verify.checks.hardcases import generate_file_text
 
-        text = generate_file_text(args.level, args.seed)
+        text = generate_file_text(args.level, args.seed, args.law)
         if args.out:
             write_output(args.out, text, "--out")
         else:
@@ -223,6 +247,8 @@ def cmd_oracle(args: argparse.Namespace) -> int:
         return 0
     if args.action == "table":
         return oracle_table(args)
+    if args.action == "explain":
+        return oracle_explain(args)
     if args.action == "export":
         with writing(args.folder, "DIR"):
             paths = oracle.export(args.folder)
@@ -235,11 +261,9 @@ def cmd_oracle(args: argparse.Namespace) -> int:
 def oracle_check(args: argparse.Namespace) -> int:
     """``verify oracle check``: another implementation's results against the exact ones; exit code 1 on a mismatch."""
     from verify.checks import oracle
-    from verify.records.results import dumps, load_cases
+    from verify.records.results import dumps
     from verify.views.text import oracle_text
 
-    if (args.results is None) == (args.impl is None):
-        raise UsageError(f"{PROG} oracle check: give either RESULTS.json or --impl COMMAND")
     if args.junit_as is not None and not args.junit:
         raise UsageError(f"{PROG} oracle check: --junit-as needs --junit FILE")
     budgets = None  # the options are read before the cases, so that a bad one is told at once
@@ -247,10 +271,7 @@ def oracle_check(args: argparse.Namespace) -> int:
         from verify.checks.grading import Budgets, Tolerance
 
         budgets = Budgets.load(args.tolerances, Tolerance(rtol=args.rtol, atol=args.atol, floor=args.floor))
-    load_cases(args.cases)  # validates the file: schema, then every number
-    with open(args.cases, encoding="utf-8") as fh:
-        case_text = fh.read()
-    records = json.loads(case_text)["cases"]
+    case_text, records = checked_cases(args, "oracle check")
     if args.max_iterations is not None:  # the cases as if each had this cap: for the exact runs and --impl
         records = [dict(r, max_iterations=args.max_iterations) for r in records]
         case_text = dumps({"cases": records})
@@ -276,11 +297,48 @@ def oracle_check(args: argparse.Namespace) -> int:
     if args.json:
         sys.stdout.write(dumps(oracle.comparison_json(comparison)))
     else:
-        sys.stdout.write(oracle_text(comparison))
+        sys.stdout.write(oracle_text(comparison, args.junit_as))
         if comparison.limited:
             print(f"note: {len(comparison.limited)} cases checked only on the impulses the exact run made before "
                   f"reaching --max-bits or --case-timeout: {', '.join(comparison.limited)}")  # fmt: skip
     return 0 if comparison.ok else 1
+
+
+def checked_cases(args: argparse.Namespace, command_name: str) -> tuple[str, list[dict]]:
+    """The case file's text and records, validated (one line and exit code 2 for a bad file), with RESULTS.json
+    or --impl given, not both."""
+    from verify.records.results import load_cases
+
+    if (args.results is None) == (args.impl is None):
+        raise UsageError(f"{PROG} {command_name}: give either RESULTS.json or --impl COMMAND")
+    load_cases(args.cases)  # validates the file: schema, ids, then every number
+    with open(args.cases, encoding="utf-8") as fh:
+        case_text = fh.read()
+    return case_text, json.loads(case_text)["cases"]
+
+
+def oracle_explain(args: argparse.Namespace) -> int:
+    """``verify oracle explain``: which exact model explains each answer of another implementation; exit code 1
+    when a case is explained by none."""
+    from verify.checks import oracle
+    from verify.checks.explain_impl import DEFAULT_SWEEPS, DEFAULT_THRESHOLDS, Grid, explain
+    from verify.records.results import dumps
+    from verify.views.explanation import explanation_junit, explanation_text
+
+    case_text, records = checked_cases(args, "oracle explain")
+    status = StatusLine.for_args(args)
+    got, _ = oracle.load_result_file(*other_results(args, case_text, status))
+    grid = Grid(tuple(args.sweeps or DEFAULT_SWEEPS), tuple(args.thresholds or DEFAULT_THRESHOLDS),
+                tolerance=args.tolerance)  # fmt: skip
+    status.show("verify oracle explain: running the exact models", now=True)
+    try:
+        result = explain(records, got, grid)
+    finally:
+        status.close()
+    if args.junit:
+        write_output(args.junit, explanation_junit(result, f"verify oracle explain {args.cases}"), "--junit")
+    sys.stdout.write(dumps(result.to_json()) if args.json else explanation_text(result))
+    return 0 if all(r.settings for r in result.rows) else 1
 
 
 def oracle_table(args: argparse.Namespace) -> int:

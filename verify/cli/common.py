@@ -152,6 +152,57 @@ class NonNegativeRational:
         return "non-negative rational"
 
 
+class IntList:
+    """A list of integers in ``[lo, hi]`` and runs ``a-b`` (``1-20,25,30``), returned sorted without repeats.
+
+    >>> IntList(1, 100)("3,1-2,2")
+    (1, 2, 3)
+    >>> IntList(1, 100)("0-3")
+    Traceback (most recent call last):
+    argparse.ArgumentTypeError: must be integers from 1 to 100 and runs a-b (1-20,25), got '0-3'
+    """
+
+    def __init__(self, lo: int, hi: int):
+        self.lo, self.hi = lo, hi
+
+    def __call__(self, text: str) -> tuple[int, ...]:
+        out: set[int] = set()
+        try:
+            for part in split_option(text):
+                a, sep, b = part.partition("-")
+                lo, hi = BoundedInt(self.lo, self.hi)(a.strip()), BoundedInt(self.lo, self.hi)(b.strip() if sep else a)
+                if hi < lo or hi - lo > 10**5:
+                    raise argparse.ArgumentTypeError(part)
+                out.update(range(lo, hi + 1))
+        except (argparse.ArgumentTypeError, UsageError):
+            raise argparse.ArgumentTypeError(
+                f"must be integers from {self.lo} to {self.hi} and runs a-b (1-20,25), got {text!r}"
+            ) from None
+        return tuple(sorted(out))
+
+    def __repr__(self) -> str:
+        return "list of integers"
+
+
+class RationalList:
+    """A list of non-negative rationals read exactly (``0,1/2,0.25``), returned sorted without repeats.
+
+    >>> RationalList()("1/2, 0, 0.5")
+    (Fraction(0, 1), Fraction(1, 2))
+    """
+
+    def __call__(self, text: str) -> tuple[Fraction, ...]:
+        try:
+            return tuple(sorted({NonNegativeRational()(x) for x in split_option(text)}))
+        except (argparse.ArgumentTypeError, UsageError):
+            raise argparse.ArgumentTypeError(
+                f"must be non-negative rationals separated by commas, got {text!r}"
+            ) from None
+
+    def __repr__(self) -> str:
+        return "list of rationals"
+
+
 class ExactNumber:
     """A real number in the restricted syntax of :mod:`verify.core.parse` (``0.5``, ``pi/6``,
     ``3 - 2*sqrt(2)``), checked when parsed and returned as the text (the library reads it).

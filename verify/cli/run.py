@@ -70,6 +70,8 @@ def solve_options(p: argparse.ArgumentParser) -> None:
     budget_options(p, "per case")
     p.add_argument("--quiet", action="store_true", help="no status line on stderr")
     p.add_argument("--json", action="store_true", help='print {"results": [...]}')
+    p.add_argument("--trace", action="store_true",
+                   help="also print every impulse (every sweep under the sequential law) of each case")  # fmt: skip
     backend_options(p)
 
 
@@ -142,6 +144,7 @@ def _aeev_reading(args: argparse.Namespace) -> Any:
 def cmd_solve(args: argparse.Namespace) -> int:
     """``verify solve``: run every case of a case file, in order, and print one result per case."""
     from verify.core.rule import solve
+    from verify.core.sequential import law_for_case
     from verify.records.results import dumps, load_cases, result_record
     from verify.views.text import solve_text
 
@@ -155,8 +158,9 @@ def cmd_solve(args: argparse.Namespace) -> int:
             cap = c.max_iterations if args.max_iterations is None else args.max_iterations
             progress = case_progress(status, f"verify solve: case {k}/{len(cases)} {c.id}")
             try:
-                r = solve(c.system, c.velocity_source, rule=args.rule, law=law, max_iterations=cap, trace=False,
-                          budget=budget, progress=progress)  # fmt: skip
+                case_law = law_for_case(law, c.law_settings, c.system.r)
+                r = solve(c.system, c.velocity_source, rule=args.rule, law=case_law,
+                          max_iterations=cap, trace=args.trace, budget=budget, progress=progress)  # fmt: skip
             except (InvalidInput, Undecided) as exc:  # name the case; nothing is printed for the others
                 raise type(exc)(f"{PROG} solve: case {c.id!r} (cases[{k - 1}]): {one_line(exc)}") from None
             results.append((c, r))

@@ -34,6 +34,8 @@ class Step:
     impulse: tuple
     velocity: tuple  # after the impulse
     system: System = field(repr=False, compare=False)
+    #: the sequential law: (constraint, change of its accumulated impulse) for each impulse this sweep changed
+    changes: tuple = field(default=(), repr=False, compare=False)
 
     @cached_property
     def kinetic_energy(self) -> Any:

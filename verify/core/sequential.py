@@ -191,6 +191,45 @@ def law_of_record(record: dict[str, Any]) -> Law:
     return law
 
 
+def case_settings(settings: dict[str, Any], r: int, base: Sequential | None = None) -> Sequential:
+    """The sequential law of a case that carries its own ``law_settings`` (any of ``iterations``, ``order``,
+    ``threshold``), the others from ``base`` (the command's); checked against its ``r`` constraints.
+
+    >>> case_settings({"order": [1, 0]}, 2, Sequential(iterations=3))
+    Sequential(iterations=3, order=(1, 0), threshold=0)
+    >>> case_settings({"order": [0, 0]}, 2)
+    Traceback (most recent call last):
+    ...
+    verify.errors.InvalidSystem: the sequential law's order [0, 0] is not an order of the 2 constraints ...
+    """
+    base = base or Sequential()
+    if not isinstance(settings, dict) or set(settings) - {"iterations", "order", "threshold"}:
+        raise InvalidSystem("expected an object with iterations, order or threshold")
+    order = settings.get("order", base.order)
+    threshold = settings.get("threshold", base.threshold)
+    if isinstance(order, list):
+        order = tuple(order)
+    if isinstance(threshold, list):
+        threshold = tuple(threshold)
+    law = Sequential(settings.get("iterations", base.iterations), order, threshold)
+    law.sweep_order(r)
+    law.thresholds(r)
+    return law
+
+
+def law_for_case(law: Law, settings: dict[str, Any] | None, r: int) -> Law:
+    """The law a case runs under: ``law``; under the sequential law with the case's own ``law_settings``
+    in place of the command's.
+
+    >>> law_for_case("rule", {"order": [1, 0]}, 2), law_for_case("sequential", {"order": [1, 0]}, 2).order
+    ('rule', (1, 0))
+    """
+    sequential = isinstance(law, Sequential) or law == Sequential.name
+    if not settings or not sequential:
+        return law
+    return case_settings(settings, r, law if isinstance(law, Sequential) else None)
+
+
 class _Choices:
     """The branches of one run: decided (and recorded) by the given tests, or replayed from a record."""
 
@@ -229,10 +268,7 @@ def _sweeps(system: System, v: tuple, law: Sequential, thresholds: Sequence[Any]
     changed an impulse) and whether the exit velocity is outgoing."""
     K, r = system.backend, system.r
     w = list(system.rates(v))
-    targets = []
-    for i in range(r):
-        restitutes = choose(_incoming, K, w[i], thresholds[i])
-        targets.append(K.zero - system.restitution[i] * w[i] if restitutes else K.zero)
+    targets = _targets(system, w, thresholds, choose)
     lam = [K.zero] * r
     order = law.sweep_order(r)
     inverse = system.inverse_gram_diag
@@ -256,9 +292,35 @@ def _sweeps(system: System, v: tuple, law: Sequential, thresholds: Sequence[Any]
         if not changed:
             break
         impulse = tuple(x - y for x, y in zip(v, before))
-        steps.append(Step(tuple(sorted(i for i, _ in changed)), rates_before, None, impulse, v, system))
+        steps.append(Step(tuple(sorted(i for i, _ in changed)), rates_before, None, impulse, v, system, tuple(changed)))
     outgoing = choose(_outgoing, K, system.rates(v))
     return tuple(lam), v, tuple(steps), outgoing
+
+
+def _targets(system: System, w: Sequence[Any], thresholds: Sequence[Any], choose: _Choices) -> list[Any]:
+    """The restitution target of each constraint from its rate ``w_i`` before the solve: ``-e_i w_i`` when it
+    is incoming faster than its threshold, else 0."""
+    K = system.backend
+    return [
+        K.zero - e * x if choose(_incoming, K, x, t) else K.zero for e, x, t in zip(system.restitution, w, thresholds)
+    ]
+
+
+def restitution_targets(system: System, velocity: Sequence[Any], law: Sequential) -> tuple[System, list[Any]]:
+    """The target rates of the law from the left velocity ``velocity``, exactly: the system in the number
+    field of the velocity and thresholds, and one target per constraint.
+
+    >>> from verify.core.system import System
+    >>> s = System([[1, 0, 0], [0, 1, 0], [0, 0, 1]], [[-1, 1, 0], [0, -1, 1]], ["1/2", 1])
+    >>> t_system, t = restitution_targets(s, ["100", "0", "0"], Sequential(threshold=1))
+    >>> [t_system.backend.to_exact(x) for x in t]
+    ['50', '0']
+    """
+    values = velocity_numbers(velocity)
+    thresholds = law.thresholds(system.r)
+    exact = system.convert_to(exact_for(source_numbers(system) + values + thresholds))
+    w = exact.rates(exact.velocity(values))
+    return exact, _targets(exact, w, exact.backend.convert_all(thresholds), _Choices())
 
 
 def _exact_choices(system: System, velocity: Sequence[Any], law: Sequential) -> list[bool] | None:

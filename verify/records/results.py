@@ -38,6 +38,8 @@ class Case:
     velocity_source: Any
     velocity: tuple
     max_iterations: int
+    #: the sequential law's settings of this case (its record's ``law_settings``), or None
+    law_settings: dict | None = None
 
 
 def value_string(K: Any, x: Any, digits: int = DECIMAL_DIGITS) -> str:
@@ -119,7 +121,7 @@ def dumps(obj: Any) -> str:
 #: does not read (``why`` says why a generated case is hard); any other unknown field is refused
 ANNOTATION_FIELDS = ("why", "comment", "note", "source")
 CASE_FIELDS = {"id", "mass_matrix", "normals", "time_terms", "restitution", "velocity", "max_iterations",
-               "names", "decimal", *ANNOTATION_FIELDS}  # fmt: skip
+               "names", "decimal", "law_settings", *ANNOTATION_FIELDS}  # fmt: skip
 REQUIRED_FIELDS = ("id", "mass_matrix", "normals", "restitution", "velocity")
 
 
@@ -316,7 +318,30 @@ def case_from_record(record: Any, where: str = "case", *, backend: Any = "exact"
         raise _prefixed(where, exc) from None
     if "decimal" in record:  # every number read: the decimals beside them must be theirs
         check_decimals(record, where)
-    return Case(case_id, system, record["velocity"], velocity, cap)
+    settings = record.get("law_settings")
+    if settings is not None:
+        from verify.core.sequential import case_settings
+
+        try:
+            case_settings(settings, system.r)
+        except InvalidInput as exc:
+            raise InvalidInput(f"{where}.law_settings: {exc}") from None
+    return Case(case_id, system, record["velocity"], velocity, cap, settings)
+
+
+#: the fields of a case record that the rule reads
+RULE_FIELDS = ("id", "mass_matrix", "normals", "time_terms", "restitution", "velocity", "max_iterations")
+
+
+def bare_case(record: dict[str, Any]) -> Case:
+    """The case of a record from the fields the rule reads alone (annotations, decimals and the sequential
+    law's own settings left out): for a run that replays or varies a case already read.
+
+    >>> bare_case({"id": "a", "mass_matrix": [["1"]], "normals": [["1"]], "restitution": ["1"],
+    ...            "velocity": ["-2"], "why": "a note", "law_settings": {"iterations": 2}}).law_settings is None
+    True
+    """
+    return case_from_record({k: v for k, v in record.items() if k in RULE_FIELDS}, f"case {record.get('id')}")
 
 
 def load_cases(path: str, *, backend: Any = "exact", dps: int | None = None) -> list[Case]:
@@ -327,5 +352,31 @@ def load_cases(path: str, *, backend: Any = "exact", dps: int | None = None) -> 
     data = load_json(path, path=path, constants=True)  # a bare NaN: the schema names its field
     if not isinstance(data, dict) or not isinstance(data.get("cases"), list):
         raise InvalidInput(f'{path}: expected an object {{"cases": [...]}}')
-    validate(data, "case")
-    return [case_from_record(c, f"cases[{i}]", backend=backend, dps=dps) for i, c in enumerate(data["cases"])]
+    validate(data, "case", path)
+    check_case_ids(data["cases"], path)
+    return [case_from_record(c, f"{path}: cases[{i}]", backend=backend, dps=dps) for i, c in enumerate(data["cases"])]
+
+
+def check_case_ids(records: list[Any], path: str) -> None:
+    """A case file holds at least one case, and each id once (a result is matched to its case by id).
+
+    >>> check_case_ids([{"id": "a"}, {"id": "a"}], "c.json")
+    Traceback (most recent call last):
+    ...
+    verify.errors.InvalidInput: c.json: cases[1].id: 'a' is the id of cases[0] too (each case needs its own id)
+    >>> check_case_ids([], "c.json")
+    Traceback (most recent call last):
+    ...
+    verify.errors.InvalidInput: c.json: no cases ("cases" is empty): nothing to run or check
+    """
+    if not records:
+        raise InvalidInput(f'{path}: no cases ("cases" is empty): nothing to run or check')
+    seen: dict[Any, int] = {}
+    for i, record in enumerate(records):
+        case_id = record.get("id") if isinstance(record, dict) else None
+        if isinstance(case_id, str) and case_id in seen:
+            raise InvalidInput(
+                f"{path}: cases[{i}].id: {case_id!r} is the id of cases[{seen[case_id]}] too "
+                "(each case needs its own id)"
+            )
+        seen.setdefault(case_id, i)

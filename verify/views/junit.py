@@ -77,22 +77,38 @@ def parse_report_as(text: str) -> dict[str, str]:
     return out
 
 
-def junit_xml(grades: Sequence[Any], suite: str, report: Mapping[str, str] | None = None) -> str:
+def junit_counts(grades: Sequence[Any], report: Mapping[str, str] | None = None) -> dict[str, int]:
+    """How many grades ``--junit`` reports as passed, failures and skipped (the summary prints the same).
+
+    >>> from verify.checks.grading import Grade
+    >>> junit_counts([Grade("a", "exact"), Grade("b", "gave_up"), Grade("c", "skipped")])
+    {'tests': 3, 'passed': 1, 'failures': 1, 'skipped': 1}
+    """
+    kinds = {**default_report(), **(report or {})}
+    failures = sum(kinds[g.cls] == "failure" for g in grades)
+    skipped = sum(kinds[g.cls] == "skipped" for g in grades)
+    return {"tests": len(grades), "passed": len(grades) - failures - skipped, "failures": failures, "skipped": skipped}
+
+
+def junit_xml(
+    grades: Sequence[Any], suite: str, report: Mapping[str, str] | None = None, prefix: str = "oracle"
+) -> str:
     """The JUnit XML text of the grades (one test suite named ``suite``), each class reported as
     ``report`` says (class -> ``failure``, ``skipped`` or ``passed``; default :func:`default_report`)."""
     kinds = {**default_report(), **(report or {})}
+    counts = junit_counts(grades, report)
     root = ET.Element(
         "testsuite",
         {
             "name": suite,
-            "tests": str(len(grades)),
-            "failures": str(sum(kinds[g.cls] == "failure" for g in grades)),
+            "tests": str(counts["tests"]),
+            "failures": str(counts["failures"]),
             "errors": "0",
-            "skipped": str(sum(kinds[g.cls] == "skipped" for g in grades)),
+            "skipped": str(counts["skipped"]),
         },
     )
     for g in grades:
-        case = ET.SubElement(root, "testcase", {"classname": f"oracle.{g.cls}", "name": g.case_id})
+        case = ET.SubElement(root, "testcase", {"classname": f"{prefix}.{g.cls}", "name": g.case_id})
         if kinds[g.cls] == "skipped":
             if g.cls == "skipped":
                 message = g.detail or "skipped by the implementation"

@@ -52,25 +52,8 @@ def cradle_text(result: Result, *, eps: list[str], mode: str, full_trace: bool =
         *law_lines(result),
     ]
     lines += [f"note: {n}" for n in result.notes]
-    steps = result.steps
-    if steps:
-        lines.append("")
-        unit = "sweep" if result.law == "sequential" else "impulse"
-        head = f"{unit:>7}  {'impact set':<16} {'beta':<14} {'velocity after (12 digits)':<48}"
-        lines.append(head + " kinetic energy")
-        shown: list[tuple[int, Any] | None] = list(enumerate(steps, 1))
-        if not full_trace and len(shown) > TRACE_LIMIT:
-            shown = [*shown[: TRACE_LIMIT - 5], None, *shown[-5:]]
-        for item in shown:
-            if item is None:
-                lines.append(f"{'...':>7}  ({len(steps) - TRACE_LIMIT + 1} {unit}s not shown; --trace shows all)")
-                continue
-            w, st = item
-            names = "{" + ", ".join(s.names[j] for j in st.impact_set) + "}"
-            beta = "-" if st.beta is None else K.to_decimal(st.beta, 8)
-            vel = _join([K.to_decimal(x, 12) for x in st.velocity])
-            lines.append(f"{w:>7}  {names:<16} {beta:<14} {vel:<48} {K.to_decimal(st.kinetic_energy, 12)}")
-        lines.append("")
+    if result.steps:
+        lines += ["", *trace_lines(result, full_trace), ""]
     label = result.velocity_name
     if K.is_exact:
         lines.append(f"{label} (exact): {_join([_short_exact(K, x) for x in result.exit_velocity])}")
@@ -92,6 +75,35 @@ def cradle_text(result: Result, *, eps: list[str], mode: str, full_trace: bool =
         f"{K.to_decimal(result.kinetic_energy_out, 12)} (12 significant digits)"
     )
     return "\n".join(lines) + "\n"
+
+
+def trace_lines(result: Result, full_trace: bool = False, indent: str = "") -> list[str]:
+    """The trace of a run: one line per impulse (a sweep under the sequential law) with its impact set, beta,
+    the velocity after it and the kinetic energy; the first and last lines only beyond ``TRACE_LIMIT`` unless
+    ``full_trace``."""
+    K, s, steps = result.backend, result.system, result.steps
+    sequential = result.law == "sequential"
+    unit = "sweep" if sequential else "impulse"
+    middle = "changes of lambda" if sequential else "beta"
+    width = 20 if sequential else 14
+    head = f"{unit:>7}  {'impact set':<16} {middle:<{width}} {'velocity after (12 digits)':<48}"
+    lines = [indent + head + " kinetic energy"]
+    shown: list[tuple[int, Any] | None] = list(enumerate(steps, 1))
+    if not full_trace and len(shown) > TRACE_LIMIT:
+        shown = [*shown[: TRACE_LIMIT - 5], None, *shown[-5:]]
+    for item in shown:
+        if item is None:
+            lines.append(f"{indent}{'...':>7}  ({len(steps) - TRACE_LIMIT + 1} {unit}s not shown; --trace shows all)")
+            continue
+        w, st = item
+        names = "{" + ", ".join(s.names[j] for j in st.impact_set) + "}"
+        if sequential:
+            beta = ", ".join(K.to_decimal(x, 6) for _, x in sorted(st.changes, key=lambda c: c[0]))
+        else:
+            beta = "-" if st.beta is None else K.to_decimal(st.beta, 8)
+        vel = _join([K.to_decimal(x, 12) for x in st.velocity])
+        lines.append(f"{indent}{w:>7}  {names:<16} {beta:<{width}} {vel:<48} {K.to_decimal(st.kinetic_energy, 12)}")
+    return lines
 
 
 def law_lines(result: Result, indent: str = "") -> list[str]:
@@ -127,10 +139,13 @@ def solve_text(case_id: str, result: Result) -> str:
     if result.iterations > 20:
         sets += f" ... ({result.iterations - 20} more)"
     lines = [
-        f"{case_id}: {result.stop} after {result.iterations} impulses ({K.describe()})",
+        f"{case_id}: {result.stop} after {result.iterations} {'sweeps' if result.law == 'sequential' else 'impulses'} "
+        f"({K.describe()})",
         f"  impact sets: {sets or '-'}",
         *law_lines(result, "  "),
     ]
+    if result.steps:  # verify solve --trace
+        lines += trace_lines(result, True, "  ")
     if K.is_exact:
         lines.append(f"  {result.velocity_name}: {_join([_short_exact(K, x) for x in result.exit_velocity])}")
     lines.append(f"  {_decimal_label(K)}: {_join([K.to_decimal(x, 20) for x in result.exit_velocity])}")
@@ -802,8 +817,11 @@ def error_table_text(rows: Sequence[Any]) -> str:
     return "\n".join(lines) + "\n"
 
 
-def oracle_text(comparison: Any) -> str:
-    """Every mismatch of ``verify oracle check``, then a summary table."""
+def oracle_text(comparison: Any, report: Any = None) -> str:
+    """Every mismatch of ``verify oracle check``, then a summary table; the last lines count the cases as
+    ``--junit`` reports them (``report``: its ``--junit-as``)."""
+    from verify.views.junit import junit_counts
+
     lines = []
     for m in comparison.mismatches:
         lines.append(f"MISMATCH {m.case_id}: {m.field}: {m.detail}")
@@ -824,6 +842,9 @@ def oracle_text(comparison: Any) -> str:
     lines += graded_lines(comparison)
     if comparison.tolerance:
         lines += [f"tolerance: {comparison.tolerance}", ""]
+    counts = junit_counts(comparison.grades, report)
+    lines.append(f"as tests (--junit): {counts['passed']} passed, {counts['failures']} failed, "
+                 f"{counts['skipped']} skipped of {counts['tests']}")  # fmt: skip
     agree = "every case agrees" if not comparison.skipped else "every case that the implementation ran agrees"
     lines.append(f"OK: {agree}" if comparison.ok else f"{len(comparison.mismatches)} mismatches")
     return "\n".join(lines) + "\n"
