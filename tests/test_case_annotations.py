@@ -47,7 +47,7 @@ def test_every_annotation_field_is_accepted_and_not_read(tmp_path: Path, name: s
 def test_an_unknown_field_is_still_refused(tmp_path: Path, capsys: Any) -> None:
     path = write(tmp_path, case(comments="a typo of comment"))
     assert main(["solve", str(path)]) == 2
-    assert capsys.readouterr().err == "verify: error: cases[0]: unknown field 'comments'\n"
+    assert capsys.readouterr().err == f"verify: error: {path}: cases[0]: unknown field 'comments'\n"
     with pytest.raises(InvalidInput, match=r"^case: unknown field 'comments'$"):
         case_from_record(case(comments="x"))
 
@@ -55,6 +55,6 @@ def test_an_unknown_field_is_still_refused(tmp_path: Path, capsys: Any) -> None:
 def test_an_annotation_that_is_not_a_string_is_refused(tmp_path: Path, capsys: Any) -> None:
     path = write(tmp_path, case(comment=["two", "lines"]))
     assert main(["solve", str(path)]) == 2
-    assert capsys.readouterr().err == "verify: error: cases[0].comment: expected a string, got list\n"
+    assert capsys.readouterr().err == f"verify: error: {path}: cases[0].comment: expected a string, got list\n"
     with pytest.raises(InvalidInput, match=r"^case\.note: an annotation is a string, got int$"):
         case_from_record(case(note=7))

@@ -23,9 +23,11 @@ from verify.cli import build_parser, checks, main, maps, paper, reports, run
 from verify.cli.common import (
     BoundedInt,
     ExactNumber,
+    IntList,
     NonNegativeRational,
     OutputDir,
     OutputFile,
+    RationalList,
     Seconds,
     UsageError,
     write_output,
@@ -40,10 +42,11 @@ REQUIRED = {
     ("map",): {"CASE.json": "case.json"},
     ("corner",): {"--alpha": "pi/6", "--phi": "0", "--eps1": "0.5", "--eps2": "0.5"},
     ("oracle", "check"): {"CASES.json": "cases.json", "RESULTS.json": "results.json"},
+    ("oracle", "explain"): {"CASES.json": "cases.json", "RESULTS.json": "results.json"},
     ("oracle", "export"): {"DIR": "golden-out"},
     ("oracle", "table"): {"CASES.json": "cases.json", "RESULTS.json": "results.json"},
 }
-NUMERIC = (BoundedInt, Seconds, NonNegativeRational, ExactNumber)
+NUMERIC = (BoundedInt, Seconds, NonNegativeRational, ExactNumber, IntList, RationalList)
 PATHS = (OutputDir, OutputFile)
 
 
@@ -100,6 +103,10 @@ def bad_values(kind) -> list[str]:
         return ["abc", "nan", "inf", "-inf", "1e400", "0", "-1", str(kind.hi + 1), "pi", "1/0", ""]
     if isinstance(kind, NonNegativeRational):
         return ["abc", "nan", "inf", "-1", "-1e-9", "pi", "1/0", ""]
+    if isinstance(kind, IntList):
+        return ["abc", "1,,2", "0", str(kind.hi + 1), "3-1", "1.5", "1-" + "9" * 100, "nan", ""]
+    if isinstance(kind, RationalList):
+        return ["abc", "1,,2", "-1", "nan", "inf", "1/0", "pi", ""]
     assert isinstance(kind, ExactNumber)
     return ["abc", "nan", "inf", "1/0", "", "__import__('os')", "2**100000"]
 
@@ -154,7 +161,8 @@ def test_every_numeric_option_accepts_its_range(words, name, tmp_path, monkeypat
     kind = action.type
     good = {BoundedInt: [str(kind.lo), str(kind.hi)] if isinstance(kind, BoundedInt) else [],
             Seconds: ["1", "0.5", "1/4", str(getattr(kind, "hi", 1))], NonNegativeRational: ["0", "1e-9"],
-            ExactNumber: ["1/2", "pi/6"]}[type(kind)]  # fmt: skip
+            ExactNumber: ["1/2", "pi/6"], IntList: ["1", "1-20,25"],
+            RationalList: ["0", "0,1/2,1e-3"]}[type(kind)]  # fmt: skip
     for value in good:
         args = build_parser().parse_args(argv_for(words, parser, action, value))
         assert getattr(args, action.dest) == kind(value)
@@ -276,7 +284,7 @@ def test_solve_progress_hook_counts_every_impulse():
 
 
 def test_solve_max_iterations_overrides_the_cases_cap(tmp_path, capsys):
-    path = case_file(tmp_path, dict(SMALL, max_iterations=50), SMALL)
+    path = case_file(tmp_path, dict(SMALL, max_iterations=50), dict(SMALL, id="small-2"))
     (a, b) = solve_json(["solve", path, "--json", "--max-iterations", "1"], capsys)
     assert (a["stop"], a["iterations"]) == (b["stop"], b["iterations"]) == ("max_iterations", 1)
     (a, b) = solve_json(["solve", path, "--json"], capsys)

@@ -223,7 +223,7 @@ def test_a_decimal_that_is_not_the_exact_values_is_refused(tmp_path: Path, capsy
     assert main(["solve", str(path)]) == 2
     out, err = capsys.readouterr()
     assert out == "" and len(err.splitlines()) == 1
-    assert re.fullmatch(rf"verify: error: {message}.*\n", err), err
+    assert re.fullmatch(rf"verify: error: {re.escape(str(path))}: {message}.*\n", err), err  # the file named
 
 
 def test_a_case_with_its_decimals_solves_as_without_them(tmp_path: Path, capsys: Any) -> None:

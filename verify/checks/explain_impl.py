@@ -69,7 +69,7 @@ class Settings:
         """
         if self.law != "sequential":
             return RULE if self.law == "rule" else SIMULTANEOUS
-        return f"the sequential law, {self.sweeps} sweeps, order {self.order}, threshold {self.threshold}"
+        return f"the sequential law, {_plural(self.sweeps or 0)}, order {self.order}, threshold {self.threshold}"
 
     def flags(self) -> str:
         """The options of ``verify oracle check`` that grade against this model."""
@@ -180,7 +180,7 @@ def explain_case(case: dict[str, Any], velocity: Sequence[str], grid: Grid) -> R
         if v is not None:
             scored.append((max(abs(a - b) for a, b in zip(got, v)) / scale, settings))
     row.settings = [s for d, s in scored if d <= grid.tolerance]
-    row.explained_by = _labels(row.settings)
+    row.explained_by = describe_settings(row.settings)
     d, nearest = min(scored, key=lambda t: t[0])
     row.nearest, row.distance = nearest.label(), d
     if not row.settings and Settings("rule") not in {s for _, s in scored}:
@@ -188,12 +188,12 @@ def explain_case(case: dict[str, Any], velocity: Sequence[str], grid: Grid) -> R
     return row
 
 
-def _labels(settings: Sequence[Settings]) -> list[str]:
+def describe_settings(settings: Sequence[Settings]) -> list[str]:
     """The models in words, the sequential law's grid points grouped: per order, the thresholds that explain
     with the same sweeps.
 
     >>> one = Fraction(1)
-    >>> _labels([Settings("sequential", k, "as given", t) for k in (9, 10) for t in (Fraction(0), one)])
+    >>> describe_settings([Settings("sequential", k, "as given", t) for k in (9, 10) for t in (Fraction(0), one)])
     ['the sequential law, 9-10 sweeps, order as given, threshold 0 or 1']
     """
     out = [s.label() for s in settings if s.law != "sequential"]
@@ -205,8 +205,13 @@ def _labels(settings: Sequence[Settings]) -> list[str]:
     for (order, t), counts in sweeps.items():
         merged.setdefault((order, tuple(sorted(counts))), []).append(str(t))
     for (order, ks), ts in merged.items():
-        out.append(f"the sequential law, {_ranges(list(ks))} sweeps, order {order}, threshold {' or '.join(ts)}")
+        many = "sweep" if ks == (1,) else "sweeps"
+        out.append(f"the sequential law, {_ranges(list(ks))} {many}, order {order}, threshold {' or '.join(ts)}")
     return out
+
+
+def _plural(k: int) -> str:
+    return f"{k} sweep" + ("" if k == 1 else "s")
 
 
 def _ranges(ks: list[int]) -> str:
@@ -231,6 +236,8 @@ class Explanation:
     rows: list[Row]
     ranking: list[tuple[int, list[Settings]]]  # (cases explained, the settings that explain exactly those)
     tolerance: Fraction
+    #: the cases that carry their own law_settings (the grid replaces them)
+    own_settings: list[str] = field(default_factory=list)
 
     @property
     def best(self) -> list[Settings]:
@@ -241,6 +248,7 @@ class Explanation:
             "tolerance": format_decimal(self.tolerance, 3),
             "cases": len(self.rows),
             "explained": sum(bool(r.settings) for r in self.rows),
+            "own_law_settings": self.own_settings,
             "best": [
                 {"explains": n, "settings": [s.label() for s in group], "flags": [s.flags() for s in group]}
                 for n, group in self.ranking[:5]
@@ -270,7 +278,8 @@ def explain(cases: list[dict[str, Any]], results: list[dict[str, Any]], grid: Gr
     for s, ids in explained.items():
         same.setdefault(ids, []).append(s)
     ranking = sorted(((len(ids), group) for ids, group in same.items()), key=lambda t: (-t[0], _order(t[1][0])))
-    return Explanation(rows, ranking, grid.tolerance)
+    own = [c["id"] for c in cases if c.get("law_settings") and c["id"] in by_id]
+    return Explanation(rows, ranking, grid.tolerance, own)
 
 
 def _order(s: Settings) -> tuple[int, int, str, Fraction]:

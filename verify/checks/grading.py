@@ -186,7 +186,8 @@ def _conservation(
     return None
 
 
-def _sets(result: dict[str, Any]) -> list[list[int]] | None:
+def impact_sets_of(result: dict[str, Any]) -> list[list[int]] | None:
+    """A result's impact sets, each sorted, or None when it gives none."""
     return [sorted(J) for J in result["impact_sets"]] if "impact_sets" in result else None
 
 
@@ -197,7 +198,7 @@ def _gave_up(exact: dict[str, Any], mine: dict[str, Any]) -> bool:
         return False
     if mine.get("stop") != "max_iterations" or exact["stop"] not in ("exit", "non_terminating", "max_iterations"):
         return False
-    sets_e, sets_m = exact["impact_sets"], _sets(mine)
+    sets_e, sets_m = exact["impact_sets"], impact_sets_of(mine)
     if sets_m is None:
         return exact["stop"] != "exit"  # no impulses given: only an endless run can be given up on
     n = mine.get("iterations", len(sets_m))
@@ -210,7 +211,8 @@ def grade_case(case: dict[str, Any], exact: dict[str, Any], mine: dict[str, Any]
     the differences it tolerated, whether it compared the velocity) and the two results; ``tol`` is the
     relative tolerance of the conservation checks. A velocity that was not compared with an exact one (the
     exact run has none at the implementation's stop) is checked for the momentum every impulse keeps, and
-    the case is at best ``within_tolerance``: a number that was not compared is never ``exact``."""
+    the case is at best ``within_tolerance``: a number that was not compared is never ``exact``. Under the
+    sequential law the velocity after the sweeps is the answer: a wrong one is graded before the counts."""
     cid = case["id"]
     mismatches = found.mismatches
     kinds = {m.field.split("[")[0] for m in mismatches}
@@ -220,6 +222,8 @@ def grade_case(case: dict[str, Any], exact: dict[str, Any], mine: dict[str, Any]
     kept = None if found.velocity_compared else _conservation(case, exact, mine, tol, energy=False)
     if kept is not None and kept[0] == "momentum_drift":
         return Grade(cid, *kept)
+    if "exit_velocity" in kinds and exact.get("law") == "sequential":
+        return _velocity_grade(case, exact, mine, found, tol)
     if _gave_up(exact, mine):
         return Grade(
             cid, "gave_up", f"stopped at its cap after {mine.get('iterations', '?')} impulses on the exact path"
@@ -229,19 +233,51 @@ def grade_case(case: dict[str, Any], exact: dict[str, Any], mine: dict[str, Any]
         return Grade(cid, "wrong_branch", detail + divergence(case, exact, mine, mismatches))
     if "stop" in kinds or "iterations" in kinds:
         return Grade(cid, "wrong_stop", first)
-    speed, ulp_count = needed(exact, mine, cid) if found.velocity_compared else (None, None)
     if "exit_velocity" in kinds:
-        cls, detail = _conservation(case, exact, mine, tol) or ("out_of_tolerance", first)
-        if exact.get("law") == "sequential":
-            from verify.checks.sweeps import hint
-
-            detail += hint(case, exact, mine)
-        return Grade(cid, cls, detail, needed_speed=speed, needed_ulps=ulp_count)
+        return _velocity_grade(case, exact, mine, found, tol)
+    speed, ulp_count = needed(exact, mine, cid) if found.velocity_compared else (None, None)
     notes = list(found.tolerated)
     if not found.velocity_compared:
         notes.append("the velocity at this stop is checked for momentum only (the exact run has none to compare)")
-    equal = speed == 0 and not notes and _betas_equal(exact, mine, cid)
+    equal = speed == 0 and not notes and _betas_equal(exact, mine, cid) and _same_numbers(exact, mine)
     return Grade(cid, "exact" if equal else "within_tolerance", "; ".join(notes), speed, ulp_count)
+
+
+def _velocity_grade(
+    case: dict[str, Any], exact: dict[str, Any], mine: dict[str, Any], found: Any, tol: Fraction
+) -> Grade:
+    """A velocity off by more than its tolerance: a conservation law it breaks, else ``out_of_tolerance``
+    with the first component off; under the sequential law with the targets and impulses
+    (:func:`verify.checks.sweeps.hint`)."""
+    cid = case["id"]
+    off = next(m for m in found.mismatches if m.field.startswith("exit_velocity"))
+    speed, ulp_count = needed(exact, mine, cid)
+    cls, detail = _conservation(case, exact, mine, tol) or ("out_of_tolerance", f"{off.field}: {off.detail}")
+    if exact.get("law") == "sequential":
+        from verify.checks.sweeps import hint
+
+        detail += hint(case, exact, mine, tol)
+    return Grade(cid, cls, detail, needed_speed=speed, needed_ulps=ulp_count)
+
+
+def _same_numbers(exact: dict[str, Any], mine: dict[str, Any]) -> bool:
+    """Whether every component given is the exact value itself: equal as rationals, or, where the exact value
+    is a closed form (an algebraic number), the same string (its 40-digit decimal is not the number).
+
+    >>> _same_numbers({"exit_velocity": ["1/2", "sqrt(2)"]}, {"exit_velocity": ["0.5", "sqrt(2)"]})
+    True
+    >>> _same_numbers({"exit_velocity": ["sqrt(2)"]}, {"exit_velocity": ["1.414213562373095048801688724209698078570"]})
+    False
+    """
+    from verify.records.results import is_rational_text, read_number
+
+    for e, m in zip(exact["exit_velocity"], mine["exit_velocity"]):
+        if not is_rational_text(e):
+            if str(m).replace(" ", "") != e.replace(" ", ""):
+                return False
+        elif read_number(e) != read_number(str(m)):
+            return False
+    return True
 
 
 def _betas_equal(exact: dict[str, Any], mine: dict[str, Any], cid: str) -> bool:

@@ -4,7 +4,8 @@
   not restitute: "at this speed or slower") and 10^-k faster or slower; two contacts incoming at
   the same speed, swept in either order (an order tie: the answer after a few sweeps depends on
   the order); contacts whose normals differ in scale by 10^6 (Gauss-Seidel's diagonal is then
-  badly scaled). Each case carries its own ``law_settings`` (threshold, order, sweeps).
+  badly scaled). The threshold and order cases carry their own ``law_settings`` (threshold, order,
+  sweeps); the scaled ones run with the command's settings.
 - the simultaneous law: a three-ball cradle whose third ball leaves at exactly the speed at which
   the second contact's impulse becomes 0 (the boundary of the active set), and 10^-k on each side.
 

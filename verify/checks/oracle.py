@@ -18,7 +18,10 @@ within ``atol + floor * |v_in|``); every mismatch is listed.
 
 from __future__ import annotations
 
+import collections
+import copy
 import functools
+import json
 import os
 import random
 from collections.abc import Callable
@@ -26,9 +29,9 @@ from dataclasses import dataclass, field
 from fractions import Fraction
 from typing import Any
 
-from verify.checks.grading import DEFAULT_FLOOR, DEFAULT_RTOL, PASSING, Tolerance
+from verify.checks.grading import DEFAULT_FLOOR, DEFAULT_RTOL, PASSING, Tolerance, impact_sets_of
 from verify.checks.properties.strategies import velocity_with_rates
-from verify.core.sequential import Law, law_for_case
+from verify.core.sequential import Law, Sequential, law_for_case
 from verify.errors import InvalidInput
 from verify.models.corner import corner_geometry
 from verify.models.cradle import cradle_geometry
@@ -195,7 +198,9 @@ def golden_results(
 
     ``budget`` (a :class:`verify.core.rule.Budget`) bounds each run, which then stops with stop
     ``"budget"``; ``progress(k, case_id, impulses)`` is called with impulses 0 when case k
-    (from 1) starts and after each of its impulses.
+    (from 1) starts and after each of its impulses. Without a budget, each record's result is kept
+    for the process (:data:`RESULTS_KEPT` of them): a notebook or a test suite that checks several
+    implementations on the same cases runs each exact case once.
 
     >>> from verify.core.rule import Budget
     >>> [r["iterations"] for r in golden_results(golden_cases()[:2])]
@@ -205,19 +210,49 @@ def golden_results(
     >>> golden_results(golden_cases()[:1], law="simultaneous")[0]["exit_velocity"]
     ['-100/3', '200/3', '200/3']
     """
-    from verify.core.rule import solve
-
     out = []
     for k, record in enumerate(cases, 1):
-        c = case_from_record(record, f"case {record['id']}")
-        hook = None
-        if progress is not None:
-            progress(k, c.id, 0)
-            hook = functools.partial(progress, k, c.id)
-        r = solve(c.system, c.velocity_source, law=law_for_case(law, c.law_settings, c.system.r),
-                  max_iterations=c.max_iterations, trace=False, budget=budget, progress=hook)  # fmt: skip
-        out.append(result_record(r, c.id))
+        key = json.dumps(record, sort_keys=True) + "\0" + str(law) if budget is None else None
+        if key is not None and key in _KEPT:
+            _KEPT.move_to_end(key)
+            out.append(copy.deepcopy(_KEPT[key]))
+            if progress is not None:
+                progress(k, str(record.get("id")), 0)
+            continue
+        out.append(_exact_result(k, record, law, budget, progress))
+        if key is not None:
+            _KEPT[key] = copy.deepcopy(out[-1])
+            while len(_KEPT) > RESULTS_KEPT:
+                _KEPT.popitem(last=False)
     return out
+
+
+#: how many exact results :func:`golden_results` keeps (the least recently used go first)
+RESULTS_KEPT = 4096
+_KEPT: collections.OrderedDict[str, dict] = collections.OrderedDict()
+
+
+def _exact_result(
+    k: int, record: dict, law: Law, budget: Any, progress: Callable[[int, str, int], None] | None
+) -> dict:
+    """The exact result record of case k (from 1) of a file."""
+    from verify.core.rule import solve
+
+    c = case_from_record(record, f"case {record['id']}")
+    hook = None
+    if progress is not None:
+        progress(k, c.id, 0)
+        hook = functools.partial(progress, k, c.id)
+    try:
+        case_law = law_for_case(law, c.law_settings, c.system.r)
+        if isinstance(case_law, Sequential):  # checked here, to name the case
+            case_law.sweep_order(c.system.r)
+            case_law.thresholds(c.system.r)
+    except InvalidInput as exc:  # the command's settings do not fit this case: name it
+        raise InvalidInput(f"cases[{k - 1}] ({c.id}): {exc}") from None
+    r = solve(c.system, c.velocity_source, law=case_law, max_iterations=c.max_iterations, trace=False,
+              budget=budget, progress=hook)  # fmt: skip
+    return result_record(r, c.id)
 
 
 def _summary(cases: list[dict], results: list[dict], skipped: int) -> str:
@@ -449,7 +484,11 @@ def _prefix_mismatch(cid: str, sets_e: list, sets_m: list) -> list[Mismatch]:
 
 
 def _read_velocity(case: dict, mine: dict) -> None:
-    """Every component of the implementation's velocity read as a number (InvalidInput names a bad one)."""
+    """Every component of the implementation's velocity read as a number, as many as the case has
+    (InvalidInput names a bad one: graded ``bad_number``)."""
+    n, got = len(case["velocity"]), len(mine["exit_velocity"])
+    if got != n:
+        raise InvalidInput(f"results[{case['id']}].exit_velocity: expected {n} components, got {got}")
     for i, x in enumerate(mine["exit_velocity"]):
         approx(x, f"results[{case['id']}].exit_velocity[{i}]")
 
@@ -476,9 +515,13 @@ def _compare_one(case: dict, exact: dict, mine: dict, tol: Tolerance) -> Found:
         return found
     if sequential:
         return _compare_sequential(found, case, exact, mine, tol)
-    if exact["stop"] == "non_terminating" and "impact_sets" in mine and mine["stop"] != "non_terminating":
-        found.mismatches.append(Mismatch(cid, "stop", f"{_no_exit_text(exact)}, got {_stop_text(mine)}"))
-        found.mismatches += _prefix_mismatch(cid, exact["impact_sets"], _sets(mine) or [])
+    count = _count(mine)
+    if exact["stop"] == "non_terminating":  # the exact impact sets are a prefix of an endless run
+        if mine["stop"] != "non_terminating":
+            found.mismatches.append(Mismatch(cid, "stop", f"{_no_exit_text(exact)}, got {_stop_text(mine)}"))
+        found.mismatches += _prefix_mismatch(cid, exact["impact_sets"], impact_sets_of(mine) or [])
+        if not found.mismatches and count == exact["iterations"]:
+            _velocity(found, case, exact, mine, tol)
         return found
     if mine["stop"] != exact["stop"]:
         found.mismatches.append(Mismatch(cid, "stop", f"expected {exact['stop']}, got {_stop_text(mine)}"))
@@ -489,10 +532,18 @@ def _compare_one(case: dict, exact: dict, mine: dict, tol: Tolerance) -> Found:
     found.mismatches += _sets_mismatch(cid, exact, mine)
     if not found.mismatches and "betas" in mine:
         found.mismatches += _compare_betas(cid, exact, mine, tol.beta_rtol)
-    same_point = mine["stop"] == exact["stop"] and mine.get("iterations", exact["iterations"]) == exact["iterations"]
-    if (exact["stop"] == "exit" and mine["stop"] == "exit") or (same_point and "iterations" in mine):
+    same_point = mine["stop"] == exact["stop"] and count == exact["iterations"]
+    if (exact["stop"] == "exit" and mine["stop"] == "exit") or same_point:
         _velocity(found, case, exact, mine, tol)
     return found
+
+
+def _count(mine: dict) -> int | None:
+    """The impulses (or sweeps) a result says it made: its ``iterations``, else the length of its
+    ``impact_sets``, else None."""
+    if "iterations" in mine:
+        return int(mine["iterations"])
+    return len(mine["impact_sets"]) if "impact_sets" in mine else None
 
 
 def _compare_sequential(found: Found, case: dict, exact: dict, mine: dict, tol: Tolerance) -> Found:
@@ -508,7 +559,11 @@ def _compare_sequential(found: Found, case: dict, exact: dict, mine: dict, tol: 
         if velocity_agrees and sweeps.stop_tolerated(case, exact, mine["stop"], bound):
             found.tolerated.append(f"stop {mine['stop']} for {exact['stop']}: a rate within the tolerance of 0")
         else:
-            found.mismatches.append(Mismatch(cid, "stop", f"expected {exact['stop']}, got {_stop_text(mine)}"))
+            found.mismatches.append(
+                Mismatch(cid, "stop", f"expected {exact['stop']}, got {_stop_text(mine, 'sweeps')}")
+            )
+    if any(b is not None for b in mine.get("betas") or []):
+        found.mismatches.append(Mismatch(cid, "betas", "the sequential law has no beta: null for every sweep"))
     counts = sweeps.bookkeeping(case, exact, mine, tol.rtol)
     if counts is not None and velocity_agrees:
         found.tolerated.append(counts)
@@ -521,17 +576,16 @@ def _compare_sequential(found: Found, case: dict, exact: dict, mine: dict, tol: 
     return found
 
 
-def _sets(mine: dict) -> list | None:
-    return [sorted(J) for J in mine["impact_sets"]] if "impact_sets" in mine else None
-
-
 def _sets_mismatch(cid: str, exact: dict, mine: dict, unit: str = "impulse") -> list[Mismatch]:
     """The first impulse (or sweep) at which the impact sets differ, when the result gives them."""
-    sets_e, sets_m = exact["impact_sets"], _sets(mine)
+    sets_e, sets_m = exact["impact_sets"], impact_sets_of(mine)
     if sets_m is None or sets_m == sets_e:
         return []
     w = next((k for k, (a, b) in enumerate(zip(sets_e, sets_m)) if a != b), min(len(sets_e), len(sets_m)))
-    end = "none (the run ends)" if unit == "impulse" else "none (the impulses have settled)"
+    allowed = (exact.get("law_settings") or {}).get("iterations")
+    end = "none (the run ends)"
+    if unit == "sweep":
+        end = "none (the sweeps allowed are used up)" if allowed == len(sets_e) else "none (the impulses have settled)"
     a = sets_e[w] if w < len(sets_e) else end
     b = sets_m[w] if w < len(sets_m) else end
     return [Mismatch(cid, "impact_sets", f"from {unit} {w + 1}: expected {a}, got {b}")]
@@ -549,13 +603,13 @@ def _budget_mismatch(cid: str, exact: dict, mine: dict) -> list[Mismatch]:
                 f"the budget), got {mine['stop']} after {mine['iterations']} impulses",
             )
         )
-    return found + _prefix_mismatch(cid, exact["impact_sets"], _sets(mine) or [])
+    return found + _prefix_mismatch(cid, exact["impact_sets"], impact_sets_of(mine) or [])
 
 
-def _stop_text(mine: dict) -> str:
-    """The implementation's stop, with its impulse count when given."""
+def _stop_text(mine: dict, unit: str = "impulses") -> str:
+    """The implementation's stop, with its impulse (or sweep) count when given."""
     n = mine.get("iterations")
-    return mine["stop"] + ("" if n is None else f" after {n} impulses")
+    return mine["stop"] + ("" if n is None else f" after {n} {unit}")
 
 
 def _no_exit_text(exact: dict) -> str:

@@ -96,7 +96,8 @@ def bookkeeping(case: dict[str, Any], exact: dict[str, Any], mine: dict[str, Any
     if n is None or (n == exact["iterations"] and (sets_m is None or sets_m == sets_e)):
         return None
     allowed = int((exact.get("law_settings") or {}).get("iterations", n))
-    if n > allowed or (sets_m is not None and len(sets_m) != n):
+    r = len(case["normals"])
+    if n > allowed or (sets_m is not None and (len(sets_m) != n or any(not 0 <= i < r for J in sets_m for i in J))):
         return None
     changes, largest = sweep_changes(case, exact)
     small = rtol * largest
@@ -129,9 +130,10 @@ def _numbers(values: Any) -> list[Fraction] | None:
         return None
 
 
-def hint(case: dict[str, Any], exact: dict[str, Any], mine: dict[str, Any]) -> str:
+def hint(case: dict[str, Any], exact: dict[str, Any], mine: dict[str, Any], rtol: Fraction = Fraction(1, 10**8)) -> str:
     """Where a sequential run's answer departs: the targets of the restitution, the exact accumulated
-    impulses and the implementation's (when it gives ``impulses``), the first contact that differs.
+    impulses and the implementation's (when it gives ``impulses``), the first contact whose impulse differs
+    by more than ``rtol`` of the largest (one below 0 first: what a missing clamp leaves).
 
     >>> case = {"id": "c", "mass_matrix": [["1", "0", "0"], ["0", "1", "0"], ["0", "0", "1"]],
     ...         "normals": [["-1", "1", "0"], ["0", "-1", "1"]], "restitution": ["1", "1"],
@@ -155,12 +157,13 @@ def hint(case: dict[str, Any], exact: dict[str, Any], mine: dict[str, Any]) -> s
     exact_values = [read_number(x) for x in lam]
     text += f"; yours ({', '.join(format_decimal(x, 6) for x in theirs)})"
     scale = max([abs(x) for x in exact_values] + [Fraction(1, 10**30)])
-    far = [i for i, (a, b) in enumerate(zip(exact_values, theirs)) if abs(a - b) > scale / 10**6]
+    far = [i for i, (a, b) in enumerate(zip(exact_values, theirs)) if abs(a - b) > rtol * scale]
     if not far:
         return text
     i = next((k for k in far if theirs[k] < 0), far[0])  # a negative impulse first: what a missing clamp leaves
     below = ", below 0: the law clamps an accumulated impulse at 0" if theirs[i] < 0 else ""
-    return text + f": contact {i} differs (exact {_short(lam[i])}, yours {format_decimal(theirs[i], 6)}{below})"
+    exact_text = format_decimal(exact_values[i], 6)
+    return text + f": contact {i} differs (exact {exact_text}, yours {format_decimal(theirs[i], 6)}{below})"
 
 
 def restitution_targets(case: dict[str, Any], exact: dict[str, Any]) -> list[str]:

@@ -33,6 +33,7 @@ from verify.cli.common import (
     write_output,
     writing,
 )
+from verify.errors import InvalidInput
 
 
 class JunitAs:
@@ -285,6 +286,8 @@ def oracle_check(args: argparse.Namespace) -> int:
     try:
         expected = oracle.golden_results(records, budget=run_budget(args), law=law_choice(args, "oracle check"),
                                          progress=progress if status.enabled else None)  # fmt: skip
+    except InvalidInput as exc:  # a law setting that does not fit a case: name the file too
+        raise InvalidInput(f"{args.cases}: {exc}") from None
     finally:
         status.close()
     comparison = oracle.compare(records, expected, got, rtol=args.rtol, atol=args.atol, floor=args.floor,

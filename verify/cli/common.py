@@ -672,8 +672,9 @@ def law_options(p: argparse.ArgumentParser, *, append: bool = False, help: str |
                    help=f"with --law sequential: sweeps over the contacts (default {DEFAULT_ITERATIONS}, as Bullet's "
                         "and Chipmunk's solvers; Box2D 2.3 runs 8)")  # fmt: skip
     p.add_argument("--order", default=None, metavar="I,J,...",
-                   help="with --law sequential: the constraints' order in a sweep, by 0-based index, e.g. 1,0 "
-                        "(default: as given)")  # fmt: skip
+                   help="with --law sequential: the constraints' order in a sweep, by 0-based index, e.g. 1,0, "
+                        "or reversed (for a file whose cases have different numbers of constraints; default: as "
+                        "given)")  # fmt: skip
     p.add_argument("--threshold", default=None, metavar="SPEED",
                    help="with --law sequential: no restitution for a contact incoming at this speed or slower "
                         "(one number, or one per constraint: 1 or 1,0; default 0)")  # fmt: skip
@@ -691,8 +692,10 @@ def law_choice(args: argparse.Namespace, command: str) -> Any:
         return args.law
     if "sequential" not in laws:
         raise UsageError(f"{PROG} {command}: {given[0]} is a setting of the sequential law: add --law sequential")
-    order = None
-    if args.order is not None:
+    order: Any = None
+    if args.order is not None and args.order.strip() == "reversed":
+        order = "reversed"
+    elif args.order is not None:
         try:
             order = tuple(int(x) for x in split_option(args.order))
         except ValueError:

@@ -169,7 +169,7 @@ def cmd_solve(args: argparse.Namespace) -> int:
     if args.json:
         sys.stdout.write(dumps({"results": [result_record(r, c.id) for c, r in results]}))
     else:
-        sys.stdout.write("".join(solve_text(c.id, r) for c, r in results))
+        sys.stdout.write("".join(solve_text(c.id, r, args.trace) for c, r in results))
     return 0
 
 

@@ -61,7 +61,7 @@ DEFAULT_ITERATIONS = 10
 @dataclass(frozen=True)
 class Sequential:
     """The settings of the sequential-impulse law: ``iterations`` sweeps (>= 1), the constraints'
-    ``order`` in a sweep (a permutation of their 0-based indices; None: as given), and the
+    ``order`` in a sweep (a permutation of their 0-based indices; ``"reversed"``; None: as given), and the
     ``threshold``: no restitution for a constraint incoming at this speed or slower (a number, or one
     per constraint; compared with the rate ``-p(F_i)`` as the system states it, the relative normal
     speed when the normals are unit; 0 by default). Pass it as ``law=`` to
@@ -72,7 +72,7 @@ class Sequential:
     """
 
     iterations: int = DEFAULT_ITERATIONS
-    order: tuple[int, ...] | None = None
+    order: tuple[int, ...] | str | None = None
     threshold: Any = 0
 
     name: ClassVar[str] = "sequential"
@@ -81,6 +81,8 @@ class Sequential:
         k = self.iterations
         if isinstance(k, bool) or not isinstance(k, int) or k < 1:
             raise InvalidSystem(f"the sequential law's iterations must be a positive integer, got {k!r}")
+        if self.order == "reversed":
+            return
         if self.order is not None:
             order = tuple(self.order)
             if not all(isinstance(i, int) and not isinstance(i, bool) for i in order):
@@ -89,7 +91,9 @@ class Sequential:
 
     def sweep_order(self, r: int) -> tuple[int, ...]:
         """The order of a sweep over ``r`` constraints (checked: each index once)."""
-        order = tuple(range(r)) if self.order is None else self.order
+        if self.order == "reversed":
+            return tuple(reversed(range(r)))
+        order: tuple[int, ...] = tuple(range(r)) if self.order is None else tuple(int(i) for i in self.order)
         if sorted(order) != list(range(r)):
             raise InvalidSystem(
                 f"the sequential law's order {list(order)} is not an order of the {r} constraints "
@@ -137,7 +141,9 @@ class Sequential:
         out = []
         if self.iterations != DEFAULT_ITERATIONS:
             out.append(("iterations", str(self.iterations)))
-        if self.order is not None:
+        if self.order == "reversed":
+            out.append(("order", "reversed"))
+        elif self.order is not None:
             out.append(("order", ",".join(map(str, self.order))))
         given = self.threshold
         values = list(given) if isinstance(given, (list, tuple)) else [given]

@@ -48,6 +48,16 @@ def value_string(K: Any, x: Any, digits: int = DECIMAL_DIGITS) -> str:
 
 
 _RATIONAL = re.compile(r"-?\d+(/\d+)?")
+_HEX_FLOAT = re.compile(r"([+-]?)0[xX]([0-9a-fA-F]*)(?:\.([0-9a-fA-F]*))?(?:[pP]([+-]?\d+))?")
+
+
+def is_rational_text(text: str) -> bool:
+    """Whether a number string is a rational written as ``p`` or ``p/q`` (a closed form is not).
+
+    >>> is_rational_text("-3/4"), is_rational_text("sqrt(2)")
+    (True, False)
+    """
+    return bool(_RATIONAL.fullmatch(text))
 
 
 def read_number(text: str, where: str | None = None) -> Fraction:
@@ -56,15 +66,35 @@ def read_number(text: str, where: str | None = None) -> Fraction:
     shortest string exactly as written, a closed form to 40 digits; BadNumber names ``where``
     for ``nan`` or ``inf``.
 
+    A C program's hexadecimal float (``%a``: ``0x1.8p+1``) is read exactly too.
+
     >>> read_number("0.1"), read_number("-1/3"), Fraction(14142, 10**4) < read_number("sqrt(2)") < 2
     (Fraction(1, 10), Fraction(-1, 3), True)
+    >>> read_number("0x1.8p+1"), read_number("-0x1p-2")
+    (Fraction(3, 1), Fraction(-1, 4))
+    >>> read_number("nan", "v[0]")
+    Traceback (most recent call last):
+    ...
+    verify.errors.BadNumber: v[0]: 'nan' is not a finite number (NaN or an infinity)
     """
     from verify.core.format import format_decimal, str_to_int
     from verify.core.parse import parse_number, to_number
+    from verify.errors import BadNumber
 
+    prefix = f"{where}: " if where else ""
     if _RATIONAL.fullmatch(text):
         num, _, den = text.partition("/")
+        if den and str_to_int(den) == 0:
+            raise BadNumber(f"{prefix}{text!r} divides by zero")
         return Fraction(str_to_int(num), str_to_int(den) if den else 1)
+    if text.strip().lower().lstrip("+-") in ("nan", "inf", "infinity"):
+        raise BadNumber(f"{prefix}{text!r} is not a finite number (NaN or an infinity)")
+    hexadecimal = _HEX_FLOAT.fullmatch(text.strip())
+    if hexadecimal and (hexadecimal.group(2) or hexadecimal.group(3)):
+        sign, whole, frac, exp = hexadecimal.groups()
+        digits = whole + (frac or "")
+        value = Fraction(int(digits, 16), 16 ** len(frac or "")) * Fraction(2) ** int(exp or "0")
+        return -value if sign == "-" else value
     value = to_number(parse_number(text, where=where), where=where)
     return value if isinstance(value, Fraction) else Fraction(format_decimal(value, 40))
 

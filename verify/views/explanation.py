@@ -26,23 +26,26 @@ def explanation_text(result: Any) -> str:
     <BLANKLINE>
     tolerance: a model explains an answer within 1e-9 of the entrance speed (max_i |got_i - model_i| / max_i |v_in_i|)
     """
+    from verify.checks.explain_impl import describe_settings
     from verify.checks.grading import short_number
 
     n = len(result.rows)
     lines = []
     if result.best:
         count = result.ranking[0][0]
-        names = " = ".join(s.label() for s in result.best[:3]) + (" = ..." if len(result.best) > 3 else "")
-        lines.append(f"Explained: {count} of {n} cases by {names}")
+        lines.append(f"Explained: {count} of {n} cases by {'; '.join(describe_settings(result.best))}")
         lines.append(f"  (verify oracle check {result.best[0].flags()})")
         if len(result.best) > 1:
             lines.append(f"  {len(result.best)} settings explain exactly these cases: the cases cannot tell them apart")
     else:
         lines.append(f"Explained: no model explains any of the {n} cases")
+    if result.own_settings:
+        lines.append(f"  {len(result.own_settings)} cases carry their own law_settings, which the grid replaces "
+                     f"(verify oracle check honours them): {', '.join(result.own_settings[:5])}"
+                     + (", ..." if len(result.own_settings) > 5 else ""))  # fmt: skip
     lines += ["", "settings that explain the most cases:"]
     for count, group in result.ranking[:5]:
-        more = f" (and {len(group) - 1} more that explain the same cases)" if len(group) > 1 else ""
-        lines.append(f"  {count} of {n}  {group[0].label()}{more}")
+        lines.append(f"  {count} of {n}  {'; '.join(describe_settings(group))}")
     lines.append("")
     for r in result.rows:
         if r.settings:

@@ -77,32 +77,44 @@ def cradle_text(result: Result, *, eps: list[str], mode: str, full_trace: bool =
     return "\n".join(lines) + "\n"
 
 
-def trace_lines(result: Result, full_trace: bool = False, indent: str = "") -> list[str]:
-    """The trace of a run: one line per impulse (a sweep under the sequential law) with its impact set, beta,
-    the velocity after it and the kinetic energy; the first and last lines only beyond ``TRACE_LIMIT`` unless
-    ``full_trace``."""
+def trace_lines(
+    result: Result, full_trace: bool = False, indent: str = "", names: Sequence[str] | None = None
+) -> list[str]:
+    """The trace of a run: one line per impulse (a sweep under the sequential law) with its impact set, beta
+    (under the sequential law the changes of the accumulated impulses), the velocity after it and the kinetic
+    energy; the first and last lines only beyond ``TRACE_LIMIT`` unless ``full_trace``. The constraints are
+    named by ``names`` (default the system's)."""
     K, s, steps = result.backend, result.system, result.steps
+    shown_names = list(names or s.names)
     sequential = result.law == "sequential"
     unit = "sweep" if sequential else "impulse"
-    middle = "changes of lambda" if sequential else "beta"
-    width = 20 if sequential else 14
-    head = f"{unit:>7}  {'impact set':<16} {middle:<{width}} {'velocity after (12 digits)':<48}"
-    lines = [indent + head + " kinetic energy"]
-    shown: list[tuple[int, Any] | None] = list(enumerate(steps, 1))
-    if not full_trace and len(shown) > TRACE_LIMIT:
-        shown = [*shown[: TRACE_LIMIT - 5], None, *shown[-5:]]
-    for item in shown:
+    chosen: list[tuple[int, Any] | None] = list(enumerate(steps, 1))
+    if not full_trace and len(chosen) > TRACE_LIMIT:
+        chosen = [*chosen[: TRACE_LIMIT - 5], None, *chosen[-5:]]
+    rows: list[tuple[int, str, str, str, str] | None] = []
+    for item in chosen:
         if item is None:
-            lines.append(f"{indent}{'...':>7}  ({len(steps) - TRACE_LIMIT + 1} {unit}s not shown; --trace shows all)")
+            rows.append(None)
             continue
         w, st = item
-        names = "{" + ", ".join(s.names[j] for j in st.impact_set) + "}"
+        impact = "{" + ", ".join(shown_names[j] for j in st.impact_set) + "}"
         if sequential:
-            beta = ", ".join(K.to_decimal(x, 6) for _, x in sorted(st.changes, key=lambda c: c[0]))
+            middle = ", ".join(K.to_decimal(x, 6) for _, x in sorted(st.changes, key=lambda c: c[0]))
         else:
-            beta = "-" if st.beta is None else K.to_decimal(st.beta, 8)
+            middle = "-" if st.beta is None else K.to_decimal(st.beta, 8)
         vel = _join([K.to_decimal(x, 12) for x in st.velocity])
-        lines.append(f"{indent}{w:>7}  {names:<16} {beta:<{width}} {vel:<48} {K.to_decimal(st.kinetic_energy, 12)}")
+        rows.append((w, impact, middle, vel, K.to_decimal(st.kinetic_energy, 12)))
+    head = "changes of lambda" if sequential else "beta"
+    widths = [max([len(str(r[k])) for r in rows if r] + [len(h)]) for k, h in ((1, "impact set"), (2, head), (3, ""))]
+    widths = [max(widths[0], 16), max(widths[1], 20 if sequential else 14), max(widths[2], 48)]
+    title = f"{unit:>7}  {'impact set':<{widths[0]}} {head:<{widths[1]}} {'velocity after (12 digits)':<{widths[2]}}"
+    lines = [indent + title + " kinetic energy"]
+    for row in rows:
+        if row is None:
+            lines.append(f"{indent}{'...':>7}  ({len(steps) - TRACE_LIMIT + 1} {unit}s not shown; --trace shows all)")
+            continue
+        w, impact, middle, vel, energy = row
+        lines.append(f"{indent}{w:>7}  {impact:<{widths[0]}} {middle:<{widths[1]}} {vel:<{widths[2]}} {energy}")
     return lines
 
 
@@ -121,7 +133,7 @@ def law_lines(result: Result, indent: str = "") -> list[str]:
     return [f"{indent}law: {what}", f"{indent}{label} (12 digits): {lam}"]
 
 
-def solve_text(case_id: str, result: Result) -> str:
+def solve_text(case_id: str, result: Result, trace: bool = False) -> str:
     """A few lines per solved case; the impact sets by the contacts' names when the case names them
     (``names``), else by their 0-based indices.
 
@@ -144,8 +156,8 @@ def solve_text(case_id: str, result: Result) -> str:
         f"  impact sets: {sets or '-'}",
         *law_lines(result, "  "),
     ]
-    if result.steps:  # verify solve --trace
-        lines += trace_lines(result, True, "  ")
+    if trace and result.steps:  # verify solve --trace
+        lines += trace_lines(result, True, "  ", names=shown)
     if K.is_exact:
         lines.append(f"  {result.velocity_name}: {_join([_short_exact(K, x) for x in result.exit_velocity])}")
     lines.append(f"  {_decimal_label(K)}: {_join([K.to_decimal(x, 20) for x in result.exit_velocity])}")
@@ -780,6 +792,8 @@ def graded_lines(comparison: Any) -> list[str]:
     from verify.core.format import format_decimal
 
     lines = [f"{g.cls.upper()} {g.case_id}: {g.detail}" for g in comparison.grades if g.cls not in PASSING]
+    lines += [f"WITHIN_TOLERANCE {g.case_id}: {g.detail}" for g in comparison.grades
+              if g.cls == "within_tolerance" and g.detail]  # fmt: skip
     lines += ["", "  class                count"] if lines else ["  class                count"]
     lines += [f"  {cls:20} {n}" for cls, n in comparison.classes().items()]
     worst = hardest(comparison.grades, 3)
@@ -837,6 +851,8 @@ def oracle_text(comparison: Any, report: Any = None) -> str:
     lines.append("")
     for name, count in comparison.unchecked.items():
         lines.append(f"not checked: {name} (left out of {count} results: velocity-only)")
+    if comparison.unchecked:
+        lines.append("")
     for cid, reason in comparison.skipped.items():
         lines.append(f"SKIPPED {cid}: {reason}")
     lines += graded_lines(comparison)
@@ -846,6 +862,9 @@ def oracle_text(comparison: Any, report: Any = None) -> str:
     lines.append(f"as tests (--junit): {counts['passed']} passed, {counts['failures']} failed, "
                  f"{counts['skipped']} skipped of {counts['tests']}")  # fmt: skip
     agree = "every case agrees" if not comparison.skipped else "every case that the implementation ran agrees"
+    if comparison.limited:
+        agree += (f" as far as the exact runs went ({len(comparison.limited)} limited by the budget: --junit counts "
+                  "them as failures unless --junit-as limited=passed)")  # fmt: skip
     lines.append(f"OK: {agree}" if comparison.ok else f"{len(comparison.mismatches)} mismatches")
     return "\n".join(lines) + "\n"
 
