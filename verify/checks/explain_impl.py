@@ -120,6 +120,7 @@ def _sequential_velocities(case: dict[str, Any], grid: Grid) -> dict[Settings, l
             continue
         order = tuple(reversed(range(r))) if order_name == "reversed" else None
         runs: dict[tuple[bool, ...], Any] = {}
+        shown: dict[tuple[tuple[bool, ...], int], list[Fraction]] = {}  # each velocity's decimals once
         for t in grid.thresholds:
             law = Sequential(max(grid.sweeps), order, t)
             system, targets = restitution_targets(c.system, c.velocity_source, law)
@@ -129,8 +130,10 @@ def _sequential_velocities(case: dict[str, Any], grid: Grid) -> dict[Settings, l
             run = runs[key]
             K = run.backend
             for k in grid.sweeps:
-                v = run.steps[min(k, len(run.steps)) - 1].velocity if run.steps else run.velocity_in
-                out[Settings("sequential", k, order_name, t)] = _decimals(K, v)
+                step = min(k, len(run.steps))  # a run that settles stays where it is
+                if (key, step) not in shown:
+                    shown[key, step] = _decimals(K, run.steps[step - 1].velocity if step else run.velocity_in)
+                out[Settings("sequential", k, order_name, t)] = shown[key, step]
     return out
 
 
