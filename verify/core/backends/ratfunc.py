@@ -17,6 +17,7 @@ tested against each other (``tests/test_ratfunc.py``).
 
 from __future__ import annotations
 
+import os
 from collections.abc import Iterator
 from contextlib import contextmanager
 from fractions import Fraction
@@ -31,7 +32,8 @@ flint: Any
 try:
     import flint
 
-    FLINT = True
+    # VERIFY_RATIONALS=python forces the pure-Python arithmetic everywhere (the tests run the oracle so)
+    FLINT = os.environ.get("VERIFY_RATIONALS", "") != "python"
 except ImportError:  # pragma: no cover - the fast extra is not installed
     flint = None
     FLINT = False
@@ -42,9 +44,17 @@ Coefficients = tuple[Fraction | int, ...]
 
 
 def as_fraction(q: Any) -> Fraction:
-    """A flint ``fmpq`` or a SymPy rational as a Fraction."""
+    """A flint ``fmpq``, a SymPy rational or an element of SymPy's QQ (gmpy2's ``mpq``, or without gmpy2
+    SymPy's pure-Python ``PythonMPQ``, which is not a ``numbers.Rational``) as a Fraction.
+
+    >>> from sympy.external.pythonmpq import PythonMPQ
+    >>> as_fraction(PythonMPQ(1, 3)), as_fraction(sp.Rational(-2, 5))
+    (Fraction(1, 3), Fraction(-2, 5))
+    """
     if hasattr(q, "p"):
         return Fraction(int(q.p), int(q.q))
+    if hasattr(q, "numerator") and hasattr(q, "denominator"):
+        return Fraction(int(q.numerator), int(q.denominator))
     return Fraction(q)
 
 

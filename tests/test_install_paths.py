@@ -1,0 +1,54 @@
+"""The oracle's commands on the pure-Python arithmetic (issue 60, item 1).
+
+A plain install (no extras) has neither gmpy2 nor python-flint, and SymPy then computes with its
+pure-Python rationals. ``VERIFY_RATIONALS=python`` and ``SYMPY_GROUND_TYPES=python`` force that
+arithmetic on any install: these tests run the oracle's commands so, in a fresh process, and require
+the bytes of the installed arithmetic (the committed golden files, and the hard cases as this process
+makes them), so that a fallback path cannot break unseen.
+"""
+
+from __future__ import annotations
+
+import os
+import subprocess
+import sys
+from pathlib import Path
+
+import pytest
+
+from verify.checks.hardcases import generate_file_text
+
+ROOT = Path(__file__).resolve().parents[1]
+PURE = {"VERIFY_RATIONALS": "python", "SYMPY_GROUND_TYPES": "python"}
+
+
+def verify(*argv: str, cwd: Path) -> subprocess.CompletedProcess[str]:
+    env = {**os.environ, **PURE}
+    return subprocess.run([sys.executable, "-m", "verify", *argv], cwd=cwd, env=env, capture_output=True,
+                          text=True, check=False, timeout=600)  # fmt: skip
+
+
+def test_the_pure_python_arithmetic_is_what_the_process_uses(tmp_path: Path) -> None:
+    code = "from verify.core.backends import rationals; print(rationals().describe())"
+    out = subprocess.run(
+        [sys.executable, "-c", code], env={**os.environ, **PURE}, capture_output=True, text=True, check=False
+    )
+    assert out.returncode == 0 and "python" in out.stdout, out
+
+
+@pytest.mark.slow(seconds=10)
+def test_export_generate_check_and_table_give_the_same_bytes_on_pure_python(tmp_path: Path) -> None:
+    done = verify("oracle", "export", str(tmp_path / "golden"), cwd=tmp_path)
+    assert done.returncode == 0, done.stderr
+    for name in ("cases.json", "results.json", "results-simultaneous.json", "README.md"):
+        assert (tmp_path / "golden" / name).read_bytes() == (ROOT / "golden" / name).read_bytes(), name
+    done = verify(
+        "oracle", "generate", "--level", "1", "--seed", "0", "--out", str(tmp_path / "hard.json"), cwd=tmp_path
+    )
+    assert done.returncode == 0, done.stderr
+    assert (tmp_path / "hard.json").read_text(encoding="utf-8") == generate_file_text(1, 0)
+    golden = ROOT / "golden"
+    done = verify("oracle", "check", str(golden / "cases.json"), str(golden / "results.json"), "--quiet", cwd=tmp_path)
+    assert done.returncode == 0 and "OK: every case agrees" in done.stdout, done.stdout + done.stderr
+    done = verify("oracle", "table", str(golden / "cases.json"), f"golden={golden / 'results.json'}", cwd=tmp_path)
+    assert done.returncode == 0 and "golden" in done.stdout, done.stderr
