@@ -331,7 +331,7 @@ def divergence(case: dict[str, Any], exact: dict[str, Any], mine: dict[str, Any]
         impulses = ", ".join(_value_text(K, x) for x in run.impulses or ())
         return (
             f"; the exact run after sweep {min(w, len(run.steps))}{settled}: accumulated impulses ({impulses})"
-            + hint(case, exact, mine).replace("; the exact run:", "; at the end:", 1)
+            + hint(case, exact, mine, lead="at the end")
         )
     if len(run.steps) >= w:
         step = run.steps[w - 1]

@@ -635,11 +635,18 @@ def _no_exit_text(exact: dict) -> str:
     return f"expected {what}"
 
 
+def _speeds(case: dict, exact: dict) -> tuple[Fraction, list[Fraction], Fraction]:
+    """The entrance speed ``max|v_in|``, the exact velocity's components and its speed ``max|v_exit|``: what
+    the tolerance of a component is measured against."""
+    cid = case["id"]
+    entrance = max(abs(approx(x, f"{cid}.velocity[{i}]")) for i, x in enumerate(case["velocity"]))
+    values = [approx(e, f"{cid}.exit_velocity[{i}]") for i, e in enumerate(exact["exit_velocity"])]
+    return entrance, values, max(abs(x) for x in values)
+
+
 def _velocity_bound(case: dict, exact: dict, tol: Tolerance) -> Fraction:
     """The largest error allowed on a component of the velocity (that of its largest component)."""
-    entrance = max(abs(approx(x)) for x in case["velocity"])
-    values = [approx(x) for x in exact["exit_velocity_decimal"]]
-    speed = max(abs(x) for x in values)
+    entrance, values, speed = _speeds(case, exact)
     return max(tol.bound(x, entrance, speed) for x in values)
 
 
@@ -665,9 +672,7 @@ def _compare_velocity(case: dict, exact: dict, mine: dict, tol: Tolerance) -> li
     n = len(case["velocity"])
     if len(mine["exit_velocity"]) != n:
         return [Mismatch(cid, "exit_velocity", f"expected {n} components, got {len(mine['exit_velocity'])}")]
-    entrance = max(abs(approx(x, f"{cid}.velocity[{i}]")) for i, x in enumerate(case["velocity"]))
-    values = [approx(e, f"{cid}.exit_velocity[{i}]") for i, e in enumerate(exact["exit_velocity"])]
-    exit_speed = max(abs(x) for x in values)
+    entrance, values, exit_speed = _speeds(case, exact)
     out = []
     for i, (e, m) in enumerate(zip(values, mine["exit_velocity"])):
         diff = abs(e - approx(m, f"results[{cid}].exit_velocity[{i}]"))

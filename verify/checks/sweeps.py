@@ -26,11 +26,10 @@ from verify.records.results import read_number
 
 def _rates(case: dict[str, Any], velocity: list[Fraction]) -> list[Fraction]:
     """p(F_i) = dF_i . v + time term, from the case's numbers (closed forms to 40 digits)."""
+    from verify.checks.properties.formulas import rate
+
     terms = case.get("time_terms") or ["0"] * len(case["normals"])
-    return [
-        sum((read_number(a) * x for a, x in zip(row, velocity)), Fraction(0)) + read_number(t)
-        for row, t in zip(case["normals"], terms)
-    ]
+    return [rate([read_number(a) for a in row], read_number(t), velocity) for row, t in zip(case["normals"], terms)]
 
 
 def rate_bounds(case: dict[str, Any], bound: Fraction) -> list[Fraction]:
@@ -130,10 +129,17 @@ def _numbers(values: Any) -> list[Fraction] | None:
         return None
 
 
-def hint(case: dict[str, Any], exact: dict[str, Any], mine: dict[str, Any], rtol: Fraction = Fraction(1, 10**8)) -> str:
+def hint(
+    case: dict[str, Any],
+    exact: dict[str, Any],
+    mine: dict[str, Any],
+    rtol: Fraction = Fraction(1, 10**8),
+    lead: str = "the exact run",
+) -> str:
     """Where a sequential run's answer departs: the targets of the restitution, the exact accumulated
     impulses and the implementation's (when it gives ``impulses``), the first contact whose impulse differs
-    by more than ``rtol`` of the largest (one below 0 first: what a missing clamp leaves).
+    by more than ``rtol`` of the largest (one below 0 first: what a missing clamp leaves); ``lead`` names the
+    run at the end of the sweeps.
 
     >>> case = {"id": "c", "mass_matrix": [["1", "0", "0"], ["0", "1", "0"], ["0", "0", "1"]],
     ...         "normals": [["-1", "1", "0"], ["0", "-1", "1"]], "restitution": ["1", "1"],
@@ -147,10 +153,7 @@ def hint(case: dict[str, Any], exact: dict[str, Any], mine: dict[str, Any], rtol
 
     targets = restitution_targets(case, exact)
     lam = exact.get("impulses") or []
-    text = (
-        f"; the exact run: targets t = ({', '.join(targets)}), accumulated impulses "
-        f"({', '.join(_short(x) for x in lam)})"
-    )
+    text = f"; {lead}: targets t = ({', '.join(targets)}), accumulated impulses ({', '.join(_short(x) for x in lam)})"
     theirs = _numbers(mine.get("impulses") or [])
     if not theirs or len(theirs) != len(lam):
         return text + ' (give "impulses" in the result to compare yours)'
