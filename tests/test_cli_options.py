@@ -212,9 +212,13 @@ def test_every_output_path_option_rejects_an_impossible_path(words, name, tmp_pa
 
 
 def test_output_paths_are_checked_without_creating_anything(tmp_path):
+    """A folder option may name a folder to create (it is made when written); a file option needs its folder:
+    no folder is created that the user did not ask for (issue 60)."""
     target = tmp_path / "new" / "deeper"
     assert OutputDir()(str(target)) == str(target)
-    assert OutputFile((".png",))(str(target / "map.png")) == str(target / "map.png")
+    with pytest.raises(argparse.ArgumentTypeError, match="must be a file in a folder that exists"):
+        OutputFile((".png",))(str(target / "map.png"))
+    assert OutputFile((".png",))(str(tmp_path / "map.png")) == str(tmp_path / "map.png")
     assert tree(tmp_path) == []
 
 
@@ -374,6 +378,27 @@ def test_ctrl_c_is_one_line(monkeypatch, capsys):
     assert capsys.readouterr().err == "verify: interrupted\n"
 
 
+def test_an_internal_error_is_one_line_with_its_own_exit_code(monkeypatch, capsys):
+    """A bug in verify is neither a mismatch (1) nor bad input (2): exit code 3, one line, the traceback only
+    with --debug or VERIFY_DEBUG."""
+
+    def broken(args):
+        raise ZeroDivisionError("a bug\nover two lines")
+
+    monkeypatch.setattr(paper, "cmd_table1", broken)
+    monkeypatch.delenv("VERIFY_DEBUG", raising=False)
+    assert main(["table1"]) == 3
+    err = capsys.readouterr().err
+    assert err.startswith("verify: internal error (ZeroDivisionError: a bug over two lines): a bug in verify")
+    assert err.count("\n") == 1 and "Traceback" not in err and "--debug" in err
+    for argv, env in ((["--debug", "table1"], None), (["table1"], "1")):
+        if env:
+            monkeypatch.setenv("VERIFY_DEBUG", env)
+        assert main(argv) == 3
+        err = capsys.readouterr().err
+        assert "Traceback" in err and "in broken" in err and err.endswith("please report it\n")
+
+
 # -- oracle check with a budget -----------------------------------------------------------------------
 
 
@@ -406,7 +431,7 @@ def test_oracle_check_with_a_budget_checks_the_impulses_it_made(tmp_path, capsys
     agrees = their_results(tmp_path, records, exits_after(400))  # goes on past the budget: not refuted
     assert main(["oracle", "check", cases, agrees, "--max-bits", "3000"]) == 0
     out = capsys.readouterr().out
-    assert "OK: every case agrees" in out and "note: 1 cases checked only on the impulses" in out
+    assert "OK: every case agrees" in out and "note: 1 case checked only on the impulses" in out
     assert main(["oracle", "check", cases, agrees, "--max-bits", "3000", "--json"]) == 0
     assert json.loads(capsys.readouterr().out)["limited_by_budget"] == ["cradle-near-boundary"]
 

@@ -273,6 +273,7 @@ def test_verify_map_draws_its_figure_with_the_contacts_names(tmp_path, capsys) -
     pytest.importorskip("matplotlib")
     path = _named_cradle(tmp_path, ["ball 1-2", "ball 2-3"])
     figure = tmp_path / "out" / "map.png"
+    figure.parent.mkdir()
     code, out, err = run_cli(capsys, ["map", str(path), "--max-impulses", "6", "--figure", str(figure)])
     assert code == 0 and err == f"figure written to {figure}\n", err
     assert figure.read_bytes()[:8] == b"\x89PNG\r\n\x1a\n" and sorted(p.name for p in figure.parent.iterdir()) == [

@@ -283,3 +283,32 @@ def test_impl_note_is_one_line_saying_how_the_command_is_run() -> None:
 
 def test_split_command_splits_like_a_shell_without_expanding() -> None:
     assert split_command("./s $HOME *.json 'a|b' > out") == ["./s", "$HOME", "*.json", "a|b", ">", "out"]
+
+
+@pytest.mark.parametrize("sig", [signal.SIGTERM, signal.SIGHUP])
+def test_sigterm_and_sighup_stop_oracle_check_and_every_process_of_impl(tmp_path: Path, sig: signal.Signals) -> None:
+    """What CI cancellation and ``timeout`` send: verify ends as for Ctrl-C (one line, 128 + the signal's
+    number), and neither the command nor what it started is left running; no output file is written."""
+    pidfile = tmp_path / "pids"
+    impl = shlex.join(["sh", "-c", f'sleep 100 & echo $$ $! > "{pidfile}"; sleep 100'])
+    cases = Path(__file__).resolve().parents[1] / "golden" / "cases.json"
+    argv = [PY, "-m", "verify", "oracle", "check", str(cases), "--impl", impl, "--junit", str(tmp_path / "j.xml")]
+    proc = subprocess.Popen(
+        argv, cwd=tmp_path, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True,
+        preexec_fn=lambda: signal.signal(sig, signal.SIG_DFL),  # noqa: PLW1509 (as from a terminal: not ignored)
+    )  # fmt: skip
+    try:
+        until = time.monotonic() + 60
+        while not (pidfile.exists() and len(pidfile.read_text().split()) == 2) and time.monotonic() < until:
+            time.sleep(0.05)
+        pids = [int(p) for p in pidfile.read_text().split()]
+        proc.send_signal(sig)
+        out, err = proc.communicate(timeout=30)
+    finally:
+        if proc.poll() is None:
+            proc.kill()
+            proc.communicate()
+    assert proc.returncode == 128 + sig, err
+    assert err == f"verify: terminated ({sig.name})\n" and out == ""
+    assert wait_gone(pids)
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["pids"]

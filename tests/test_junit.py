@@ -45,10 +45,19 @@ def run_check(*args: str) -> subprocess.CompletedProcess[str]:
 
 
 def reported(path: Path) -> tuple[dict[str, Any], dict[str, tuple[str, list[str]]]]:
-    """The suite's counts, and each test case's classname and child tags."""
+    """The suite's counts, and each test case's class (the type of its failure, the message of its skip, else
+    passed) and child tags. Every test's classname names the case file, whatever its grade."""
     suite = ET.parse(path).getroot()
     counts = {k: int(suite.get(k, "-1")) for k in ("tests", "failures", "errors", "skipped")}
-    return counts, {c.get("name", ""): (c.get("classname", ""), [x.tag for x in c]) for c in suite}
+    assert {c.get("classname") for c in suite} == {f"oracle.{Path(suite.get('name', '')).stem}"}
+
+    def shown(c: ET.Element) -> str:
+        child = next(iter(c), None)
+        if child is None:
+            return "passed"
+        return child.get("type") or child.get("message", "").split(":")[0]
+
+    return counts, {c.get("name", ""): (shown(c), [x.tag for x in c]) for c in suite}
 
 
 def test_by_default_gave_up_is_a_failure(tmp_path: Path) -> None:
@@ -57,8 +66,7 @@ def test_by_default_gave_up_is_a_failure(tmp_path: Path) -> None:
     done = run_check(str(cases), str(results), "--junit", str(junit))
     assert done.returncode == 1, done.stderr  # the stop differs: a mismatch, whatever the report
     counts, tests = reported(junit)
-    assert tests == {"c3": ("oracle.within_tolerance", []), "c3-masses": ("oracle.exact", []),
-                     "never": ("oracle.gave_up", ["failure"])}  # fmt: skip
+    assert tests == {"c3": ("passed", []), "c3-masses": ("passed", []), "never": ("gave_up", ["failure"])}
     assert counts == {"tests": 3, "failures": 1, "errors": 0, "skipped": 0}
 
 
@@ -69,14 +77,14 @@ def test_junit_as_reports_each_class_as_the_user_says(tmp_path: Path) -> None:
                      "--junit-as", "gave_up=skipped,within_tolerance=failure")  # fmt: skip
     assert done.returncode == 1, done.stderr
     counts, tests = reported(junit)
-    assert tests == {"c3": ("oracle.within_tolerance", ["failure"]), "c3-masses": ("oracle.exact", []),
-                     "never": ("oracle.gave_up", ["skipped"])}  # fmt: skip
+    assert tests == {"c3": ("within_tolerance", ["failure"]), "c3-masses": ("passed", []),
+                     "never": ("gave_up", ["skipped"])}  # fmt: skip
     assert counts == {"tests": 3, "failures": 1, "errors": 0, "skipped": 1}
     skipped = ET.parse(junit).getroot().find("testcase[@name='never']/skipped")
     assert skipped is not None and skipped.get("message", "").startswith("gave_up")
     done = run_check(str(cases), str(results), "--junit", str(junit), "--junit-as", "gave_up=passed")
     counts, tests = reported(junit)
-    assert tests["never"] == ("oracle.gave_up", []) and counts["failures"] == counts["skipped"] == 0
+    assert tests["never"] == ("passed", []) and counts["failures"] == counts["skipped"] == 0
 
 
 @pytest.mark.parametrize(
@@ -102,3 +110,71 @@ def test_junit_as_without_junit_is_refused(tmp_path: Path) -> None:
     cases, results = graded_files(tmp_path)
     done = run_check(str(cases), str(results), "--junit-as", "gave_up=skipped")
     assert done.returncode == 2 and done.stderr == "verify: error: verify oracle check: --junit-as needs --junit FILE\n"
+
+
+# -- issue 60, item 5: JUnit as CI dashboards read it --------------------------------------------------------
+
+
+def test_a_case_keeps_its_classname_whatever_its_grade_and_every_test_has_a_time(tmp_path: Path) -> None:
+    cases, results = graded_files(tmp_path)
+    names = []
+    for report_as in ("gave_up=passed", "within_tolerance=failure"):
+        junit = tmp_path / f"{report_as.split('=')[0]}.xml"
+        run_check(str(cases), str(results), "--junit", str(junit), "--junit-as", report_as)
+        suite = ET.parse(junit).getroot()
+        names.append({c.get("name"): c.get("classname") for c in suite})
+        assert float(suite.get("time", "x")) >= 0 and all(float(c.get("time", "x")) >= 0 for c in suite)
+    assert names[0] == names[1] == dict.fromkeys(("c3", "c3-masses", "never"), "oracle.cases")
+
+
+def test_a_failure_names_every_failed_check_with_both_numbers_the_velocity_first(tmp_path: Path) -> None:
+    """A velocity off by 0.1 % breaks the momentum too: the class says so, and the text shows the velocity."""
+    cases, _ = graded_files(tmp_path)
+    exact = oracle.golden_results(json.loads(cases.read_text())["cases"])
+    off = copy.deepcopy(exact[0])
+    v = oracle.approx(off["exit_velocity"][2]) * Fraction(1001, 1000)
+    off["exit_velocity"][2] = f"{v.numerator}/{v.denominator}"
+    junit = tmp_path / "j.xml"
+    for extra in ({}, {"iterations": off["iterations"] + 1}):  # the velocity alone, then with a wrong count too
+        results = tmp_path / "off.json"
+        results.write_text(json.dumps({"results": [dict(off, **extra), *exact[1:]]}), encoding="utf-8")
+        assert run_check(str(cases), str(results), "--junit", str(junit)).returncode == 1
+        failure = ET.parse(junit).getroot().find("testcase[@name='c3']/failure")
+        assert failure is not None
+        lines = (failure.text or "").splitlines()
+        assert lines[0].startswith("exit_velocity[2]: expected ") and ", got " in lines[0], lines
+        if extra:
+            n = off["iterations"]
+            assert failure.get("type") == "wrong_stop" and lines[1:] == [
+                f"wrong_stop: iterations: expected {n}, got {n + 1}"
+            ]
+        else:
+            assert failure.get("type") == "momentum_drift" and lines[1].startswith("momentum_drift: the momentum")
+
+
+def test_a_run_that_cannot_grade_writes_a_junit_file_saying_why(tmp_path: Path) -> None:
+    cases, _ = graded_files(tmp_path)
+    junit = tmp_path / "j.xml"
+    junit.write_text("<testsuite name='stale' />")
+    done = run_check(str(cases), str(tmp_path / "missing.json"), "--junit", str(junit))
+    assert done.returncode == 2 and "missing.json: cannot read" in done.stderr
+    suite = ET.parse(junit).getroot()
+    assert suite.get("errors") == "1" and "missing.json: cannot read" in suite[0][0].get("message", "")
+
+
+def test_junit_creates_no_folder(tmp_path: Path) -> None:
+    cases, results = graded_files(tmp_path)
+    done = run_check(str(cases), str(results), "--junit", str(tmp_path / "no" / "dir" / "x.xml"))
+    assert done.returncode == 2 and "folder that exists" in done.stderr and not (tmp_path / "no").exists()
+
+
+def test_dash_reads_stdin_and_writes_stdout(tmp_path: Path) -> None:
+    """``-`` is stdin for the case file and stdout for --junit (the report then goes to stderr)."""
+    cases, results = graded_files(tmp_path)
+    argv = [sys.executable, "-m", "verify", "oracle", "check", "-", str(results), "--junit", "-"]
+    done = subprocess.run(argv, input=cases.read_text(), capture_output=True, text=True, cwd=tmp_path, check=False)
+    assert done.returncode == 1 and "as tests (--junit)" in done.stderr
+    suite = ET.fromstring(done.stdout)
+    assert suite.get("tests") == "3" and {c.get("classname") for c in suite} == {"oracle.stdin"}
+    done = run_check(str(cases), str(results), "--junit", "-", "--json")
+    assert done.returncode == 2 and "both write to stdout" in done.stderr and done.stdout == ""

@@ -38,7 +38,7 @@ from verify.errors import (
 )
 from verify.models.cradle import cradle_system, cradle_system_full, run_cradle
 
-__version__ = "0.1.0"
+__version__ = "0.2.0"
 
 #: names imported when first used (they load SymPy and Hypothesis, which the command line's parser does not)
 _LAZY = {

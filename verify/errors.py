@@ -8,6 +8,9 @@ precision, not that the program is wrong.
 
 from __future__ import annotations
 
+import importlib
+from typing import Any
+
 
 class VerifyError(Exception):
     """Base class of every error raised on purpose by :mod:`verify`."""
@@ -28,6 +31,34 @@ class InvalidSystem(InvalidInput):
     of restitution outside [0, 1], dependent constraint normals, or vectors of the
     wrong length.
     """
+
+
+class MissingExtra(InvalidInput):
+    """An optional dependency that a command needs is not installed (see :func:`require`)."""
+
+
+#: the optional dependencies, each with the extra of ``verify-impacts`` that installs it
+EXTRAS = {"matplotlib": "figures", "numpy": "fast", "flint": "fast", "gmpy2": "fast", "dask": "cluster"}
+
+
+def require(module: str, purpose: str, extra: str | None = None) -> Any:
+    """The module ``module`` imported, or :class:`MissingExtra` naming what needs it and the extra that
+    installs it (``extra``, by default the one :data:`EXTRAS` gives).
+
+    >>> require("math", "a test").sqrt(4)
+    2.0
+    >>> require("no_such_module", "drawing", "figures")  # doctest: +ELLIPSIS
+    Traceback (most recent call last):
+    verify.errors.MissingExtra: drawing: no_such_module is not installed: pip install ...
+    """
+    try:
+        return importlib.import_module(module)
+    except ImportError:
+        extra = extra or EXTRAS[module]
+        raise MissingExtra(
+            f"{purpose}: {module} is not installed: pip install 'verify-impacts[{extra}]'"
+            f" (in a clone of the repository: pip install '.[{extra}]')"
+        ) from None
 
 
 class Undecided(VerifyError, ArithmeticError):

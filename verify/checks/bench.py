@@ -568,6 +568,9 @@ def bench(
     """Every figure of ``verify bench`` (see the module docstring): ``size`` cases in each corner
     batch, ``cradle`` eps in the cradle batch, ``general`` systems in the general one, the maps batch
     explored up to ``map_impulses``."""
+    from verify.errors import require
+
+    require("numpy", "verify bench (its float path)")  # before the first timing
     say = progress or (lambda _msg: None)
     start_rss = _rss_mib()
     say(f"corner batch: {size} cases, best of {repeats}")

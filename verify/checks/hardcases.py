@@ -47,7 +47,6 @@ from typing import Any
 import sympy as sp
 
 from verify.checks.oracle import random_geometry
-from verify.checks.properties.strategies import velocity_with_rates
 from verify.core.algebraic import RealAlgebraic
 from verify.core.backends import RationalBackend
 from verify.core.rule import Budget, impulse, solve
@@ -55,6 +54,7 @@ from verify.core.system import System
 from verify.maps.cradle import CradleMap, Part, cradle_map, termination_boundaries
 from verify.models.corner import corner_geometry, slope_of, velocity_of
 from verify.models.cradle import cradle_geometry
+from verify.models.rates import velocity_with_rates
 from verify.models.wedge import below_boundary
 from verify.records.results import case_record, dumps, with_decimals
 
@@ -527,4 +527,8 @@ def generate_file_text(level: int, seed: int, law: str = "rule") -> str:
     >>> generate_file_text(1, 0).splitlines()[:3]
     ['{', '  "cases": [', '    {']
     """
-    return dumps({"cases": [with_decimals(c) for c in generate(level, seed, law)]})
+    from verify.records.versions import generated_dataset, stamped
+
+    return dumps(
+        stamped({"cases": [with_decimals(c) for c in generate(level, seed, law)]}, generated_dataset(level, seed, law))
+    )

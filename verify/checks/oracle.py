@@ -30,14 +30,14 @@ from fractions import Fraction
 from typing import Any
 
 from verify.checks.grading import DEFAULT_FLOOR, DEFAULT_RTOL, PASSING, Tolerance, impact_sets_of
-from verify.checks.properties.strategies import velocity_with_rates
 from verify.core.sequential import Law, Sequential, law_for_case
 from verify.errors import InvalidInput
 from verify.models.corner import corner_geometry
 from verify.models.cradle import cradle_geometry
+from verify.models.rates import velocity_with_rates
 from verify.records.results import case_from_record, case_record, dumps, read_number, result_record, with_decimals
+from verify.records.versions import GOLDEN_DATASET, GOLDEN_VERSION, check_same_dataset, check_versions, stamped
 
-GOLDEN_VERSION = "1"
 SEED = 2021
 #: the iteration cap of every golden case
 GOLDEN_MAX_ITERATIONS = 10_000
@@ -260,7 +260,7 @@ def _summary(cases: list[dict], results: list[dict], skipped: int) -> str:
         "\nEach case of `cases.json` also carries `decimal`: its numbers correctly rounded to 40 significant\n"
         "digits, for a program that reads numbers with `strtod` (`docs/oracle.md`).\n"
     )
-    head = f"# The golden dataset, version {GOLDEN_VERSION}\n\n"
+    head = f"# The golden dataset, version {GOLDEN_VERSION} (`{GOLDEN_DATASET}`)\n\n"
     return head + dataset_description(cases, results, skipped) + decimals
 
 
@@ -317,11 +317,12 @@ def export(folder: str) -> list[str]:
     """
     cases, skipped = golden_dataset()
     results = golden_results(cases)
+    simultaneous = golden_results(cases, law="simultaneous")
     texts = {
-        "cases.json": dumps({"cases": [with_decimals(c) for c in cases]}),
-        "results.json": dumps({"results": [_library_free(r) for r in results]}),
+        "cases.json": dumps(stamped({"cases": [with_decimals(c) for c in cases]}, GOLDEN_DATASET)),
+        "results.json": dumps(stamped({"results": [_library_free(r) for r in results]}, GOLDEN_DATASET)),
         "results-simultaneous.json": dumps(
-            {"results": [_library_free(r) for r in golden_results(cases, law="simultaneous")]}
+            stamped({"results": [_library_free(r) for r in simultaneous]}, GOLDEN_DATASET)
         ),
         "README.md": _summary(cases, results, skipped),
     }
@@ -722,11 +723,12 @@ def _constants_as_text(data: Any) -> None:
                 r[name] = [text(x) for x in r[name]]
 
 
-def load_result_file(text: str, source: str) -> tuple[list[dict], dict[str, str]]:
+def load_result_file(text: str, source: str, dataset: str | None = None) -> tuple[list[dict], dict[str, str]]:
     """A result file's results, and the cases it lists as skipped (id -> reason). A bare ``NaN``
     (what Python's ``json.dump`` writes) or ``Infinity`` in a number's place is kept as its text,
     to be graded ``bad_number`` as the string ``"nan"`` is; anywhere else it is refused, naming
-    the file and the field.
+    the file and the field. Its versions are checked (:func:`verify.records.versions.check_versions`), and a
+    file made for another dataset than ``dataset`` (the case file's) is refused.
 
     >>> load_result_file('{"results": [], "skipped": [{"id": "a", "reason": "no corner"}]}', "x")
     ([], {'a': 'no corner'})
@@ -743,6 +745,7 @@ def load_result_file(text: str, source: str) -> tuple[list[dict], dict[str, str]
     data = load_json(source, text=text, constants=True)
     _constants_as_text(data)
     validate(data, "result", source)
+    check_same_dataset(dataset, check_versions(data, source), source)
     return data["results"], {s["id"]: s["reason"] for s in data.get("skipped", [])}
 
 

@@ -185,11 +185,23 @@ def _run_in_pool(
                 pool = ProcessPoolExecutor(max_workers=workers)
             for task in retry:
                 submit(task)
+    except KeyboardInterrupt:  # Ctrl-C, SIGTERM or SIGHUP: the pool's processes stop now, not after their tasks
+        if executor is None:
+            stop_processes(pool)
+        raise
     finally:
         if executor is None:
             pool.shutdown(cancel_futures=True)
     for task in suspects:  # each alone in a process of its own, up to ATTEMPTS times
         _attempts(task, _alone, succeeded, failures)
+
+
+def stop_processes(pool: Executor) -> None:
+    """Terminate the processes of a local ``pool`` (which a SIGTERM sent to this process alone does not reach);
+    its shutdown then cancels what they held."""
+    for process in list((getattr(pool, "_processes", None) or {}).values()):
+        with contextlib.suppress(OSError, ValueError, AttributeError):
+            process.terminate()
 
 
 def _alone(task: Task) -> Any:
@@ -309,6 +321,10 @@ class TaskRunner:
         try:
             list(self._pool.map(abs, range(self.workers)))  # the processes start now
             yield self
+        except KeyboardInterrupt:  # Ctrl-C, SIGTERM or SIGHUP: the processes stop now, not after their tasks
+            if self._pool is not None:
+                stop_processes(self._pool)
+            raise
         finally:
             pool, self._pool = self._pool, None
             pool.shutdown(cancel_futures=True)

@@ -18,12 +18,15 @@ are in ``verify/cli/commands.toml``.
 from __future__ import annotations
 
 import argparse
+import os
 import sys
+import traceback
 from collections.abc import Sequence
 
 from verify.checks.tasks import TasksFailed
 from verify.cli import checks, engines, maps, paper, reports, run
 from verify.cli.common import PROG, Parser, UsageError, command, formatter, one_line
+from verify.cli.signals import Terminated, stop_on_signals
 from verify.errors import InvalidInput, Undecided
 
 
@@ -45,6 +48,8 @@ def build_parser() -> argparse.ArgumentParser:
         ),
     )
     parser.add_argument("--version", action="version", version=f"verify {__version__}")
+    debug_help = f"on an internal error (exit code 3), print its traceback (also {DEBUG_VARIABLE}=1)"
+    parser.add_argument("--debug", action="store_true", help=debug_help)
     sub = parser.add_subparsers(dest="command", metavar="COMMAND", parser_class=Parser)
     for group in (run, maps, paper, checks, engines, reports):  # the order of the subcommands in --help
         for name in group.COMMANDS:  # found when the parser is built: the handlers are the module's then
@@ -53,17 +58,27 @@ def build_parser() -> argparse.ArgumentParser:
     return parser
 
 
+#: the exit code of an internal error (a bug in verify, not in its input)
+INTERNAL_ERROR = 3
+#: set (to anything but "" or "0") to see the traceback of an internal error, as ``--debug`` does
+DEBUG_VARIABLE = "VERIFY_DEBUG"
+
+
 def main(argv: Sequence[str] | None = None) -> int:
-    """Run the command line; returns the exit code (0 ok, 1 mismatch, 2 bad input)."""
+    """Run the command line; returns the exit code: 0 ok, 1 mismatch, 2 bad input or usage, 3 an internal
+    error (:data:`INTERNAL_ERROR`), 128 + n when stopped by signal n (130 Ctrl-C, 143 SIGTERM, 129 SIGHUP)."""
     parser = build_parser()
     limit = sys.get_int_max_str_digits()
     sys.set_int_max_str_digits(0)  # exact outputs are printed whole, however many digits they have
+    debug = os.environ.get(DEBUG_VARIABLE, "") not in ("", "0")
     try:
         args = parser.parse_args(argv)
+        debug = debug or args.debug
         if args.command is None:
             parser.print_help()
             return 2
-        return int(args.func(args))  # every numeric and output-path option was checked by its type
+        with stop_on_signals():
+            return int(args.func(args))  # every numeric and output-path option was checked by its type
     except (UsageError, InvalidInput, Undecided) as exc:
         print(f"{PROG}: error: {one_line(exc)}", file=sys.stderr)
         return 2
@@ -71,10 +86,20 @@ def main(argv: Sequence[str] | None = None) -> int:
         for f in exc.failures:
             print(f"{PROG}: error: {f.label} failed twice: {f.error}", file=sys.stderr)
         return 2
+    except Terminated as stop:  # SIGTERM or SIGHUP: cleaned up as for Ctrl-C
+        print(f"{PROG}: terminated ({stop.name})", file=sys.stderr)
+        return stop.exit_code
     except KeyboardInterrupt:  # Ctrl-C on a long run: one line, the shell's code for SIGINT
         print(f"{PROG}: interrupted", file=sys.stderr)
         return 130
     except BrokenPipeError:  # pragma: no cover - e.g. piped into head
         return 0
+    except Exception as exc:  # a bug in verify: one line and its own exit code (the traceback when asked for)
+        if debug:
+            traceback.print_exc()
+        print(f"{PROG}: internal error ({type(exc).__name__}: {one_line(exc)}): a bug in verify, please report it"
+              f"{'' if debug else f'; --debug (or {DEBUG_VARIABLE}=1) shows the traceback'}",
+              file=sys.stderr)  # fmt: skip
+        return INTERNAL_ERROR
     finally:
         sys.set_int_max_str_digits(limit)

@@ -3,9 +3,12 @@
 from __future__ import annotations
 
 import argparse
+import contextlib
 import json
 import os
 import sys
+import time
+from collections.abc import Iterator
 from fractions import Fraction
 from typing import Any
 
@@ -28,12 +31,16 @@ from verify.cli.common import (
     command,
     law_choice,
     law_options,
+    one_line,
     run_budget,
     task_runner,
     write_output,
     writing,
 )
-from verify.errors import InvalidInput
+from verify.errors import InvalidInput, Undecided
+from verify.records.files import STDIO, display_name, read_text
+from verify.records.versions import stamped
+from verify.views.words import plural
 
 
 class JunitAs:
@@ -88,8 +95,9 @@ def properties_options(p: argparse.ArgumentParser) -> None:
 
 def implementation_options(q: argparse.ArgumentParser) -> None:
     """CASES.json and the other implementation's answers: RESULTS.json, or ``--impl COMMAND`` with ``--timeout``."""
-    q.add_argument("cases", metavar="CASES.json")
-    q.add_argument("results", metavar="RESULTS.json", nargs="?", help="the other implementation's result file")
+    q.add_argument("cases", metavar="CASES.json", help="the case file (- reads it from stdin)")
+    q.add_argument("results", metavar="RESULTS.json", nargs="?",
+                   help="the other implementation's result file (- reads it from stdin)")  # fmt: skip
     q.add_argument("--impl", metavar="COMMAND",
                    help="run COMMAND: case file on stdin, result file on stdout; " + IMPL_NOTE)  # fmt: skip
     q.add_argument("--timeout", type=Seconds(), default=600.0, metavar="SECONDS",
@@ -113,8 +121,9 @@ def oracle_options(p: argparse.ArgumentParser) -> None:
                         "max|v_in| (default 1e-12)")  # fmt: skip
     law_options(q, help="the law of the exact results: the paper's rule (default), the simultaneous law, or the "
                 "sequential law (with its settings below)")  # fmt: skip
-    q.add_argument("--junit", metavar="FILE", type=OutputFile(), default=None,
-                   help="also write the graded verdicts as JUnit XML, one test case per case")  # fmt: skip
+    q.add_argument("--junit", metavar="FILE", type=OutputFile(stdout=True), default=None,
+                   help="also write the graded verdicts as JUnit XML, one test case per case (- for stdout: "
+                        "the report then goes to stderr)")  # fmt: skip
     q.add_argument("--junit-as", metavar="CLASS=KIND,...", type=JunitAs(), default=None,
                    help="how --junit reports a class: failure, skipped or passed (default: exact and "
                         "within_tolerance pass, skipped is skipped, every other class is a failure), "
@@ -133,8 +142,9 @@ def oracle_options(p: argparse.ArgumentParser) -> None:
     q.add_argument("--tolerance", type=NonNegativeRational(), default="1e-9", metavar="TOL",
                    help="a model explains an answer within TOL times the entrance speed (default 1e-9, float64; "
                         "1e-5 for float32)")  # fmt: skip
-    q.add_argument("--junit", metavar="FILE", type=OutputFile(), default=None,
-                   help="also write one test case per case: passed when a model explains it")  # fmt: skip
+    q.add_argument("--junit", metavar="FILE", type=OutputFile(stdout=True), default=None,
+                   help="also write one test case per case: passed when a model explains it (- for stdout: the "
+                        "report then goes to stderr)")  # fmt: skip
     q.add_argument("--quiet", action="store_true", help="no status line on stderr")
     q.add_argument("--json", action="store_true", help="print the explanation as JSON")
     q = command(oracle_sub, "oracle generate", cmd_oracle)
@@ -144,12 +154,13 @@ def oracle_options(p: argparse.ArgumentParser) -> None:
                    help="also the cases where this law branches: restitution thresholds, order ties and badly "
                         "scaled contacts (sequential), the active set's boundary (simultaneous); each sequential "
                         "case carries its own law_settings")  # fmt: skip
-    q.add_argument("--out", metavar="FILE", type=OutputFile(), default=None,
-                   help="write the case file there (default stdout)")  # fmt: skip
+    q.add_argument("--out", metavar="FILE", type=OutputFile(stdout=True), default=None,
+                   help="write the case file there (default, or -: stdout)")  # fmt: skip
     q = command(oracle_sub, "oracle table", cmd_oracle)
-    q.add_argument("cases", metavar="CASES.json")
+    q.add_argument("cases", metavar="CASES.json", help="the case file (- reads it from stdin)")
     q.add_argument("results", metavar="RESULTS.json", nargs="+",
-                   help="result files, each NAME=FILE or FILE (named by its file name)")  # fmt: skip
+                   help="result files, each NAME=FILE or FILE (named by its file name; one of the files may be -, "
+                        "stdin)")  # fmt: skip
     law_options(q, help="the law of the exact results (the sequential law with its settings below)")
     q.add_argument("--rtol", default="1e-8", type=NonNegativeRational(),
                    help="tolerance relative to the exact exit speed (default 1e-8)")  # fmt: skip
@@ -241,7 +252,7 @@ def cmd_oracle(args: argparse.Namespace) -> int:
         from verify.checks.hardcases import generate_file_text
 
         text = generate_file_text(args.level, args.seed, args.law)
-        if args.out:
+        if args.out and args.out != STDIO:
             write_output(args.out, text, "--out")
         else:
             sys.stdout.write(text)
@@ -261,63 +272,130 @@ def cmd_oracle(args: argparse.Namespace) -> int:
 
 def oracle_check(args: argparse.Namespace) -> int:
     """``verify oracle check``: another implementation's results against the exact ones; exit code 1 on a mismatch."""
+    if args.junit_as is not None and not args.junit:
+        raise UsageError(f"{PROG} oracle check: --junit-as needs --junit FILE")
+    both_stdout(args, "oracle check")
+    with junit_on_error(args, f"verify oracle check {args.cases}"):
+        return _oracle_check(args, time.monotonic())
+
+
+def _oracle_check(args: argparse.Namespace, started: float) -> int:
     from verify.checks import oracle
     from verify.records.results import dumps
     from verify.views.text import oracle_text
 
-    if args.junit_as is not None and not args.junit:
-        raise UsageError(f"{PROG} oracle check: --junit-as needs --junit FILE")
     budgets = None  # the options are read before the cases, so that a bad one is told at once
     if args.tolerances:
         from verify.checks.grading import Budgets, Tolerance
 
         budgets = Budgets.load(args.tolerances, Tolerance(rtol=args.rtol, atol=args.atol, floor=args.floor))
-    case_text, records = checked_cases(args, "oracle check")
+    case_text, records, dataset = checked_cases(args, "oracle check")
     if args.max_iterations is not None:  # the cases as if each had this cap: for the exact runs and --impl
         records = [dict(r, max_iterations=args.max_iterations) for r in records]
-        case_text = dumps({"cases": records})
+        case_text = dumps(stamped({"cases": records}, dataset))
     status = StatusLine.for_args(args)
-    got, skipped = oracle.load_result_file(*other_results(args, case_text, status))
+    got, skipped = oracle.load_result_file(*other_results(args, case_text, status), dataset)
+    clock = CaseClock()
 
     def progress(k: int, case_id: str, impulses: int) -> None:
-        status.show(f"verify oracle check: exact results, case {k}/{len(records)} {case_id}: {impulses} impulses",
-                    now=impulses == 0)  # fmt: skip
+        clock.start(case_id, impulses)
+        if status.enabled:
+            status.show(f"verify oracle check: exact results, case {k}/{len(records)} {case_id}: {impulses} "
+                        "impulses", now=impulses == 0)  # fmt: skip
 
     try:
         expected = oracle.golden_results(records, budget=run_budget(args), law=law_choice(args, "oracle check"),
-                                         progress=progress if status.enabled else None)  # fmt: skip
+                                         progress=progress)  # fmt: skip
     except InvalidInput as exc:  # a law setting that does not fit a case: name the file too
-        raise InvalidInput(f"{args.cases}: {exc}") from None
+        raise InvalidInput(f"{display_name(args.cases)}: {exc}") from None
     finally:
         status.close()
+    clock.start("", 0)
     comparison = oracle.compare(records, expected, got, rtol=args.rtol, atol=args.atol, floor=args.floor,
                                 skipped=skipped, budgets=budgets)  # fmt: skip
+    report = sys.stderr if args.junit == STDIO else sys.stdout  # stdout holds one document
+    if args.json:
+        report.write(dumps(stamped(oracle.comparison_json(comparison), dataset, report=True)))
+    else:
+        report.write(oracle_text(comparison, args.junit_as))
+        if comparison.limited:
+            print(f"note: {len(comparison.limited)} {plural(len(comparison.limited), 'case')} checked only on the "
+                  "impulses the exact run made before reaching --max-bits or --case-timeout: "
+                  f"{', '.join(comparison.limited)}", file=report)  # fmt: skip
     if args.junit:
         from verify.views.junit import junit_xml
 
-        write_output(args.junit, junit_xml(comparison.grades, f"verify oracle check {args.cases}", args.junit_as),
-                     "--junit")  # fmt: skip
-    if args.json:
-        sys.stdout.write(dumps(oracle.comparison_json(comparison)))
-    else:
-        sys.stdout.write(oracle_text(comparison, args.junit_as))
-        if comparison.limited:
-            print(f"note: {len(comparison.limited)} cases checked only on the impulses the exact run made before "
-                  f"reaching --max-bits or --case-timeout: {', '.join(comparison.limited)}")  # fmt: skip
+        checks: dict[str, list[str]] = {}
+        for m in sorted(comparison.mismatches, key=lambda m: not m.field.startswith("exit_velocity")):
+            checks.setdefault(m.case_id, []).append(f"{m.field}: {m.detail}")
+        xml = junit_xml(comparison.grades, f"verify oracle check {args.cases}", args.junit_as,
+                        group=junit_group(args.cases), checks=checks, times=clock.seconds,
+                        total=time.monotonic() - started)  # fmt: skip
+        write_output(args.junit, xml, "--junit")
     return 0 if comparison.ok else 1
 
 
-def checked_cases(args: argparse.Namespace, command_name: str) -> tuple[str, list[dict]]:
-    """The case file's text and records, validated (one line and exit code 2 for a bad file), with RESULTS.json
-    or --impl given, not both."""
+class CaseClock:
+    """The seconds of each case's exact run, from the progress calls (impulses 0: a case starts, and the
+    last one ends)."""
+
+    def __init__(self) -> None:
+        self.seconds: dict[str, float] = {}
+        self._running: tuple[str, float] | None = None
+
+    def start(self, case_id: str, impulses: int) -> None:
+        """Case ``case_id`` starts (when ``impulses`` is 0): the running one ends now."""
+        if impulses:
+            return
+        now = time.monotonic()
+        if self._running is not None:
+            done, began = self._running
+            self.seconds[done] = self.seconds.get(done, 0.0) + now - began
+        self._running = (case_id, now) if case_id else None
+
+
+def junit_group(cases: str) -> str:
+    """The ``classname`` part that names the case file (its name without ``.json``; ``stdin`` for ``-``).
+
+    >>> junit_group("golden/cases.json"), junit_group("-")
+    ('cases', 'stdin')
+    """
+    return "stdin" if cases == STDIO else os.path.splitext(os.path.basename(cases))[0] or "cases"
+
+
+def both_stdout(args: argparse.Namespace, command_name: str) -> None:
+    """``--junit -`` and ``--json`` would both write to stdout: a usage error."""
+    if getattr(args, "junit", None) == STDIO and getattr(args, "json", False):
+        raise UsageError(f"{PROG} {command_name}: --junit - and --json both write to stdout: give --junit a file")
+
+
+@contextlib.contextmanager
+def junit_on_error(args: argparse.Namespace, suite: str, prefix: str = "oracle") -> Iterator[None]:
+    """With ``--junit``, a run that ends on bad input (exit code 2) writes a JUnit file saying what went wrong
+    (:func:`verify.views.junit.error_xml`) in place of the last run's."""
+    try:
+        yield
+    except (UsageError, InvalidInput, Undecided) as exc:
+        if args.junit:
+            from verify.views.junit import error_xml
+
+            write_output(args.junit, error_xml(suite, one_line(exc), prefix, junit_group(args.cases)), "--junit")
+        raise
+
+
+def checked_cases(args: argparse.Namespace, command_name: str) -> tuple[str, list[dict], str | None]:
+    """The case file's text, records and dataset (None when it names none), validated (one line and exit code 2
+    for a bad file), with RESULTS.json or --impl given, not both."""
     from verify.records.results import load_cases
 
     if (args.results is None) == (args.impl is None):
         raise UsageError(f"{PROG} {command_name}: give either RESULTS.json or --impl COMMAND")
+    if args.cases == STDIO and args.results == STDIO:
+        raise UsageError(f"{PROG} {command_name}: CASES.json and RESULTS.json cannot both be - (stdin)")
     load_cases(args.cases)  # validates the file: schema, ids, then every number
-    with open(args.cases, encoding="utf-8") as fh:
-        case_text = fh.read()
-    return case_text, json.loads(case_text)["cases"]
+    case_text = read_text(args.cases)
+    data = json.loads(case_text)
+    return case_text, data["cases"], data.get("dataset")
 
 
 def oracle_explain(args: argparse.Namespace) -> int:
@@ -328,9 +406,11 @@ def oracle_explain(args: argparse.Namespace) -> int:
     from verify.records.results import dumps
     from verify.views.explanation import explanation_junit, explanation_text
 
-    case_text, records = checked_cases(args, "oracle explain")
-    status = StatusLine.for_args(args)
-    got, _ = oracle.load_result_file(*other_results(args, case_text, status))
+    both_stdout(args, "oracle explain")
+    with junit_on_error(args, f"verify oracle explain {args.cases}", "explain"):
+        case_text, records, dataset = checked_cases(args, "oracle explain")
+        status = StatusLine.for_args(args)
+        got, _ = oracle.load_result_file(*other_results(args, case_text, status), dataset)
     grid = Grid(tuple(args.sweeps or DEFAULT_SWEEPS), tuple(args.thresholds or DEFAULT_THRESHOLDS),
                 tolerance=args.tolerance)  # fmt: skip
     status.show("verify oracle explain: running the exact models", now=True)
@@ -338,9 +418,11 @@ def oracle_explain(args: argparse.Namespace) -> int:
         result = explain(records, got, grid)
     finally:
         status.close()
+    report = sys.stderr if args.junit == STDIO else sys.stdout  # stdout holds one document
+    report.write(dumps(stamped(result.to_json(), dataset, report=True)) if args.json else explanation_text(result))
     if args.junit:
-        write_output(args.junit, explanation_junit(result, f"verify oracle explain {args.cases}"), "--junit")
-    sys.stdout.write(dumps(result.to_json()) if args.json else explanation_text(result))
+        write_output(args.junit, explanation_junit(result, f"verify oracle explain {args.cases}",
+                                                   junit_group(args.cases)), "--junit")  # fmt: skip
     return 0 if all(r.settings for r in result.rows) else 1
 
 
@@ -351,20 +433,24 @@ def oracle_table(args: argparse.Namespace) -> int:
     from verify.records.results import dumps, load_cases
     from verify.views.text import error_table_text
 
+    if sum(x == STDIO or x.partition("=")[2] == STDIO for x in [args.cases, *args.results]) > 1:
+        raise UsageError(f"{PROG} oracle table: only one of the files can be - (stdin)")
     load_cases(args.cases)
-    with open(args.cases, encoding="utf-8") as fh:
-        records = json.loads(fh.read())["cases"]
+    data = json.loads(read_text(args.cases))
+    records, dataset = data["cases"], data.get("dataset")
     expected = oracle.golden_results(records, law=law_choice(args, "oracle table"))
     rows = []
+    failed = False
     for spec in args.results:
         name, sep, path = spec.partition("=")
-        name, path = (name, path) if sep else (os.path.basename(spec), spec)
-        with open(path, encoding="utf-8") as fh:
-            got, skipped = oracle.load_result_file(fh.read(), path)
+        name, path = (name, path) if sep else (os.path.basename(spec) if spec != STDIO else "stdin", spec)
+        got, skipped = oracle.load_result_file(read_text(path), display_name(path), dataset)
         comparison = oracle.compare(records, expected, got, rtol=args.rtol, atol=Fraction(0), skipped=skipped)
+        failed = failed or not comparison.ok
         rows.append(table_row(name, args.law, comparison))
-    sys.stdout.write(dumps({"table": [r.to_json() for r in rows]}) if args.json else error_table_text(rows))
-    return 0
+    table = stamped({"table": [r.to_json() for r in rows]}, dataset, report=True)
+    sys.stdout.write(dumps(table) if args.json else error_table_text(rows))
+    return 1 if failed else 0
 
 
 def other_results(args: argparse.Namespace, case_text: str, status: StatusLine) -> tuple[str, str]:
@@ -378,11 +464,7 @@ def other_results(args: argparse.Namespace, case_text: str, status: StatusLine) 
             return oracle.run_implementation(args.impl, case_text, args.timeout), f"the output of {args.impl!r}"
         finally:
             status.close()
-    try:
-        with open(args.results, encoding="utf-8") as fh:
-            return fh.read(), args.results
-    except OSError as exc:
-        raise UsageError(f"{args.results}: cannot read ({exc.strerror})") from None
+    return read_text(args.results), display_name(args.results)
 
 
 #: this group's subcommands, in the order of ``verify --help`` (each N has ``N_options`` and ``cmd_N``)

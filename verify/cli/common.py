@@ -269,25 +269,40 @@ class OutputDir:
 
 
 class OutputFile:
-    """A file to write: not a folder, with one of ``suffixes`` (when given), in a folder
-    that exists or can be created (checked as :class:`OutputDir` does). Returns the text.
+    """A file to write: not a folder, with one of ``suffixes`` (when given), in a folder that exists
+    (no folder is created for a file) and can be written into; with ``stdout``, ``-`` means standard
+    output. Returns the text.
 
     >>> OutputFile((".png",))("map.svg")
     Traceback (most recent call last):
     argparse.ArgumentTypeError: must be a file name ending in .png, got 'map.svg'
+    >>> OutputFile()("/no/such/x.xml")
+    Traceback (most recent call last):
+    argparse.ArgumentTypeError: must be a file in a folder that exists, got '/no/such/x.xml' (no folder /no/such)
+    >>> OutputFile(stdout=True)("-")
+    '-'
     """
 
-    def __init__(self, suffixes: tuple[str, ...] = ()):
-        self.suffixes = suffixes
+    def __init__(self, suffixes: tuple[str, ...] = (), *, stdout: bool = False):
+        self.suffixes, self.stdout = suffixes, stdout
 
     def __call__(self, text: str) -> str:
         what = "a file that can be written"
+        if self.stdout and text == "-":
+            return text
         if self.suffixes and not text.lower().endswith(self.suffixes):
             endings = " or ".join(self.suffixes)
             raise argparse.ArgumentTypeError(f"must be a file name ending in {endings}, got {text!r}")
         if not text or text.endswith(("/", os.sep)) or os.path.isdir(text):
             raise argparse.ArgumentTypeError(f"must be {what}, got {text!r} (a folder)")
-        check_writable(os.path.dirname(os.path.abspath(text)), what, text)
+        folder = os.path.dirname(os.path.abspath(text))
+        if os.path.exists(folder) and not os.path.isdir(folder):
+            raise argparse.ArgumentTypeError(f"must be {what}, got {text!r} ({folder} is a file)")
+        if not os.path.isdir(folder):
+            raise argparse.ArgumentTypeError(
+                f"must be a file in a folder that exists, got {text!r} (no folder {os.path.dirname(text) or folder})"
+            )
+        check_writable(folder, what, text)
         return text
 
     def __repr__(self) -> str:
@@ -309,9 +324,13 @@ def writing(path: str, option: str) -> Iterator[None]:
 
 def write_output(path: str, text: str, option: str) -> None:
     """Write ``text`` whole to ``path`` (:func:`verify.records.files.write_atomic`), an OSError
-    reported in one line naming ``option``."""
-    from verify.records.files import write_atomic
+    reported in one line naming ``option``; ``-`` is standard output."""
+    from verify.records.files import STDIO, write_atomic
 
+    if path == STDIO:
+        sys.stdout.write(text)
+        sys.stdout.flush()
+        return
     with writing(path, option):
         write_atomic(path, text)
 
@@ -511,7 +530,7 @@ def one_line(exc: Any) -> str:
 
 # -- where work runs: local processes or a Dask cluster ---------------------------------------------
 
-CLUSTER_EXTRA = "install the cluster extra: pip install '.[cluster]'"
+CLUSTER_EXTRA = "pip install 'verify-impacts[cluster]' (in a clone of the repository: pip install '.[cluster]')"
 
 
 def cluster_options(p: argparse.ArgumentParser, workers_help: str = "processes (default: every core)") -> None:

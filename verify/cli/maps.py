@@ -28,6 +28,7 @@ from verify.cli.common import (
     task_runner,
     writing,
 )
+from verify.errors import require
 
 
 def batch_options(p: argparse.ArgumentParser, *, cases: int, what: str, batch: str) -> None:
@@ -126,6 +127,8 @@ def cmd_corner_claims(args: argparse.Namespace) -> int:
     from verify.records.results import dumps
     from verify.views.text import corner_claims_json, corner_claims_text
 
+    if args.figures:
+        require("matplotlib", "--figures")  # before the claims are computed
     options = {"command": "corner-claims", "cases": args.cases, "seed": args.seed}
     with task_runner(args, options) as runner:
         data = corner_findings(args.cases, seed=args.seed, runner=runner, progress=bar_wanted(args))
@@ -181,6 +184,8 @@ def cmd_cradle_map(args: argparse.Namespace) -> int:
     from verify.records.results import dumps
     from verify.views.text import cradle_map_text
 
+    if args.figure:
+        require("matplotlib", "--figure")  # before the map is computed
     interval = split_option(args.interval)
     if len(interval) != 2:
         raise UsageError(f"{PROG} cradle-map: --interval takes two numbers LO,HI, got {args.interval!r}")
@@ -256,6 +261,8 @@ def cmd_map(args: argparse.Namespace) -> int:
 
     if args.cell_cones and not args.cells:
         raise UsageError(f"{PROG} map: --cell-cones is for a map of cells: give --cells too")
+    if args.figure:
+        require("matplotlib", "--figure")  # before the map is computed
     watch, status = map_watch(args, "map:")
     try:
         m = case_map(args.case, args.case_id, _parameters(args), lines=args.lines, max_impulses=args.max_impulses,

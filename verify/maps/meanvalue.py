@@ -30,18 +30,14 @@ from contextlib import contextmanager
 from fractions import Fraction
 from typing import Any
 
-from verify.errors import InvalidInput
+from verify.errors import require
 
 #: bits of the balls
 PRECISION = 160
 
 
 def _flint() -> Any:
-    try:
-        import flint
-    except ImportError:  # pragma: no cover - the fast extra is installed wherever this runs in CI
-        raise InvalidInput("the certified cells of eps need python-flint: pip install 'verify[fast]'") from None
-    return flint
+    return require("flint", "the certified cells of eps")
 
 
 _ARB: list[Any] = []  # flint.arb, once found

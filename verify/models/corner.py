@@ -277,6 +277,9 @@ def corner_batch(slopes: list[Any], velocities: list[Any], cors: list[Any]) -> A
     >>> out.impact_sets(0), out.stop[0], out.fallback.tolist()
     ([(0, 1), (0,)], 'exit', [False, True])
     """
+    from verify.errors import require
+
+    require("numpy", "the float path")
     from verify.core.engines.floats import systems_batch
 
     systems = [corner_system(k, e[0], e[1]) for k, e in zip(slopes, cors)]

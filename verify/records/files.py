@@ -19,6 +19,7 @@ its own, and the file that was there before stays as it was.
 from __future__ import annotations
 
 import os
+import sys
 from collections.abc import Mapping
 from typing import Any
 
@@ -29,6 +30,49 @@ TMP_SUFFIX = ".tmp"
 
 Data = str | bytes
 FilePath = str | os.PathLike[str]
+
+#: the file name that means standard input (a case or result file) or standard output (``--out``, ``--junit``)
+STDIO = "-"
+_STDIN: list[tuple[Any, str]] = []  # (the stream, its text): standard input is read once
+
+
+def display_name(path: str) -> str:
+    """The name of ``path`` in messages: ``stdin`` for ``-``.
+
+    >>> display_name("-"), display_name("cases.json")
+    ('stdin', 'cases.json')
+    """
+    return "stdin" if path == STDIO else path
+
+
+def read_text(path: str, max_bytes: int | None = None) -> str:
+    """The UTF-8 text of the file ``path``, or of standard input for ``-`` (read once: a second call gives the
+    same text), at most ``max_bytes`` (default :data:`MAX_FILE_BYTES`); each way it can fail is one
+    :class:`~verify.errors.InvalidInput` line naming the file.
+
+    >>> read_text("no/such/file.json")
+    Traceback (most recent call last):
+    ...
+    verify.errors.InvalidInput: no/such/file.json: cannot read (No such file or directory)
+    """
+    limit = MAX_FILE_BYTES if max_bytes is None else max_bytes
+    try:
+        if path == STDIO:
+            if not _STDIN or _STDIN[0][0] is not sys.stdin:
+                _STDIN[:] = [(sys.stdin, sys.stdin.read(limit + 1))]
+            text = _STDIN[0][1]
+        else:
+            if os.path.getsize(path) > limit:
+                raise InvalidInput(f"{path}: larger than {limit} bytes")
+            with open(path, encoding="utf-8") as fh:
+                text = fh.read()
+    except OSError as exc:
+        raise InvalidInput(f"{display_name(path)}: cannot read ({exc.strerror or exc})") from None
+    except UnicodeDecodeError:
+        raise InvalidInput(f"{display_name(path)}: not UTF-8 text") from None
+    if len(text) > limit:
+        raise InvalidInput(f"{display_name(path)}: larger than {limit} bytes")
+    return text
 
 
 def write_atomic(path: FilePath, data: Data) -> None:

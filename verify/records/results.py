@@ -375,14 +375,22 @@ def bare_case(record: dict[str, Any]) -> Case:
 
 
 def load_cases(path: str, *, backend: Any = "exact", dps: int | None = None) -> list[Case]:
-    """Read a case file ``{"cases": [...]}``; every error names the file, case and field."""
-    from verify.records.files import load_json
+    """Read a case file ``{"cases": [...]}`` (``-``: standard input); every error names the file, case and
+    field."""
+    from verify.records.files import STDIO, display_name, load_json, read_text
     from verify.records.schema import validate
+    from verify.records.versions import check_versions
 
-    data = load_json(path, path=path, constants=True)  # a bare NaN: the schema names its field
+    name = display_name(path)
+    if path == STDIO:  # a bare NaN: the schema names its field
+        data = load_json(name, text=read_text(path), constants=True)
+    else:
+        data = load_json(name, path=path, constants=True)
+    path = name
     if not isinstance(data, dict) or not isinstance(data.get("cases"), list):
         raise InvalidInput(f'{path}: expected an object {{"cases": [...]}}')
     validate(data, "case", path)
+    check_versions(data, path)
     check_case_ids(data["cases"], path)
     return [case_from_record(c, f"{path}: cases[{i}]", backend=backend, dps=dps) for i, c in enumerate(data["cases"])]
 

@@ -58,9 +58,9 @@ def explanation_text(result: Any) -> str:
     return "\n".join(lines) + "\n"
 
 
-def explanation_junit(result: Any, suite: str) -> str:
-    """One test case per case (classname ``explain.explained`` or ``explain.unexplained``): a failure names the
-    nearest model and its distance."""
+def explanation_junit(result: Any, suite: str, group: str = "cases") -> str:
+    """One test case per case (classname ``explain.GROUP``, the case file's name): a failure names the nearest
+    model and its distance."""
     from verify.checks.grading import Grade
     from verify.views.junit import junit_xml
 
@@ -71,4 +71,4 @@ def explanation_junit(result: Any, suite: str) -> str:
         else:
             near = f"nearest {r.nearest} at {format_decimal(r.distance, 3)}" if r.distance is not None else ""
             grades.append(Grade(r.case_id, "unexplained", "; ".join(x for x in (r.note, near) if x)))
-    return junit_xml(grades, suite, {"explained": "passed", "unexplained": "failure"}, prefix="explain")
+    return junit_xml(grades, suite, {"explained": "passed", "unexplained": "failure"}, prefix="explain", group=group)

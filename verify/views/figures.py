@@ -14,7 +14,9 @@ METADATA = {"Software": None}
 
 
 def _pyplot() -> Any:
-    import matplotlib
+    from verify.errors import require
+
+    matplotlib = require("matplotlib", "a figure")
 
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
@@ -255,10 +257,9 @@ def corner_iterations_map(
     """Impulses until exit over (alpha, phi), for a symmetric and an asymmetric pair of CORs;
     runs proved never to exit are marked. The grid's slopes and directions are rationals
     (tan alpha and tan phi to 6 digits), so every run is exact and fast."""
+    plt = _pyplot()  # first: without matplotlib (and its numpy), a clear message
     import numpy as np
     from mpmath import mp
-
-    plt = _pyplot()
 
     def rational_tan(degrees: float) -> str:  # grid construction only; the runs are exact on these rationals
         return mp.nstr(mp.tan(mp.radians(degrees)), 6, min_fixed=-10, max_fixed=10)
@@ -322,9 +323,9 @@ def corner_multiple_impacts_map(
 ) -> Path:
     """How many multiple impacts, over (eps1, eps2), for alpha = pi/6 and phi = pi/12 (the paper's
     example): repeated multiple impacts need very different CORs (certified interval runs)."""
+    plt = _pyplot()
     import numpy as np
 
-    plt = _pyplot()
     cors = [f"{j}/{n}" for j in range(n + 1)]
     cases = [
         {

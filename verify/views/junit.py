@@ -1,8 +1,8 @@
 """The oracle's graded verdicts as JUnit XML, so that another project's CI shows each case as a test.
 
-One ``<testcase>`` per case of the case file (``classname`` is the grade's class, ``name`` the
-case id). How each class is reported is the user's choice (:func:`parse_report_as`, ``verify
-oracle check --junit-as``): as a ``<failure>`` with the class and what shows it, as
+One ``<testcase>`` per case of the case file (``classname`` names the case file, the same in every
+run; ``name`` is the case id; ``time`` its seconds). How each class is reported is the user's choice
+(:func:`parse_report_as`, ``verify oracle check --junit-as``): as a ``<failure>`` with the class and what shows it, as
 ``<skipped>``, or as passed (no child). By default (:func:`default_report`) the passing classes
 pass, ``skipped`` is skipped and every other class fails. Written with
 :mod:`xml.etree.ElementTree`, so every text is escaped.
@@ -91,12 +91,27 @@ def junit_counts(grades: Sequence[Any], report: Mapping[str, str] | None = None)
 
 
 def junit_xml(
-    grades: Sequence[Any], suite: str, report: Mapping[str, str] | None = None, prefix: str = "oracle"
+    grades: Sequence[Any],
+    suite: str,
+    report: Mapping[str, str] | None = None,
+    prefix: str = "oracle",
+    *,
+    group: str = "cases",
+    checks: Mapping[str, Sequence[str]] | None = None,
+    times: Mapping[str, float] | None = None,
+    total: float | None = None,
 ) -> str:
     """The JUnit XML text of the grades (one test suite named ``suite``), each class reported as
-    ``report`` says (class -> ``failure``, ``skipped`` or ``passed``; default :func:`default_report`)."""
+    ``report`` says (class -> ``failure``, ``skipped`` or ``passed``; default :func:`default_report`).
+
+    A test's ``classname`` is ``prefix.group`` (the case file's name: the same for a case in every run,
+    whatever its grade) and its ``name`` the case id. A failure's text is its class and what shows it,
+    then each line of ``checks[case_id]`` (every check the case failed, with both numbers). ``time``
+    attributes give each case's seconds (``times``; 0 when not measured) and the suite's (``total``, else
+    their sum): they are the only bytes that change between two runs."""
     kinds = {**default_report(), **(report or {})}
     counts = junit_counts(grades, report)
+    seconds = {g.case_id: (times or {}).get(g.case_id, 0.0) for g in grades}
     root = ET.Element(
         "testsuite",
         {
@@ -105,10 +120,13 @@ def junit_xml(
             "failures": str(counts["failures"]),
             "errors": "0",
             "skipped": str(counts["skipped"]),
+            "time": f"{sum(seconds.values()) if total is None else total:.3f}",
         },
     )
     for g in grades:
-        case = ET.SubElement(root, "testcase", {"classname": f"{prefix}.{g.cls}", "name": g.case_id})
+        case = ET.SubElement(
+            root, "testcase", {"classname": f"{prefix}.{group}", "name": g.case_id, "time": f"{seconds[g.case_id]:.3f}"}
+        )
         if kinds[g.cls] == "skipped":
             if g.cls == "skipped":
                 message = g.detail or "skipped by the implementation"
@@ -117,6 +135,47 @@ def junit_xml(
             ET.SubElement(case, "skipped", {"message": message})
         elif kinds[g.cls] == "failure":
             failure = ET.SubElement(case, "failure", {"message": g.cls, "type": g.cls})
-            failure.text = g.detail or g.cls
+            failure.text = "\n".join(_failure_lines(g, (checks or {}).get(g.case_id, ())))
+    ET.indent(root)
+    return '<?xml version="1.0" encoding="utf-8"?>\n' + ET.tostring(root, encoding="unicode") + "\n"
+
+
+def _failure_lines(g: Any, checks: Sequence[str]) -> list[str]:
+    """A failure's text: every check the case failed with both numbers, the velocity's first, and the class with
+    what shows it (on the line of the check it names).
+
+    >>> from verify.checks.grading import Grade
+    >>> _failure_lines(Grade("a", "wrong_stop", "expected 3, got 4"), ["iterations: expected 3, got 4"])
+    ['wrong_stop: iterations: expected 3, got 4']
+    >>> _failure_lines(Grade("a", "momentum_drift", "drift 0.1"), ["stop: x", "exit_velocity[0]: expected 1, got 2"])
+    ['exit_velocity[0]: expected 1, got 2', 'momentum_drift: drift 0.1', 'stop: x']
+    """
+    velocity = [c for c in checks if c.startswith("exit_velocity")]
+    lines = [*velocity, f"{g.cls}: {g.detail}" if g.detail else g.cls]
+    for line in (c for c in checks if not c.startswith("exit_velocity")):
+        if g.detail and line.partition(": ")[2] == g.detail:  # the check the class names: on the class's line
+            lines[len(velocity)] = f"{g.cls}: {line}"
+        else:
+            lines.append(line)
+    return lines
+
+
+def error_xml(suite: str, message: str, prefix: str = "oracle", group: str = "cases") -> str:
+    """A JUnit file for a run that could not grade (exit code 2): one test in error, saying what went wrong,
+    so that a CI dashboard shows the reason rather than the last run's results.
+
+    >>> print(error_xml("verify oracle check x.json", "x.json: cannot read (No such file or directory)"))
+    <?xml version="1.0" encoding="utf-8"?>
+    <testsuite name="verify oracle check x.json" tests="1" failures="0" errors="1" skipped="0" time="0.000">
+      <testcase classname="oracle.cases" name="verify" time="0.000">
+        <error message="x.json: cannot read (No such file or directory)" type="error" />
+      </testcase>
+    </testsuite>
+    <BLANKLINE>
+    """
+    root = ET.Element("testsuite", {"name": suite, "tests": "1", "failures": "0", "errors": "1", "skipped": "0",
+                                    "time": "0.000"})  # fmt: skip
+    case = ET.SubElement(root, "testcase", {"classname": f"{prefix}.{group}", "name": "verify", "time": "0.000"})
+    ET.SubElement(case, "error", {"message": message, "type": "error"})
     ET.indent(root)
     return '<?xml version="1.0" encoding="utf-8"?>\n' + ET.tostring(root, encoding="unicode") + "\n"

@@ -575,8 +575,10 @@ def write_reports(out: str | Path = "reports", *, profile: str = "ci", workers: 
     local processes (None: one per core): the property rows from the start (:meth:`Findings.start_verdicts`),
     while this process computes the pages before theirs (on one pool:
     :meth:`~verify.checks.tasks.TaskRunner.one_pool`)."""
+    from verify.errors import require
     from verify.records.files import write_all_atomic
 
+    require("matplotlib", "the reports' figures")  # before anything is computed or written
     out = Path(out)
     out.mkdir(parents=True, exist_ok=True)
     from verify.checks.tasks import TaskRunner

@@ -835,6 +835,7 @@ def oracle_text(comparison: Any, report: Any = None) -> str:
     """Every mismatch of ``verify oracle check``, then a summary table; the last lines count the cases as
     ``--junit`` reports them (``report``: its ``--junit-as``)."""
     from verify.views.junit import junit_counts
+    from verify.views.words import count
 
     lines = []
     for m in comparison.mismatches:
@@ -849,8 +850,8 @@ def oracle_text(comparison: Any, report: Any = None) -> str:
     if comparison.skipped:
         lines.append(f"  skipped by the implementation: {len(comparison.skipped)}")
     lines.append("")
-    for name, count in comparison.unchecked.items():
-        lines.append(f"not checked: {name} (left out of {count} results: velocity-only)")
+    for name, lacking in comparison.unchecked.items():
+        lines.append(f"not checked: {name} (left out of {count(lacking, 'result')}: velocity-only)")
     if comparison.unchecked:
         lines.append("")
     for cid, reason in comparison.skipped.items():
@@ -865,7 +866,7 @@ def oracle_text(comparison: Any, report: Any = None) -> str:
     if comparison.limited:
         agree += (f" as far as the exact runs went ({len(comparison.limited)} limited by the budget: --junit counts "
                   "them as failures unless --junit-as limited=passed)")  # fmt: skip
-    lines.append(f"OK: {agree}" if comparison.ok else f"{len(comparison.mismatches)} mismatches")
+    lines.append(f"OK: {agree}" if comparison.ok else count(len(comparison.mismatches), "mismatch"))
     return "\n".join(lines) + "\n"
 
 

@@ -38,10 +38,11 @@ from typing import Any
 from hypothesis import strategies as st
 
 from verify.core.backends import RationalBackend
-from verify.core.linalg import dot, ldl, matvec, solve_spd
+from verify.core.linalg import dot, matvec
 from verify.core.rule import RULES as CORE_RULES
 from verify.models.corner import corner_geometry
 from verify.models.cradle import cradle_geometry
+from verify.models.rates import fractions, metric_inverse_apply, velocity_with_rates
 from verify.records.results import case_record
 
 RULES = (*CORE_RULES[1:], CORE_RULES[0])  # the core's rules in the suite's order: the general rule last
@@ -64,11 +65,7 @@ class Drawn:
 
     def values(self, key: str) -> Any:
         """A field of the record as Fractions (every strategy draws rationals)."""
-        return _fractions(self.record[key])
-
-
-def _fractions(x: Any) -> Any:
-    return [_fractions(y) for y in x] if isinstance(x, (list, tuple)) else Fraction(x)
+        return fractions(self.record[key])
 
 
 @cache
@@ -133,19 +130,6 @@ def _times_transpose(L: list[list[Fraction]]) -> list[list[Fraction]]:
     return [[Fraction(sum(M[i][k] * M[j][k] for k in range(n)), D * D) for j in range(n)] for i in range(n)]
 
 
-_FACTORS: dict[str, Any] = {}
-
-
-def _metric_inverse_apply(g: list[list[Fraction]], a: list[Any]) -> tuple:
-    """``g^-1 a`` in the rationals of :data:`_F` (``a`` Fractions or those); the factorisation of the last g is
-    kept (a draw asks it several times)."""
-    key = repr(g)
-    if key not in _FACTORS:
-        _FACTORS.clear()
-        _FACTORS[key] = ldl(_F, [_F.convert_all(row) for row in g])
-    return solve_spd(_F, _FACTORS[key], [x if type(x) is not Fraction else _F.convert(x) for x in a])
-
-
 @st.composite
 def independent_normals(draw: Any, g: list[list[Fraction]], r: int, orthogonal: bool) -> list[list[Fraction]]:
     """r independent covectors in R^n (r <= n); Phi-orthogonal ones if ``orthogonal``."""
@@ -170,7 +154,7 @@ def independent_normals(draw: Any, g: list[list[Fraction]], r: int, orthogonal: 
                 u_k = U[k]
                 c = dot(_F, done[i], u_k) / dot(_F, done[k], u_k)
                 done[i] = [x - c * y for x, y in zip(done[i], done[k])]
-            U.append(_metric_inverse_apply(g, done[i]))
+            U.append(metric_inverse_apply(g, done[i]))
         rows = [[_F.to_number(x) for x in row] for row in done]
     return rows
 
@@ -201,25 +185,6 @@ def incoming_velocities(
     chosen = [j for j in range(r) if roles[j] != "free"]
     targets = {j: -draw(positive_rationals(3, 3)) if roles[j] == "hit" else Fraction(0) for j in chosen}
     return velocity_with_rates((g, normals, time_terms), w, targets)
-
-
-def velocity_with_rates(system: tuple, w: list[Fraction], targets: dict[int, Fraction]) -> list[Fraction]:
-    """``v = w + sum_k c_k g^-1 a_k`` whose rates ``p(F_j)`` equal ``targets[j]`` exactly.
-
-    ``system`` is ``(g, normals, time_terms)``; the other rates are whatever follows.
-
-    >>> velocity_with_rates(([[1, 0], [0, 1]], [[1, 1]], [0]), [0, 0], {0: -2})
-    [Fraction(-1, 1), Fraction(-1, 1)]
-    """
-    g, normals, time_terms = (_fractions(x) for x in system)  # never ints: int / int is a float
-    chosen = sorted(targets)
-    U = [_metric_inverse_apply(g, normals[k]) for k in chosen]
-    a = {j: _F.convert_all(normals[j]) for j in chosen}
-    w = _F.convert_all(_fractions(list(w)))
-    rates = [_F.convert(time_terms[j]) + dot(_F, a[j], w) for j in chosen]
-    G = [[dot(_F, a[j], u) for u in U] for j in chosen]
-    c = solve_spd(_F, ldl(_F, G), [_F.convert(Fraction(targets[j])) - b for j, b in zip(chosen, rates)])
-    return [_F.to_number(x + dot(_F, c, [u[i] for u in U])) for i, x in enumerate(w)]
 
 
 @st.composite

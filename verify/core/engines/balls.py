@@ -72,6 +72,8 @@ from dataclasses import dataclass
 from fractions import Fraction
 from typing import Any
 
+import mpmath
+
 from verify.core.backends import Backend, IntervalBackend
 from verify.core.engines.policy import Limits, Run
 from verify.core.format import format_decimal
@@ -86,6 +88,9 @@ except ImportError:  # pragma: no cover - exercised where gmpy2 is absent
 
 #: an exact rational: gmpy2's mpq, or a Fraction without gmpy2 (the same operations)
 Rational = Any
+#: binary64 estimates of eigenvalues (53 bits), in an mpmath context of its own: the same on every install
+_ESTIMATE = mpmath.MPContext()
+_ESTIMATE.prec = 53
 
 #: decimal digits of the fixed-point midpoint (and of the multiple-impulse arithmetic) beyond the backend's
 GUARD_DIGITS = 10
@@ -401,19 +406,16 @@ def lipschitz_bound(wide: Wide, jac: Sequence[Sequence[Any]]) -> Rational:
     interval matrix ``jac``: ``sqrt(s)`` with ``s G^-1 - M^T G^-1 M`` certified positive definite,
     s a little above the largest generalised eigenvalue found in floats; else the square root of
     the trace of ``G M^T G^-1 M`` (the Frobenius norm of ``L^-1 M L`` for G = L L^T)."""
-    import numpy as np
-
     W, Gi, G = wide.backend, wide.inverse, wide.gram
     r = len(jac)
     MtGi = [[sum((jac[l][i] * Gi[l][k] for l in range(r)), W.zero) for k in range(r)] for i in range(r)]
     Q = [[sum((MtGi[i][l] * jac[l][k] for l in range(r)), W.zero) for k in range(r)] for i in range(r)]
     fallback = _abs_upper(sum((G[i][l] * Q[l][i] for i in range(r) for l in range(r)), W.zero))
-    try:
-        with np.errstate(all="ignore"):
-            Gf = np.array([[float(_mid(x)) for x in row] for row in G])
-            Qf = np.array([[float(_mid(x)) for x in row] for row in Q])
-            top = float(np.max(np.abs(np.linalg.eigvals(Gf @ Qf))))
-    except (OverflowError, np.linalg.LinAlgError):
+    try:  # the estimate in binary64 of mpmath (its own context): the same bits on every install
+        Gf = _ESTIMATE.matrix([[float(_mid(x)) for x in row] for row in G])
+        Qf = _ESTIMATE.matrix([[float(_mid(x)) for x in row] for row in Q])
+        top = float(max(abs(e) for e in _ESTIMATE.eig(Gf * Qf, left=False, right=False)))
+    except (ArithmeticError, ValueError, RuntimeError):  # no convergence: the certified fallback
         top = math.nan
     if not math.isfinite(top):
         return _sqrt_upper(fallback)
