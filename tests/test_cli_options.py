@@ -338,7 +338,7 @@ def test_status_line_counts_impulses(tmp_path, monkeypatch):
     clock = iter(range(0, 10**6))  # each reading of the clock one second later: every update is shown
     monkeypatch.setattr("time.monotonic", lambda: float(next(clock)))
     assert main(["solve", case_file(tmp_path, SMALL), "--max-iterations", "2"]) == 0
-    assert "case 1/1 small: 1 impulses" in terminal.getvalue()
+    assert "case 1/1 small: 1 impulse" in terminal.getvalue()
     assert "case 1/1 small: 2 impulses" in terminal.getvalue()
 
 

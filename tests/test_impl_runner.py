@@ -288,7 +288,7 @@ def test_split_command_splits_like_a_shell_without_expanding() -> None:
 @pytest.mark.parametrize("sig", [signal.SIGTERM, signal.SIGHUP])
 def test_sigterm_and_sighup_stop_oracle_check_and_every_process_of_impl(tmp_path: Path, sig: signal.Signals) -> None:
     """What CI cancellation and ``timeout`` send: verify ends as for Ctrl-C (one line, 128 + the signal's
-    number), and neither the command nor what it started is left running; no output file is written."""
+    number), and neither the command nor what it started is left running; the JUnit file says so."""
     pidfile = tmp_path / "pids"
     impl = shlex.join(["sh", "-c", f'sleep 100 & echo $$ $! > "{pidfile}"; sleep 100'])
     cases = Path(__file__).resolve().parents[1] / "golden" / "cases.json"
@@ -311,4 +311,30 @@ def test_sigterm_and_sighup_stop_oracle_check_and_every_process_of_impl(tmp_path
     assert proc.returncode == 128 + sig, err
     assert err == f"verify: terminated ({sig.name})\n" and out == ""
     assert wait_gone(pids)
-    assert sorted(p.name for p in tmp_path.iterdir()) == ["pids"]
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["j.xml", "pids"]  # no temporary file left
+    assert f'message="terminated ({sig.name})"' in (tmp_path / "j.xml").read_text()
+
+
+def test_sigterm_stops_a_pool_run_without_a_traceback_or_a_worker_left(tmp_path: Path) -> None:
+    """The pool's processes inherit verify's handler; SIGTERM (sent to verify alone, as CI does) ends them too."""
+    argv = [PY, "-m", "verify", "sweep", "--cases", "400000", "--workers", "2"]
+    proc = subprocess.Popen(
+        argv, cwd=tmp_path, stdout=subprocess.DEVNULL, stderr=subprocess.PIPE, text=True,
+        preexec_fn=lambda: signal.signal(signal.SIGTERM, signal.SIG_DFL),  # noqa: PLW1509 (as from a terminal)
+    )  # fmt: skip
+    try:
+        until, workers = time.monotonic() + 60, []
+        while len(workers) < 2 and time.monotonic() < until:
+            time.sleep(0.1)
+            children = Path(f"/proc/{proc.pid}/task/{proc.pid}/children")
+            workers = [int(p) for p in children.read_text().split()] if children.exists() else []
+        time.sleep(1)
+        proc.send_signal(signal.SIGTERM)
+        _, err = proc.communicate(timeout=60)
+    finally:
+        if proc.poll() is None:
+            proc.kill()
+            proc.communicate()
+    assert len(workers) >= 2
+    assert proc.returncode == 143 and err.endswith("verify: terminated (SIGTERM)\n") and "Traceback" not in err, err
+    assert wait_gone(workers, within=10)

@@ -45,7 +45,7 @@ def verify(*argv: str, cwd: Path) -> subprocess.CompletedProcess[str]:
 
 def test_a_module_made_absent_cannot_be_imported(tmp_path: Path) -> None:
     done = verify("cradle-map", "--figure", str(tmp_path / "x.png"), cwd=tmp_path)
-    assert done.returncode == 2 and "pip install 'verify-impacts[figures]'" in done.stderr, done.stderr
+    assert done.returncode == 2 and "pip install '.[figures]' in a clone" in done.stderr, done.stderr
     assert "Traceback" not in done.stderr and not (tmp_path / "x.png").exists()
 
 

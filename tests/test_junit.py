@@ -103,7 +103,8 @@ def test_a_bad_junit_as_is_refused_in_one_line(tmp_path: Path, value: str, messa
     assert done.returncode == 2 and done.stdout == ""
     (line,) = done.stderr.splitlines()
     assert line.startswith(f"verify: error: verify oracle check: {message}")
-    assert not junit.exists()
+    suite = ET.parse(junit).getroot()  # the JUnit file says what went wrong (a CI dashboard shows it)
+    assert suite.get("errors") == "1" and suite[0][0].get("message", "").startswith(f"verify oracle check: {message}")
 
 
 def test_junit_as_without_junit_is_refused(tmp_path: Path) -> None:
@@ -178,3 +179,26 @@ def test_dash_reads_stdin_and_writes_stdout(tmp_path: Path) -> None:
     assert suite.get("tests") == "3" and {c.get("classname") for c in suite} == {"oracle.stdin"}
     done = run_check(str(cases), str(results), "--junit", "-", "--json")
     assert done.returncode == 2 and "both write to stdout" in done.stderr and done.stdout == ""
+
+
+def test_options_refused_while_read_also_replace_a_stale_junit_file(tmp_path: Path) -> None:
+    cases, results = graded_files(tmp_path)
+    junit = tmp_path / "j.xml"
+    junit.write_text("<testsuite name='stale' />")
+    done = run_check(str(cases), str(results), "--junit", str(junit), "--rtol", "abc")
+    assert done.returncode == 2 and "--rtol" in done.stderr
+    suite = ET.parse(junit).getroot()
+    assert suite.get("errors") == "1" and "--rtol" in suite[0][0].get("message", "")
+
+
+def test_results_of_no_case_fail_a_test_of_their_own(tmp_path: Path) -> None:
+    """A result for an id the case file does not have is a mismatch (exit code 1): the JUnit file is not green."""
+    cases, _ = graded_files(tmp_path)
+    exact = oracle.golden_results(json.loads(cases.read_text())["cases"])
+    results = tmp_path / "extra.json"
+    results.write_text(json.dumps({"results": [*exact, dict(exact[0], id="nosuch")]}), encoding="utf-8")
+    junit = tmp_path / "j.xml"
+    done = run_check(str(cases), str(results), "--junit", str(junit))
+    assert done.returncode == 1 and "1 failed, 0 skipped of 4" in done.stdout, done.stdout
+    counts, tests = reported(junit)
+    assert counts["failures"] == 1 and tests["the result file"] == ("result_file", ["failure"])

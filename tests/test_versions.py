@@ -7,6 +7,7 @@ from __future__ import annotations
 import importlib.metadata
 import json
 import re
+import shutil
 import subprocess
 import sys
 import tarfile
@@ -53,6 +54,7 @@ def test_every_document_the_oracle_writes_carries_its_versions(tmp_path: Path) -
     ("edit", "message"),
     [
         ({"schema_version": SCHEMA_VERSION + 1}, f"schema_version {SCHEMA_VERSION + 1} is newer than this verify"),
+        ({"schema_version": SCHEMA_VERSION + 1, "provenance": "x"}, "is newer than this verify"),  # not "unknown field"
         ({"schema_version": "2"}, "schema_version"),
         ({"dataset": "golden-1"}, "made for dataset golden-1, but the case file is " + GOLDEN_DATASET),
     ],
@@ -72,8 +74,14 @@ def test_versions_are_checked_when_read(tmp_path: Path, edit: dict, message: str
 
 @pytest.mark.slow(seconds=5)
 def test_the_sdist_carries_the_package_its_license_and_no_tests(tmp_path: Path) -> None:
+    """Built from a copy of the tree (the build's own files stay out of the repository)."""
+    tree = tmp_path / "tree"
+    skip = shutil.ignore_patterns(
+        ".git", ".ci-venv", ".venv", "*.egg-info", "__pycache__", "build", "reports", ".*_cache"
+    )
+    shutil.copytree(ROOT, tree, ignore=skip)
     code = f"from setuptools import build_meta; print(build_meta.build_sdist({str(tmp_path)!r}))"
-    done = subprocess.run([sys.executable, "-c", code], cwd=ROOT, capture_output=True, text=True, check=False)
+    done = subprocess.run([sys.executable, "-c", code], cwd=tree, capture_output=True, text=True, check=False)
     assert done.returncode == 0, done.stderr[-2000:]
     name = done.stdout.strip().splitlines()[-1]
     with tarfile.open(tmp_path / name) as sdist:

@@ -56,8 +56,8 @@ def require(module: str, purpose: str, extra: str | None = None) -> Any:
     except ImportError:
         extra = extra or EXTRAS[module]
         raise MissingExtra(
-            f"{purpose}: {module} is not installed: pip install 'verify-impacts[{extra}]'"
-            f" (in a clone of the repository: pip install '.[{extra}]')"
+            f"{purpose}: {module} is not installed: pip install '.[{extra}]' in a clone of the repository "
+            f"(pip install 'verify-impacts[{extra}]' from a package index)"
         ) from None
 
 

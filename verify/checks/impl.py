@@ -103,10 +103,20 @@ def split_command(command: str) -> list[str]:
     return argv
 
 
+#: the process groups of the commands running now (each ended by :func:`_end_group`)
+RUNNING: set[int] = set()
+
+
+def kill_running() -> None:
+    """SIGKILL to every command still running and what it started (the last resort of a stopped verify)."""
+    for pgid in list(RUNNING):
+        _signal_group(pgid, signal.SIGKILL)
+
+
 def _start(argv: list[str]) -> subprocess.Popen[bytes]:
     """The started process (in a new session, so that its whole group can be ended)."""
     try:
-        return subprocess.Popen(
+        proc = subprocess.Popen(
             argv,
             stdin=subprocess.PIPE,
             stdout=subprocess.PIPE,
@@ -116,6 +126,8 @@ def _start(argv: list[str]) -> subprocess.Popen[bytes]:
         )
     except OSError as exc:
         raise InvalidInput(start_error_message(argv[0], exc)) from None
+    RUNNING.add(proc.pid)
+    return proc
 
 
 def start_error_message(program: str, exc: OSError) -> str:
@@ -269,6 +281,7 @@ def _end_group(proc: subprocess.Popen[bytes]) -> None:
         while not _has_exited(proc) and time.monotonic() < until:
             time.sleep(0.01)
     _signal_group(proc.pid, signal.SIGKILL)  # also the processes it left behind
+    RUNNING.discard(proc.pid)
     for pipe in (proc.stdin, proc.stdout, proc.stderr):
         if pipe is not None:
             pipe.close()

@@ -30,6 +30,7 @@ from fractions import Fraction
 from typing import Any
 
 from verify.checks.grading import DEFAULT_FLOOR, DEFAULT_RTOL, PASSING, Tolerance, impact_sets_of
+from verify.core.format import counted
 from verify.core.sequential import Law, Sequential, law_for_case
 from verify.errors import InvalidInput
 from verify.models.corner import corner_geometry
@@ -614,8 +615,8 @@ def _budget_mismatch(cid: str, exact: dict, mine: dict) -> list[Mismatch]:
             Mismatch(
                 cid,
                 "stop",
-                f"expected more than {n} impulses (the exact run was still impacting when it reached "
-                f"the budget), got {mine['stop']} after {mine['iterations']} impulses",
+                f"expected more than {counted(n, 'impulse')} (the exact run was still impacting when it reached "
+                f"the budget), got {mine['stop']} after {counted(mine['iterations'], 'impulse')}",
             )
         )
     return found + _prefix_mismatch(cid, exact["impact_sets"], impact_sets_of(mine) or [])
@@ -630,9 +631,9 @@ def _stop_text(mine: dict, unit: str = "impulses") -> str:
 def _no_exit_text(exact: dict) -> str:
     """Why a velocity given as an exit velocity is wrong where the exact run does not exit."""
     if exact["stop"] == "non_terminating":
-        what = f"non_terminating (proved, after {exact['iterations']} impulses, never to exit)"
+        what = f"non_terminating (proved, after {counted(exact['iterations'], 'impulse')}, never to exit)"
     else:
-        what = f"{exact['stop']} (the exact run had not exited after {exact['iterations']} impulses)"
+        what = f"{exact['stop']} (the exact run had not exited after {counted(exact['iterations'], 'impulse')})"
     return f"expected {what}"
 
 
@@ -744,8 +745,9 @@ def load_result_file(text: str, source: str, dataset: str | None = None) -> tupl
 
     data = load_json(source, text=text, constants=True)
     _constants_as_text(data)
+    named = check_versions(data, source)  # first: a newer file's new fields are not what is wrong with it
     validate(data, "result", source)
-    check_same_dataset(dataset, check_versions(data, source), source)
+    check_same_dataset(dataset, named, source)
     return data["results"], {s["id"]: s["reason"] for s in data.get("skipped", [])}
 
 

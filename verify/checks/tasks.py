@@ -64,6 +64,8 @@ class TaskFailure:
     id: str
     label: str
     error: str
+    #: whether the error is a bug (not bad input, nor a sign undecided at the precision asked)
+    internal: bool = False
 
 
 class TasksFailed(RuntimeError):
@@ -80,6 +82,13 @@ class TaskRun:
 
     results: list[Any]
     failures: list[TaskFailure] = field(default_factory=list)
+
+
+def _internal(exc: BaseException) -> bool:
+    """Whether a task's error is a bug in verify (anything but bad input or an undecided sign)."""
+    from verify.errors import InvalidInput, Undecided
+
+    return not isinstance(exc, (InvalidInput, Undecided))
 
 
 def _describe(exc: BaseException) -> str:
@@ -146,6 +155,7 @@ def _run_in_pool(
     failures: dict[str, TaskFailure],
 ) -> None:
     attempts = dict.fromkeys((t.id for t in todo), 0)
+    interrupted = False
     suspects: list[Task] = []  # held by a local pool when one of its processes died: which one killed it is unknown
     pool = executor or ProcessPoolExecutor(max_workers=workers)
 
@@ -173,7 +183,7 @@ def _run_in_pool(
                     broken = True
                 except Exception as exc:  # the task raised, or its Dask worker died (KilledWorker)
                     if attempts[task.id] >= ATTEMPTS:
-                        failures[task.id] = TaskFailure(task.id, task.label, _describe(exc))
+                        failures[task.id] = TaskFailure(task.id, task.label, _describe(exc), _internal(exc))
                     else:
                         retry.append(task)
                 else:
@@ -188,18 +198,23 @@ def _run_in_pool(
     except KeyboardInterrupt:  # Ctrl-C, SIGTERM or SIGHUP: the pool's processes stop now, not after their tasks
         if executor is None:
             stop_processes(pool)
+        interrupted = True
         raise
     finally:
-        if executor is None:
-            pool.shutdown(cancel_futures=True)
+        if executor is None:  # an interrupted run does not wait (the interrupt may have left a future's lock held)
+            pool.shutdown(wait=not interrupted, cancel_futures=True)
     for task in suspects:  # each alone in a process of its own, up to ATTEMPTS times
         _attempts(task, _alone, succeeded, failures)
 
 
 def stop_processes(pool: Executor) -> None:
-    """Terminate the processes of a local ``pool`` (which a SIGTERM sent to this process alone does not reach);
-    its shutdown then cancels what they held."""
-    for process in list((getattr(pool, "_processes", None) or {}).values()):
+    """Terminate the processes of a local ``pool`` (which a SIGTERM sent to this process alone does not reach), and
+    any other process of this one's that multiprocessing started (one forked while the interrupt came); the pool's
+    shutdown then cancels what they held."""
+    import multiprocessing
+
+    pooled = list((getattr(pool, "_processes", None) or {}).values())
+    for process in [*pooled, *multiprocessing.active_children()]:
         with contextlib.suppress(OSError, ValueError, AttributeError):
             process.terminate()
 
@@ -222,7 +237,7 @@ def _attempts(
             result = call(task)
         except Exception as exc:
             if attempt + 1 == ATTEMPTS:
-                failures[task.id] = TaskFailure(task.id, task.label, _describe(exc))
+                failures[task.id] = TaskFailure(task.id, task.label, _describe(exc), _internal(exc))
             continue
         succeeded(task, result)
         return
@@ -318,16 +333,18 @@ class TaskRunner:
             yield self
             return
         self._pool = ProcessPoolExecutor(max_workers=self.workers)
+        interrupted = False
         try:
             list(self._pool.map(abs, range(self.workers)))  # the processes start now
             yield self
         except KeyboardInterrupt:  # Ctrl-C, SIGTERM or SIGHUP: the processes stop now, not after their tasks
             if self._pool is not None:
                 stop_processes(self._pool)
+            interrupted = True
             raise
         finally:
             pool, self._pool = self._pool, None
-            pool.shutdown(cancel_futures=True)
+            pool.shutdown(wait=not interrupted, cancel_futures=True)
 
     def map(
         self,

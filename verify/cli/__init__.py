@@ -71,6 +71,7 @@ def main(argv: Sequence[str] | None = None) -> int:
     limit = sys.get_int_max_str_digits()
     sys.set_int_max_str_digits(0)  # exact outputs are printed whole, however many digits they have
     debug = os.environ.get(DEBUG_VARIABLE, "") not in ("", "0")
+    args = None
     try:
         args = parser.parse_args(argv)
         debug = debug or args.debug
@@ -81,11 +82,13 @@ def main(argv: Sequence[str] | None = None) -> int:
             return int(args.func(args))  # every numeric and output-path option was checked by its type
     except (UsageError, InvalidInput, Undecided) as exc:
         print(f"{PROG}: error: {one_line(exc)}", file=sys.stderr)
+        if args is None:  # refused while the options were read: a --junit file says so
+            checks.junit_after_usage_error(list(sys.argv[1:] if argv is None else argv), one_line(exc))
         return 2
     except TasksFailed as exc:  # the other tasks finished (and are in the checkpoint, if any)
         for f in exc.failures:
             print(f"{PROG}: error: {f.label} failed twice: {f.error}", file=sys.stderr)
-        return 2
+        return INTERNAL_ERROR if any(f.internal for f in exc.failures) else 2
     except Terminated as stop:  # SIGTERM or SIGHUP: cleaned up as for Ctrl-C
         print(f"{PROG}: terminated ({stop.name})", file=sys.stderr)
         return stop.exit_code
@@ -97,9 +100,9 @@ def main(argv: Sequence[str] | None = None) -> int:
     except Exception as exc:  # a bug in verify: one line and its own exit code (the traceback when asked for)
         if debug:
             traceback.print_exc()
-        print(f"{PROG}: internal error ({type(exc).__name__}: {one_line(exc)}): a bug in verify, please report it"
-              f"{'' if debug else f'; --debug (or {DEBUG_VARIABLE}=1) shows the traceback'}",
-              file=sys.stderr)  # fmt: skip
+        hint = "" if debug else f"; verify --debug COMMAND ... (or {DEBUG_VARIABLE}=1) shows the traceback"
+        what = f"{type(exc).__name__}: {one_line(exc)}"
+        print(f"{PROG}: internal error ({what}): a bug in verify, please report it{hint}", file=sys.stderr)
         return INTERNAL_ERROR
     finally:
         sys.set_int_max_str_digits(limit)

@@ -37,10 +37,10 @@ from verify.cli.common import (
     write_output,
     writing,
 )
+from verify.core.format import plural
 from verify.errors import InvalidInput, Undecided
 from verify.records.files import STDIO, display_name, read_text
 from verify.records.versions import stamped
-from verify.views.words import plural
 
 
 class JunitAs:
@@ -169,7 +169,8 @@ def oracle_options(p: argparse.ArgumentParser) -> None:
 
 def cmd_properties(args: argparse.Namespace) -> int:
     """``verify properties``: every row's verdict (or the list of properties); exit code 1 if one is refuted,
-    2 if a row could not be run (its task failed twice: the others are still run, checkpointed and shown)."""
+    2 (3 for a bug in verify) if a row could not be run (its task failed twice: the others are still run,
+    checkpointed and shown)."""
     import time
 
     from verify.checks.properties.verdicts import checkpoint_options, report, rows, run_verdicts
@@ -207,8 +208,8 @@ def cmd_properties(args: argparse.Namespace) -> int:
     if args.counterexamples:
         write_counterexamples(args.counterexamples, found)
     sys.stdout.write(dumps(report(args.profile, found)) if args.json else properties_text(args.profile, found))
-    if run.failures:
-        return 2
+    if run.failures:  # 3 when a row failed with a bug in verify, 2 with bad input
+        return 3 if any(f.internal for f in run.failures) else 2
     return 1 if any(v.verdict == "refuted" for v in found) else 0
 
 
@@ -371,16 +372,49 @@ def both_stdout(args: argparse.Namespace, command_name: str) -> None:
 
 @contextlib.contextmanager
 def junit_on_error(args: argparse.Namespace, suite: str, prefix: str = "oracle") -> Iterator[None]:
-    """With ``--junit``, a run that ends on bad input (exit code 2) writes a JUnit file saying what went wrong
-    (:func:`verify.views.junit.error_xml`) in place of the last run's."""
+    """With ``--junit``, a run that ends without grades (bad input, an internal error, Ctrl-C, SIGTERM) writes a
+    JUnit file saying what went wrong (:func:`verify.views.junit.error_xml`) in place of the last run's."""
     try:
         yield
-    except (UsageError, InvalidInput, Undecided) as exc:
+    except BaseException as exc:
         if args.junit:
-            from verify.views.junit import error_xml
-
-            write_output(args.junit, error_xml(suite, one_line(exc), prefix, junit_group(args.cases)), "--junit")
+            _write_error_junit(args.junit, suite, _why(exc), prefix, junit_group(args.cases))
         raise
+
+
+def _why(exc: BaseException) -> str:
+    """What ended a run, in one line."""
+    from verify.cli.signals import Terminated
+
+    if isinstance(exc, (UsageError, InvalidInput, Undecided)):
+        return one_line(exc)
+    if isinstance(exc, Terminated):
+        return f"terminated ({exc.name})"
+    if isinstance(exc, KeyboardInterrupt):
+        return "interrupted"
+    return f"internal error ({type(exc).__name__}: {one_line(exc)})"
+
+
+def _write_error_junit(path: str, suite: str, message: str, prefix: str, group: str) -> None:
+    """Write the JUnit file of a run that could not grade; a failure to write it leaves the first error to tell."""
+    from verify.views.junit import error_xml
+
+    with contextlib.suppress(Exception):
+        write_output(path, error_xml(suite, message, prefix, group), "--junit")
+
+
+def junit_after_usage_error(argv: list[str], message: str) -> None:
+    """``verify oracle check|explain ... --junit FILE`` refused while its options were read (exit code 2): the
+    JUnit file says so, in place of the last run's (FILE is written only where it could be)."""
+    if len(argv) < 3 or argv[0] != "oracle" or argv[1] not in ("check", "explain"):
+        return
+    path = next((argv[i + 1] for i, a in enumerate(argv[:-1]) if a == "--junit"), None)
+    path = next((a.split("=", 1)[1] for a in argv if a.startswith("--junit=")), path)
+    if not path or path == STDIO or os.path.isdir(path) or not os.path.isdir(os.path.dirname(os.path.abspath(path))):
+        return
+    cases = argv[2] if not argv[2].startswith("-") else "cases"
+    prefix = "oracle" if argv[1] == "check" else "explain"
+    _write_error_junit(path, f"verify oracle {argv[1]} {cases}", message, prefix, junit_group(cases))
 
 
 def checked_cases(args: argparse.Namespace, command_name: str) -> tuple[str, list[dict], str | None]:

@@ -17,6 +17,7 @@ from collections.abc import Callable, Iterator
 from fractions import Fraction
 from typing import Any
 
+from verify.core.format import counted
 from verify.errors import VerifyError
 
 PROG = "verify"
@@ -421,7 +422,7 @@ def case_progress(status: StatusLine, label: str) -> Any:
 
     start = time.monotonic()
     status.show(f"{label}: starting", now=True)
-    return lambda count: status.show(f"{label}: {count} impulses, {time.monotonic() - start:.0f} s")
+    return lambda count: status.show(f"{label}: {counted(count, 'impulse')}, {time.monotonic() - start:.0f} s")
 
 
 # -- the parsers of the subcommands, and the options several of them share -----------------------
@@ -530,7 +531,9 @@ def one_line(exc: Any) -> str:
 
 # -- where work runs: local processes or a Dask cluster ---------------------------------------------
 
-CLUSTER_EXTRA = "pip install 'verify-impacts[cluster]' (in a clone of the repository: pip install '.[cluster]')"
+CLUSTER_EXTRA = (
+    "pip install '.[cluster]' in a clone of the repository (pip install 'verify-impacts[cluster]' from a package index)"
+)
 
 
 def cluster_options(p: argparse.ArgumentParser, workers_help: str = "processes (default: every core)") -> None:

@@ -12,12 +12,16 @@ ignored.
 from __future__ import annotations
 
 import contextlib
+import os
 import signal
 import threading
 from collections.abc import Iterator
 
 #: the signals that stop a command as Ctrl-C does
 STOPPING = (signal.SIGTERM, signal.SIGHUP)
+#: seconds the clean-up may take after the signal; then every process started is killed and verify exits (an
+#: exception raised by a signal handler can land inside a lock's acquisition and leave a wait that never ends)
+GRACE = 10.0
 
 
 class Terminated(KeyboardInterrupt):
@@ -38,29 +42,53 @@ class Terminated(KeyboardInterrupt):
         return signal.Signals(self.signum).name
 
 
+def _hard_exit(stop: Terminated) -> None:
+    """The clean-up did not end within :data:`GRACE` seconds: kill what was started, and exit now."""
+    import multiprocessing
+    import sys
+
+    from verify.checks.impl import kill_running
+
+    kill_running()
+    for child in multiprocessing.active_children():
+        with contextlib.suppress(OSError, ValueError, AttributeError):
+            child.kill()
+    with contextlib.suppress(OSError, ValueError):
+        sys.stderr.write(f"verify: terminated ({stop.name})\n")
+        sys.stderr.flush()
+    os._exit(stop.exit_code)
+
+
 @contextlib.contextmanager
 def stop_on_signals() -> Iterator[None]:
     """Within the block, SIGTERM and SIGHUP raise :class:`Terminated` (once: a second signal while the
     first one's clean-up runs is ignored). Outside the main thread, nothing changes.
 
-    >>> import os
-    >>> try:
-    ...     with stop_on_signals():
-    ...         os.kill(os.getpid(), signal.SIGTERM)
-    ... except Terminated as stop:
-    ...     print(stop.name, stop.exit_code)
-    SIGTERM 143
+    >>> stop = Terminated(signal.SIGHUP)
+    >>> isinstance(stop, KeyboardInterrupt), stop.name, stop.exit_code
+    (True, 'SIGHUP', 129)
+
+    (``tests/test_impl_runner.py`` sends each signal to a ``verify`` process.)
     """
     if threading.current_thread() is not threading.main_thread():
         yield
         return
     previous = {s: signal.getsignal(s) for s in STOPPING}
     ours = [s for s, handler in previous.items() if handler is signal.SIG_DFL]  # an ignored one stays ignored
+    owner = os.getpid()
 
     def stop(signum: int, _frame: object) -> None:
+        if os.getpid() != owner:  # a process forked from this one (a pool's): it ends as by default
+            signal.signal(signum, signal.SIG_DFL)
+            os.kill(os.getpid(), signum)
+            return
         for s in ours:
             signal.signal(s, signal.SIG_IGN)
-        raise Terminated(signum)
+        stop = Terminated(signum)
+        watchdog = threading.Timer(GRACE, _hard_exit, (stop,))
+        watchdog.daemon = True
+        watchdog.start()
+        raise stop
 
     for s in ours:
         signal.signal(s, stop)

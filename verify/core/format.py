@@ -308,3 +308,26 @@ def _algebraic_digits(value: Any, digits: int, rounding: str) -> str:
         if lo == hi:
             return lo
         value.refine()
+
+
+# -- counts in words ------------------------------------------------------------------------------
+
+
+def plural(n: int, word: str) -> str:
+    """``word`` for one, ``word + "s"`` otherwise.
+
+    >>> plural(1, "mismatch"), plural(2, "case")
+    ('mismatch', 'cases')
+    """
+    if n == 1:
+        return word
+    return word + ("es" if word.endswith(("s", "sh", "ch", "x")) else "s")
+
+
+def counted(n: int, word: str) -> str:
+    """``n`` and its noun, singular or plural.
+
+    >>> counted(1, "mismatch"), counted(0, "case")
+    ('1 mismatch', '0 cases')
+    """
+    return f"{n} {plural(n, word)}"

@@ -17,6 +17,7 @@ from dataclasses import dataclass, field
 from functools import cached_property
 from typing import Any
 
+from verify.core.format import counted
 from verify.core.system import System
 
 
@@ -144,7 +145,7 @@ class Result:
         if len(words) > 12:
             words = [*words[:6], f" ... {len(words) - 9} more ... ", *words[-3:]]
         how = {"exit": "exit", "non_terminating": "never exits (proved)", "max_iterations": "still impacting"}
-        head = f"{how.get(self.stop, self.stop)} after {self.iterations} impulses"
+        head = f"{how.get(self.stop, self.stop)} after {counted(self.iterations, 'impulse')}"
         law = f"{self.rule} rule" if self.law == "rule" else f"{self.law} law, {self.rule} CORs"
         coordinates = self.system.coordinates
         shown = ", ".join(f"{q} = {K.to_decimal(x, digits)}" for q, x in zip(coordinates, self.exit_velocity))

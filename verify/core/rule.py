@@ -45,6 +45,7 @@ from verify.core.engines import integer as fraction_free
 from verify.core.engines import rates as rate_form
 from verify.core.engines.policy import Limits, Run
 from verify.core.engines.rates import beta_from_rates, coefficients
+from verify.core.format import counted
 from verify.core.linalg import ldl, solve_spd
 from verify.core.outcome import Result, Step
 from verify.core.sequential import Law, Sequential, solve_sequential
@@ -334,7 +335,7 @@ class _ExactRates:
         done, v = self._state if self._state is not None and self._state[0] <= len(impact_sets) else (0, v0)
         for n, J in enumerate(impact_sets[done:], done + 1):
             if self.bits is not None and _largest_size(system.backend, v) > self.bits:
-                raise Undecided(f"the exact check passed {self.bits} bits after {n - 1} impulses")
+                raise Undecided(f"the exact check passed {self.bits} bits after {counted(n - 1, 'impulse')}")
             I, _ = _impulse_from_rates(system, system.rates(v), J)
             v = tuple(x + y for x, y in zip(v, I))
             self._state = (n, v)
@@ -342,7 +343,7 @@ class _ExactRates:
 
     def __call__(self, system: System, impact_sets: Sequence[tuple[int, ...]], i: int, exc: Undecided) -> int:
         """The sign of rate i when it is exactly 0, else Undecided (more precision decides it)."""
-        where = f"the rate of {system.names[i]} after {len(impact_sets)} impulses"
+        where = f"the rate of {system.names[i]} after {counted(len(impact_sets), 'impulse')}"
         if not self.eager(len(impact_sets)):
             raise Undecided(f"{where}: {exc}") from None
         if not self.available():
@@ -701,8 +702,8 @@ def _decided_on_intervals(
         return result
     bounds.use("run_digits", decided.system.backend.dps or 0)  # an interval backend: its digits
     note = (
-        f"the exact numbers passed {budget.bits} bits after {result.iterations} impulses: run again on certified "
-        f"intervals (every branch decided with proof), which end it with {decided.stop}"
+        f"the exact numbers passed {budget.bits} bits after {counted(result.iterations, 'impulse')}: run again on "
+        f"certified intervals (every branch decided with proof), which end it with {decided.stop}"
     )
     return dataclasses.replace(decided, notes=(*decided.notes, note))
 

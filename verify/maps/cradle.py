@@ -29,7 +29,7 @@ from typing import Any
 
 from verify.core.algebraic import RealAlgebraic
 from verify.core.backends.symbolic import EPS, Piece, RootCache, Split, SymbolicBackend
-from verify.core.format import format_exact
+from verify.core.format import counted, format_exact
 from verify.core.parse import to_number
 from verify.errors import InvalidInput, InvalidSystem
 from verify.maps import DEFAULT_WIDEN
@@ -149,7 +149,9 @@ def _unexplored_reason(part: Part, balls: int, masses: Sequence[Any] | None, cac
     """Why a part is unexplored, and whether every eps of it is proved to exit later."""
     bound = part.iterations
     if balls != 3:
-        return (f"still impacting after {bound} impulses; no invariant cone found for the whole interval"), False
+        return (
+            f"still impacting after {counted(bound, 'impulse')}; no invariant cone found for the whole interval"
+        ), False
     K = SymbolicBackend(part.piece, cache)
     system = cradle_system(EPS, 3, masses, backend=K)
     G, e = system.gram, system.restitution
@@ -163,11 +165,12 @@ def _unexplored_reason(part: Part, balls: int, masses: Sequence[Any] | None, cac
         rotating = False
     if rotating:
         return (
-            f"every eps here exits, after more than {bound} impulses: the impacts alternate, and the two-step "
+            f"every eps here exits, after more than {counted(bound, 'impulse')}: the impacts alternate, and the "
+            "two-step "
             f"map of the rates has non-real eigenvalues (c_0 c_1 < 4 eps, c_k = (1 + eps)|G_01|/G_kk), so it "
             "turns every direction out of the cone where an impact remains"
         ), True
-    return f"still impacting after {bound} impulses; not decided", False
+    return f"still impacting after {counted(bound, 'impulse')}; not decided", False
 
 
 # -- what the map says about given values -------------------------------------------------
@@ -177,7 +180,7 @@ def verdict(cmap: CradleMap, eps: Any) -> str:
     """One line: what the rule does at eps, read off the map."""
     part = cmap.locate(RealAlgebraic.from_number(to_number(eps)))
     if part.stop == "exit":
-        return f"exits after {part.iterations} impulses"
+        return f"exits after {counted(part.iterations, 'impulse')}"
     if part.stop == "non_terminating":
         return "never exits (a certificate covers the whole interval)"
     return f"unexplored: {part.reason}"

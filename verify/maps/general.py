@@ -43,7 +43,7 @@ import sympy as sp
 from verify.core.algebraic import RealAlgebraic
 from verify.core.backends import NumberFieldBackend, exact_for
 from verify.core.backends.symbolic import EPS, Piece, RootCache, Split, SymbolicBackend
-from verify.core.format import format_exact
+from verify.core.format import counted, format_exact
 from verify.core.parse import CONSTANTS, FUNCTIONS, Number, parse_number, to_number
 from verify.core.system import System, is_algebraic
 from verify.errors import BadNumber, InvalidInput, InvalidSystem
@@ -325,7 +325,7 @@ def _line(
                        leaving=leaving)  # fmt: skip
     for part in parts:
         if part.stop == "max_iterations" and not part.stopped_by and not part.reason:
-            part.reason = f"still impacting after {part.iterations} impulses; not proved never to exit"
+            part.reason = f"still impacting after {counted(part.iterations, 'impulse')}; not proved never to exit"
     return Line(free, fixed, domain, parts)
 
 

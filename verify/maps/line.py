@@ -34,7 +34,7 @@ import sympy as sp
 
 from verify.core.algebraic import RealAlgebraic
 from verify.core.backends.symbolic import EPS, Piece, RootCache, Split, SymbolicBackend
-from verify.core.format import format_decimal, format_exact
+from verify.core.format import counted, format_decimal, format_exact
 from verify.core.rule import solve
 from verify.core.system import System
 from verify.core.termination import MAX_PERIOD
@@ -182,7 +182,7 @@ def bounded(
     if not decided and not leaving:
         return [part]
     if not decided:  # no boundary here: it may lie above one, where every eps exits
-        undecided = part.reason or f"still impacting after {part.iterations} impulses"
+        undecided = part.reason or f"still impacting after {counted(part.iterations, 'impulse')}"
         later = _exits_later(build, velocity, part, part.piece, pattern=pattern, undecided=undecided, cache=cache,
                              watch=watch)  # fmt: skip
         return later if later is not None else [part]
@@ -198,7 +198,7 @@ def bounded(
         reason = ""
         if star is not None and piece.upper.cmp(star) <= 0 and piece.lower.cmp(decided[-1].piece.upper) >= 0:
             where = "at" if piece.is_point else "below"
-            reason = (f"still impacting after {part.iterations} impulses; {where} the boundary eps = "
+            reason = (f"still impacting after {counted(part.iterations, 'impulse')}; {where} the boundary eps = "
                       f"{boundary['eps']} of the repeating impacts {pattern}, where the two largest eigenvalues of "
                       "their period meet beside a complex pair of the same modulus: no polyhedral cone is mapped "
                       "into itself at the boundary, and the turning cones tried do not close this close to it; "
@@ -281,7 +281,8 @@ def _exits_later(
                     certificate is not None, parameter=part.parameter)  # fmt: skip
 
     start = RealAlgebraic.rational(found.lower)
-    exits = (f"every eps here exits, after more than {part.iterations} impulses: every eigenvalue of the period of "
+    after = counted(part.iterations, "impulse")
+    exits = (f"every eps here exits, after more than {after}: every eigenvalue of the period of "
              f"{pattern} has modulus eps here and none is eps, so the rates leave the pattern, and from every point "
              f"of the two ellipses its periods keep them on, the run exits within one impulse of leaving it (checked "
              f"on {found.certificate['cells']} exact cells of eps and a slope; verify.maps.leaving)")  # fmt: skip
@@ -318,7 +319,7 @@ def _left_the_period(
             if watch is not None and watch.stopped:
                 return [_stopped(part, watch.stopped, "the proof that it exits")]
             if found is not None:
-                undecided = part.reason or f"still impacting after {part.iterations} impulses"
+                undecided = part.reason or f"still impacting after {counted(part.iterations, 'impulse')}"
                 return _cell_parts(part, part.piece, Pattern(start, tuple(block[:p])), found, undecided)
             return [part]
     return [part]
@@ -328,7 +329,8 @@ def _cell_parts(part: Part, piece: Piece, pattern: Pattern, cells: Cells, undeci
     """``piece`` cut into what the certified cells decide (every eps exits; one part for each run of adjacent
     cells, its certificate listing them) and what they leave: the gap below the first cell, and the cells that
     stayed undecided."""
-    exits = (f"every eps here exits, after more than {part.iterations} impulses: the rule run from the start on "
+    after = counted(part.iterations, "impulse")
+    exits = (f"every eps here exits, after more than {after}: the rule run from the start on "
              f"certified cells of eps, the period of {pattern} in closed form (its two pairs of eigenvalues turn) "
              f"and every undecided sign followed both ways (verify.maps.torus)")  # fmt: skip
     runs: list[list[tuple[Fraction, Fraction]]] = []
@@ -359,7 +361,8 @@ def _cell_parts(part: Part, piece: Piece, pattern: Pattern, cells: Cells, undeci
 
 def _above_reason(bound: int, pattern: Pattern, boundary: dict[str, Any]) -> str:
     """Where a part above the boundary of ``pattern`` lies, and what is known there (without the verdict)."""
-    reason = (f"still impacting after {bound} impulses; above the boundary eps = {boundary['eps']} of the repeating "
+    reason = (f"still impacting after {counted(bound, 'impulse')}; above the boundary eps = {boundary['eps']} of the "
+              "repeating "
               f"impacts {pattern}")  # fmt: skip
     if boundary["no_cone_beyond"]:
         reason += (", where the two eigenvalues of their period that meet there are not real and its spectral "
@@ -369,7 +372,7 @@ def _above_reason(bound: int, pattern: Pattern, boundary: dict[str, Any]) -> str
 
 def _stopped(part: Part, stopped: str, what: str = "the search for cones") -> Part:
     """``part``, left by a search (``what``) that the map's budget (or Ctrl-C) stopped: its reason says so."""
-    reason = f"still impacting after {part.iterations} impulses; {what} stopped: {stopped}"
+    reason = f"still impacting after {counted(part.iterations, 'impulse')}; {what} stopped: {stopped}"
     return Part(part.piece, part.stop, part.iterations, part.impact_sets, part.exit_velocity, reason=reason,
                 parameter=part.parameter, stopped_by=stopped)  # fmt: skip
 

@@ -33,7 +33,7 @@ import sympy as sp
 
 from verify.core.backends.plane import Frac, NewCurves, OutOfTime, PlaneBackend, Polys, polys
 from verify.core.backends.tower import Tower
-from verify.core.format import format_decimal, format_exact
+from verify.core.format import counted, format_decimal, format_exact
 from verify.core.rule import solve
 from verify.core.system import System
 from verify.core.termination import cone_halt
@@ -244,7 +244,7 @@ def _run_cell(
             stop, certificate = "non_terminating", found[1]
             proved = solve(system, velocity, max_iterations=found[0], trace=False, certify=False)
     v = [proved.backend.to_number(x) for x in proved.exit_velocity] if velocities else []
-    reason = {"max_iterations": f"still impacting after {r.iterations} impulses",
+    reason = {"max_iterations": f"still impacting after {counted(r.iterations, 'impulse')}",
               "non_terminating": f"never exits: {(certificate or {}).get('kind', 'proved')}, on the whole cell, "
                                  f"from impulse {proved.iterations} on"}.get(stop, "")  # fmt: skip
     return CellPart(cell, stop, proved.iterations, list(proved.impact_sets), v, reason, list(r.exit_velocity),

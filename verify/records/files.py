@@ -59,7 +59,11 @@ def read_text(path: str, max_bytes: int | None = None) -> str:
     try:
         if path == STDIO:
             if not _STDIN or _STDIN[0][0] is not sys.stdin:
-                _STDIN[:] = [(sys.stdin, sys.stdin.read(limit + 1))]
+                stream = getattr(sys.stdin, "buffer", None)  # the bytes, decoded as UTF-8 whatever the locale
+                data = stream.read(limit + 1) if stream is not None else sys.stdin.read(limit + 1).encode("utf-8")
+                if len(data) > limit:
+                    raise InvalidInput(f"stdin: larger than {limit} bytes")
+                _STDIN[:] = [(sys.stdin, data.decode("utf-8"))]
             text = _STDIN[0][1]
         else:
             if os.path.getsize(path) > limit:

@@ -389,8 +389,8 @@ def load_cases(path: str, *, backend: Any = "exact", dps: int | None = None) -> 
     path = name
     if not isinstance(data, dict) or not isinstance(data.get("cases"), list):
         raise InvalidInput(f'{path}: expected an object {{"cases": [...]}}')
+    check_versions(data, path)  # first: a newer file's new fields are not what is wrong with it
     validate(data, "case", path)
-    check_versions(data, path)
     check_case_ids(data["cases"], path)
     return [case_from_record(c, f"{path}: cases[{i}]", backend=backend, dps=dps) for i, c in enumerate(data["cases"])]
 

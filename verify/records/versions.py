@@ -42,13 +42,17 @@ def stamped(document: dict[str, Any], dataset: str | None = None, *, report: boo
     return {**head, **{k: v for k, v in document.items() if k not in ("schema_version", "dataset")}}
 
 
+#: the version of ``verify oracle generate``'s cases: raised whenever the same level and seed give other cases
+GENERATOR_VERSION = 1
+
+
 def generated_dataset(level: int, seed: int, law: str = "rule") -> str:
     """The dataset name of ``verify oracle generate --level L --seed S [--law LAW]``.
 
     >>> generated_dataset(1, 0), generated_dataset(2, 7, "sequential")
-    ('generated-level-1-seed-0', 'generated-level-2-seed-7-sequential')
+    ('generated-v1-level-1-seed-0', 'generated-v1-level-2-seed-7-sequential')
     """
-    return f"generated-level-{level}-seed-{seed}" + ("" if law == "rule" else f"-{law}")
+    return f"generated-v{GENERATOR_VERSION}-level-{level}-seed-{seed}" + ("" if law == "rule" else f"-{law}")
 
 
 def check_versions(data: Any, source: str) -> str | None:

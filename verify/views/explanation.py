@@ -4,7 +4,7 @@ from __future__ import annotations
 
 from typing import Any
 
-from verify.core.format import format_decimal
+from verify.core.format import counted, format_decimal
 
 
 def explanation_text(result: Any) -> str:
@@ -40,7 +40,9 @@ def explanation_text(result: Any) -> str:
     else:
         lines.append(f"Explained: no model explains any of the {n} cases")
     if result.own_settings:
-        lines.append(f"  {len(result.own_settings)} cases carry their own law_settings, which the grid replaces "
+        own = len(result.own_settings)
+        carry = "carries its" if own == 1 else "carry their"
+        lines.append(f"  {counted(own, 'case')} {carry} own law_settings, which the grid replaces "
                      f"(verify oracle check honours them): {', '.join(result.own_settings[:5])}"
                      + (", ..." if len(result.own_settings) > 5 else ""))  # fmt: skip
     lines += ["", "settings that explain the most cases:"]

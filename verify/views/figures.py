@@ -10,6 +10,8 @@ from fractions import Fraction
 from pathlib import Path
 from typing import Any
 
+from verify.core.format import counted
+
 METADATA = {"Software": None}
 
 
@@ -74,14 +76,14 @@ def staircase_legend(cmap: Any) -> list[tuple[str, str]]:
         out.append(("non_terminating", "never exits (proved)"))
     kinds = [_unexplored_kind(p) for p in cmap.unexplored]
     if "exits_later" in kinds:
-        out.append(("exits_later", f"exits after more than {cmap.max_impulses} impulses"))
+        out.append(("exits_later", f"exits after more than {counted(cmap.max_impulses, 'impulse')}"))
     if "undecided" in kinds:
         reasons = []
         for part in cmap.unexplored:
             why = part.reason.split("; ", 1)[-1]  # the map's reason: "still impacting after N impulses; WHY"
             if _unexplored_kind(part) == "undecided" and why != "not decided" and why not in reasons:
                 reasons.append(why)
-        label = f"undecided: still impacting after {cmap.max_impulses} impulses"
+        label = f"undecided: still impacting after {counted(cmap.max_impulses, 'impulse')}"
         out.append(("undecided", label + "".join(f"\n({why})" for why in reasons)))
     boundaries = termination_boundaries(cmap)
     if boundaries:
@@ -454,7 +456,9 @@ def cradle_motion(path: str | Path, eps_values: tuple[str, ...] = ("0.9", "0.5",
                         arrowprops={"arrowstyle": "->", "color": colour})  # fmt: skip
             ax.text(x0 + vi * t_end, -1.45, f"D{i + 1}: v = {K.to_decimal(r.exit_velocity[i], 4)}",
                     ha="center", fontsize=8, color=colour)  # fmt: skip
-        ax.set_title(f"eps = {eps}: {r.iterations} impulses, disks at t = 0 (dotted) and t = {t_end:g} (solid)")
+        ax.set_title(
+            f"eps = {eps}: {counted(r.iterations, 'impulse')}, disks at t = 0 (dotted) and t = {t_end:g} (solid)"
+        )
         ax.set_aspect("equal")
         ax.set_ylim(-1.9, 1.3)
         ax.set_yticks([])
@@ -515,7 +519,7 @@ def eps_map_legend(m: Any) -> list[tuple[str, str]]:
     drawn = {p.stop for line in _drawn_lines(m) for p in line.parts}
     labels = {
         "non_terminating": "never exits (proved)",
-        "max_iterations": f"unexplored: still impacting after {m.max_impulses} impulses",
+        "max_iterations": f"unexplored: still impacting after {counted(m.max_impulses, 'impulse')}",
         "exit": "exit after k impulses",
     }
     kinds = {"non_terminating": "non_terminating", "max_iterations": "unexplored", "exit": "exit"}
@@ -640,8 +644,8 @@ def plane_legend(m: Any) -> list[tuple[tuple, str]]:
         stop, n, sets = key
         so_far = f", {_named_sequence(list(sets), names)} so far" if sets else ""
         what = {"exit": f"exit after {n}: {_named_sequence(list(sets), names)}",
-                "non_terminating": f"never exits (proved) after {n} impulses{so_far}"}.get(
-            stop, f"unexplored: still impacting after {n} impulses{so_far}")  # fmt: skip
+                "non_terminating": f"never exits (proved) after {counted(n, 'impulse')}{so_far}"}.get(
+            stop, f"unexplored: still impacting after {counted(n, 'impulse')}{so_far}")  # fmt: skip
         out.append((key, f"{what}, area {_x(low):.3g}-{_x(high):.3g}"))
     return out
 

@@ -112,6 +112,10 @@ def junit_xml(
     kinds = {**default_report(), **(report or {})}
     counts = junit_counts(grades, report)
     seconds = {g.case_id: (times or {}).get(g.case_id, 0.0) for g in grades}
+    ids = set(seconds)
+    unmatched = [line for cid, lines in (checks or {}).items() if cid not in ids for line in lines]
+    if unmatched:  # results that belong to no case (an unknown or repeated id): one failing test of their own
+        counts = dict(counts, tests=counts["tests"] + 1, failures=counts["failures"] + 1)
     root = ET.Element(
         "testsuite",
         {
@@ -136,6 +140,11 @@ def junit_xml(
         elif kinds[g.cls] == "failure":
             failure = ET.SubElement(case, "failure", {"message": g.cls, "type": g.cls})
             failure.text = "\n".join(_failure_lines(g, (checks or {}).get(g.case_id, ())))
+    if unmatched:
+        case = ET.SubElement(root, "testcase", {"classname": f"{prefix}.{group}", "name": "the result file",
+                                                "time": "0.000"})  # fmt: skip
+        failure = ET.SubElement(case, "failure", {"message": "results of no case", "type": "result_file"})
+        failure.text = "\n".join(unmatched)
     ET.indent(root)
     return '<?xml version="1.0" encoding="utf-8"?>\n' + ET.tostring(root, encoding="unicode") + "\n"
 

@@ -22,7 +22,7 @@ from verify.checks.paper.table1 import (
     sqrt_decimal,
     threshold_brackets,
 )
-from verify.core.format import format_decimal, format_exact
+from verify.core.format import counted, format_decimal, format_exact
 from verify.core.rule import Result
 from verify.core.system import default_names
 from verify.models.paper import MEASURES, NORMS, PAPER_READING, PAPER_SIGMA_RELATIVE, PAPER_SIGMA_STATED, WHENS
@@ -64,12 +64,12 @@ def cradle_text(result: Result, *, eps: list[str], mode: str, full_trace: bool =
         "max_iterations": (
             f"max_iterations (still incoming after {result.max_iterations} sweeps)"
             if result.law == "sequential"
-            else f"max_iterations (no exit within {result.max_iterations} impulses)"
+            else f"max_iterations (no exit within {counted(result.max_iterations, 'impulse')})"
         ),
         "non_terminating": "non_terminating (proved never to exit: the certificate is in --json)",
     }.get(result.stop, result.stop)
-    counted = " (sweeps that changed an impulse)" if result.law == "sequential" else ""
-    lines.append(f"iterations: {result.iterations}{counted}; stop: {stop}")
+    which = " (sweeps that changed an impulse)" if result.law == "sequential" else ""
+    lines.append(f"iterations: {result.iterations}{which}; stop: {stop}")
     lines.append(
         f"kinetic energy: {K.to_decimal(result.kinetic_energy_in, 12)} -> "
         f"{K.to_decimal(result.kinetic_energy_out, 12)} (12 significant digits)"
@@ -140,7 +140,7 @@ def solve_text(case_id: str, result: Result, trace: bool = False) -> str:
     >>> from verify.core.rule import solve
     >>> from verify.core.system import System
     >>> print(solve_text("a", solve(System([[1, 0], [0, 1]], [[-1, 1]], [1], names=["spring"]), [1, 0])))
-    a: exit after 1 impulses (...)
+    a: exit after 1 impulse (...)
       impact sets: {spring}
     ...
     """
@@ -151,7 +151,8 @@ def solve_text(case_id: str, result: Result, trace: bool = False) -> str:
     if result.iterations > 20:
         sets += f" ... ({result.iterations - 20} more)"
     lines = [
-        f"{case_id}: {result.stop} after {result.iterations} {'sweeps' if result.law == 'sequential' else 'impulses'} "
+        f"{case_id}: {result.stop} after "
+        f"{counted(result.iterations, 'sweep' if result.law == 'sequential' else 'impulse')} "
         f"({K.describe()})",
         f"  impact sets: {sets or '-'}",
         *law_lines(result, "  "),
@@ -200,7 +201,7 @@ def table1_text(table: Table1) -> str:
         f"source: {table.source}",
         "",
         "paper mode = the paper's termination (10^4 cap, AEEV stop); exact = stop only at exit"
-        f" (or after {table.exact_cap} impulses)",
+        f" (or after {counted(table.exact_cap, 'impulse')})",
         "",
         f"{'eps':<8}{'printed v_D1':>14}{'v_D2':>13}{'v_D3':>13}{'iterations':>12}   "
         f"{'paper mode':>11}{'exact':>21}   entries",
@@ -505,7 +506,7 @@ def cradle_map_text(
     lines = [
         f"Newton's cradle, {cmap.balls} balls (masses {masses}), left velocity "
         f"({', '.join(format_exact(v) for v in cmap.velocity)}), one COR eps for every contact",
-        f"eps in {cmap.domain}; explored up to {cmap.max_impulses} impulses; exact endpoints, "
+        f"eps in {cmap.domain}; explored up to {counted(cmap.max_impulses, 'impulse')}; exact endpoints, "
         "decimals rounded to 12 digits",
         *_stopped_line(cmap.stopped),
         "",
@@ -528,11 +529,12 @@ def cradle_map_text(
             how = f"invariant cones (mu = {', '.join(cert['mu'])})"
         elif cert.get("kind") == "repeating direction":
             cycle = len(cert.get("cycle", []))
-            how = f"a direction of the rates that repeats after {cycle} impulses (verify solve's run at that point)"
+            after = counted(cycle, "impulse")
+            how = f"a direction of the rates that repeats after {after} (verify solve's run at that point)"
         elif cert.get("kind") == "dominant growth":
             how = (f"the growth of the rates on the plane of the two eigenvalues of the period {cert['pattern']} that "
                    f"meet at the boundary, against the turning pair beside them (verify.maps.growth), from the rates "
-                   f"after {cert['impulses']} impulses")  # fmt: skip
+                   f"after {counted(cert['impulses'] or 0, 'impulse')}")  # fmt: skip
         else:
             gens, impulses = len(cert.get("generators", [])), cert.get("impulses")
             how = f"a cone of {gens} generators that {impulses} impulses map into itself"
@@ -597,7 +599,7 @@ def cradle_map_summary(cmap: Any) -> str:
     from verify.checks.paper.cradle_map import aeev_rows_explained
     from verify.maps.cradle import termination_boundaries, threshold_between
 
-    lines = [f"  exact map: {len(cmap.pieces)} pieces with an exit, up to {cmap.max_impulses} impulses"]
+    lines = [f"  exact map: {len(cmap.pieces)} pieces with an exit, up to {counted(cmap.max_impulses, 'impulse')}"]
     t34 = threshold_between(cmap, 4, 3)
     if t34 is not None:
         lines.append(f"    3 -> 4 impulses at eps = {t34} (derived from the map, as the paper states)")
@@ -728,7 +730,7 @@ def properties_text(profile: str, found: list) -> str:
     >>> from types import SimpleNamespace as Row
     >>> print(properties_text("dev", [Row(property="p", law="simultaneous", rule="ideal", family="corner",
     ...                                   verdict="holds", cases=25)]), end="")
-    Property suite, profile dev: 1 rows (property x law x rule x family)
+    Property suite, profile dev: 1 row (property x law x rule x family)
     <BLANKLINE>
       property  law           rule        family   verdict   cases
       p         simultaneous  ideal       corner   holds     25
@@ -737,7 +739,7 @@ def properties_text(profile: str, found: list) -> str:
     """
     import json
 
-    lines = [f"Property suite, profile {profile}: {len(found)} rows (property x law x rule x family)", ""]
+    lines = [f"Property suite, profile {profile}: {counted(len(found), 'row')} (property x law x rule x family)", ""]
     width = max((len(v.property) for v in found), default=10)
     lines.append(f"  {'property':{width}}  {'law':12}  {'rule':10}  {'family':7}  {'verdict':8}  cases")
     for v in found:
@@ -835,7 +837,6 @@ def oracle_text(comparison: Any, report: Any = None) -> str:
     """Every mismatch of ``verify oracle check``, then a summary table; the last lines count the cases as
     ``--junit`` reports them (``report``: its ``--junit-as``)."""
     from verify.views.junit import junit_counts
-    from verify.views.words import count
 
     lines = []
     for m in comparison.mismatches:
@@ -851,7 +852,7 @@ def oracle_text(comparison: Any, report: Any = None) -> str:
         lines.append(f"  skipped by the implementation: {len(comparison.skipped)}")
     lines.append("")
     for name, lacking in comparison.unchecked.items():
-        lines.append(f"not checked: {name} (left out of {count(lacking, 'result')}: velocity-only)")
+        lines.append(f"not checked: {name} (left out of {counted(lacking, 'result')}: velocity-only)")
     if comparison.unchecked:
         lines.append("")
     for cid, reason in comparison.skipped.items():
@@ -860,13 +861,16 @@ def oracle_text(comparison: Any, report: Any = None) -> str:
     if comparison.tolerance:
         lines += [f"tolerance: {comparison.tolerance}", ""]
     counts = junit_counts(comparison.grades, report)
+    graded = {g.case_id for g in comparison.grades}
+    if any(m.case_id not in graded for m in comparison.mismatches):  # results of no case: a test of their own
+        counts = dict(counts, tests=counts["tests"] + 1, failures=counts["failures"] + 1)
     lines.append(f"as tests (--junit): {counts['passed']} passed, {counts['failures']} failed, "
                  f"{counts['skipped']} skipped of {counts['tests']}")  # fmt: skip
     agree = "every case agrees" if not comparison.skipped else "every case that the implementation ran agrees"
     if comparison.limited:
         agree += (f" as far as the exact runs went ({len(comparison.limited)} limited by the budget: --junit counts "
                   "them as failures unless --junit-as limited=passed)")  # fmt: skip
-    lines.append(f"OK: {agree}" if comparison.ok else count(len(comparison.mismatches), "mismatch"))
+    lines.append(f"OK: {agree}" if comparison.ok else counted(len(comparison.mismatches), "mismatch"))
     return "\n".join(lines) + "\n"
 
 
@@ -880,13 +884,15 @@ def all_summary(
 
     lines = ["", "Summary", "======="]
     bad = [(row.eps, c.column) for row in table.rows for c in row.checks if not c.agrees]
-    lines.append(f"Table 1: {len(table.rows)} rows recomputed; {len(bad)} printed entries disagree "
+    lines.append(f"Table 1: {counted(len(table.rows), 'row')} recomputed; {counted(len(bad), 'printed entry')} "
+                 f"{'disagrees' if len(bad) == 1 else 'disagree'} "
                  f"({', '.join(f'eps {e} {c}' for e, c in bad)}); see reports/table1.md")  # fmt: skip
     bounds = termination_boundaries(cmap)
     three = next((p for p in cmap.parts if p.stop == "exit" and p.iterations == 3), None)
     lines.append(f"Cradle: threshold 3 -> 4 impulses at eps = {three.piece.lower if three else '?'} (derived); "
                  f"never exits for eps <= {bounds[0] if bounds else '?'}; see reports/cradle-map.md")  # fmt: skip
-    lines.append(f"Corner example: {example.result.iterations} impulses, stop {example.result.stop}; claims: "
+    impulses = counted(example.result.iterations, "impulse")
+    lines.append(f"Corner example: {impulses}, stop {example.result.stop}; claims: "
                  + ", ".join(f"{c.verdict}" for c in claims))  # fmt: skip
     refuted = [v for v in found if v.verdict == "refuted"]
     lines.append(f"Properties ({profile}): {sum(v.verdict == 'proved' for v in found)} proved, "
@@ -899,7 +905,9 @@ def all_summary(
     lines.append("Oracle self-check: " + ("passed" if oracle_ok else "FAILED"))
     failed = bool(contradictions) or not oracle_ok
     if contradictions:
-        lines.append(f"PROGRAM ERROR: {len(contradictions)} rows contradict a SymPy proof (see reports/properties.md)")
+        wrong = counted(len(contradictions), "row")
+        lines.append(f"PROGRAM ERROR: {wrong} {'contradicts' if len(contradictions) == 1 else 'contradict'} a SymPy "
+                     "proof (see reports/properties.md)")  # fmt: skip
     return "\n".join(lines) + "\n", failed
 
 
@@ -970,10 +978,10 @@ def behaviour_lines(m: Any, contacts: Sequence[str] | None = None) -> list[str]:
         kinds.setdefault(key, []).append(p)
     for (stop, n, sets, kind), parts in kinds.items():
         low, high = m.bounds_of(parts)
-        what = {"exit": f"{stop} after {n} impulses {_sequence(list(sets), contacts)}",
+        what = {"exit": f"{stop} after {counted(n, 'impulse')} {_sequence(list(sets), contacts)}",
                 "non_terminating": f"never exits (proved on each cell: {kind})",
                 "max_iterations": f"unexplored ({kind})"}.get(stop, f"not run ({kind})")  # fmt: skip
-        out.append(f"  {what}: {len(parts)} cells, area {describe_area((low, high))}")
+        out.append(f"  {what}: {counted(len(parts), 'cell')}, area {describe_area((low, high))}")
     return out
 
 
@@ -1028,7 +1036,8 @@ def corner_map_text(found: Any) -> str:
     return (
         eps_map_text(found.line, exact_in="verify.checks.paper.corner_map")
         + f"\nRepeated multiple impacts (the first two impulses both on both walls) on this line: exactly for eps1 in "
-        f"{pieces}.\n\nBoth CORs over [0, 1]^2 as exact cells, up to {found.plane.max_impulses} impulses, from "
+        f"{pieces}.\n\nBoth CORs over [0, 1]^2 as exact cells, up to "
+        f"{counted(found.plane.max_impulses, 'impulse')}, from "
         f"velocity ({velocity}) (the paper's direction; the speed changes no "
         f"impact set or stop): {len(plane.parts)} cells; the first two impulses (two decide it) are multiple impacts "
         f"on {len(found.repeated_plane)} of "
@@ -1063,7 +1072,8 @@ def eps_map_text(m: Any, *, exact_in: str = "eps_map_json(m)") -> str:
     lines = [
         f"A system of {m.system.n} coordinates and {m.system.r} contacts ({', '.join(m.system.names)}), velocity "
         f"({', '.join(format_exact(v) for v in m.velocity)}); CORs {cors}",
-        f"{ranges}; explored up to {m.max_impulses} impulses; exact endpoints (in {exact_in}), decimals rounded to "
+        f"{ranges}; explored up to {counted(m.max_impulses, 'impulse')}; exact endpoints (in {exact_in}), decimals "
+        "rounded to "
         "12 digits",
         *_stopped_line(m.stopped),
     ]

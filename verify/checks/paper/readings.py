@@ -31,6 +31,7 @@ from fractions import Fraction
 from importlib import resources
 from typing import Any
 
+from verify.core.format import counted
 from verify.core.parse import to_number
 from verify.models.cradle import run_cradle
 from verify.models.paper import PAPER_SIGMA_STATED, Reading, all_readings, ratio_squared
@@ -137,10 +138,10 @@ def _tested(row: RowRun, when: str) -> tuple[list[int], int | None, str | None]:
     k, e = row.count, row.exit_state
     if row.stop == "exit":
         if e != k:
-            return [], None, f"the exact run of eps = {row.eps} does not exit after {k} impulses"
+            return [], None, f"the exact run of eps = {row.eps} does not exit after {counted(k, 'impulse')}"
         return (list(range(k)) if when == "before" else list(range(1, k + 1))), None, None
     if e is not None and (e < k or (e == k and when == "before")):
-        return [], None, f"the exact run of eps = {row.eps} exits after {e} impulses, before a test at {k}"
+        return [], None, f"the exact run of eps = {row.eps} exits after {counted(e, 'impulse')}, before a test at {k}"
     if when == "after" and k == 0:
         return [], None, f"eps = {row.eps}: no test is made before the first impulse"
     return (list(range(k)) if when == "before" else list(range(1, k))), k, None

@@ -37,7 +37,7 @@ from fractions import Fraction
 
 from verify.checks.paper.readings import Search, load_table1, parse_printed_iterations, search_readings
 from verify.core.backends import Backend, get_backend
-from verify.core.format import format_decimal, ilog10, int_to_str
+from verify.core.format import counted, format_decimal, ilog10, int_to_str
 from verify.core.numeric import mpf_to_fraction
 from verify.core.parse import to_number
 from verify.core.rule import Result
@@ -169,7 +169,7 @@ class Explanation:
     state: int | None = None  #: None: the final state of the paper-mode run; else impulses made
 
     def describe(self) -> str:
-        where = "final state" if self.state is None else f"state after {self.state} impulses"
+        where = "final state" if self.state is None else f"state after {counted(self.state, 'impulse')}"
         return f"{self.arithmetic}, {self.reading}, {where}"
 
 

@@ -32,6 +32,7 @@ from hypothesis import strategies as st
 
 from verify.checks.properties import formulas
 from verify.checks.properties.strategies import FAMILIES, RULES, Drawn, small_rationals
+from verify.core.format import counted
 
 SKIP = "skip"  #: a check's answer when the property does not apply to the case
 #: the termination property's cap of impulses: long but finite runs exit before it (an ideal-rule case
@@ -166,7 +167,8 @@ def terminates(run: Any, d: Drawn, extra: Any) -> str | None:
         run.count("decided on certified intervals past the size budget")
     if r.stop == "non_terminating":
         kind = (r.certificate or {}).get("kind", "certificate")
-        return f"proved never to exit after {r.iterations} impulses ({kind}; verify solve prints the certificate)"
+        after = counted(r.iterations, "impulse")
+        return f"proved never to exit after {after} ({kind}; verify solve prints the certificate)"
     return None
 
 

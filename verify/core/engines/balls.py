@@ -76,7 +76,7 @@ import mpmath
 
 from verify.core.backends import Backend, IntervalBackend
 from verify.core.engines.policy import Limits, Run
-from verify.core.format import format_decimal
+from verify.core.format import counted, format_decimal
 from verify.core.linalg import NotPositiveDefinite, ldl, solve_spd
 from verify.core.system import System, known_zero
 from verify.errors import Undecided
@@ -567,7 +567,7 @@ def _undecided(
         f"{format_decimal(mid + radius, 6, 'ceiling')}], which contains 0, at {system.backend.dps} digits"
     )
     if exact is None:
-        raise Undecided(f"the rate of {system.names[i]} after {len(impact_sets)} impulses: {exc}")
+        raise Undecided(f"the rate of {system.names[i]} after {counted(len(impact_sets), 'impulse')}: {exc}")
     if exact(system, impact_sets, i, exc) != 0:  # the callback returns 0 or raises
         raise exc
 
