@@ -15,6 +15,7 @@ from pathlib import Path
 import pytest
 
 from verify.checks.impl import IMPL_NOTE, run_implementation, split_command
+from verify.cli.signals import GRACE
 from verify.errors import InvalidInput
 
 PY = sys.executable
@@ -330,11 +331,14 @@ def test_sigterm_stops_a_pool_run_without_a_traceback_or_a_worker_left(tmp_path:
             workers = [int(p) for p in children.read_text().split()] if children.exists() else []
         time.sleep(1)
         proc.send_signal(signal.SIGTERM)
+        sent = time.monotonic()
         _, err = proc.communicate(timeout=60)
+        took = time.monotonic() - sent
     finally:
         if proc.poll() is None:
             proc.kill()
             proc.communicate()
     assert len(workers) >= 2
+    assert took < GRACE, f"{took:.1f} s: the clean-up hung and the watchdog ended verify"
     assert proc.returncode == 143 and err.endswith("verify: terminated (SIGTERM)\n") and "Traceback" not in err, err
     assert wait_gone(workers, within=10)

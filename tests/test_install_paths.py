@@ -47,6 +47,9 @@ def test_a_module_made_absent_cannot_be_imported(tmp_path: Path) -> None:
     done = verify("cradle-map", "--figure", str(tmp_path / "x.png"), cwd=tmp_path)
     assert done.returncode == 2 and "pip install '.[figures]' in a clone" in done.stderr, done.stderr
     assert "Traceback" not in done.stderr and not (tmp_path / "x.png").exists()
+    done = verify("all", "--out", str(tmp_path / "reports"), cwd=tmp_path)
+    assert done.returncode == 2 and done.stdout == "" and done.stderr.count("\n") == 1, done.stdout + done.stderr
+    assert "[figures]" in done.stderr and not (tmp_path / "reports").exists()
 
 
 def test_the_pure_python_arithmetic_is_what_the_process_uses(tmp_path: Path) -> None:

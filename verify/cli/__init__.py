@@ -26,7 +26,7 @@ from collections.abc import Sequence
 from verify.checks.tasks import TasksFailed
 from verify.cli import checks, engines, maps, paper, reports, run
 from verify.cli.common import PROG, Parser, UsageError, command, formatter, one_line
-from verify.cli.signals import Terminated, stop_on_signals
+from verify.cli.signals import Terminated, finish, stop_on_signals
 from verify.errors import InvalidInput, Undecided
 
 
@@ -91,6 +91,8 @@ def main(argv: Sequence[str] | None = None) -> int:
         return INTERNAL_ERROR if any(f.internal for f in exc.failures) else 2
     except Terminated as stop:  # SIGTERM or SIGHUP: cleaned up as for Ctrl-C
         print(f"{PROG}: terminated ({stop.name})", file=sys.stderr)
+        sys.set_int_max_str_digits(limit)
+        finish(stop)  # exits now (the interpreter's shutdown could wait on a pool's threads)
         return stop.exit_code
     except KeyboardInterrupt:  # Ctrl-C on a long run: one line, the shell's code for SIGINT
         print(f"{PROG}: interrupted", file=sys.stderr)

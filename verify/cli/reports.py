@@ -97,9 +97,11 @@ class StepClock:
 
 def cmd_all(args: argparse.Namespace) -> int:
     """``verify all``: write the reports (ci profile), then summarise; exit code 1 if the program contradicts itself."""
+    from verify.errors import require
     from verify.views.pages import write_reports
     from verify.views.text import all_summary
 
+    require("matplotlib", "the reports' figures")  # before anything is printed or computed
     progress = StepClock(lambda line: print(line, flush=True))
     print("verify all: reproducing Pasquero (2021), then writing the reports", flush=True)
     refresh_engines(args.out, progress)

@@ -30,6 +30,7 @@ class Terminated(KeyboardInterrupt):
     def __init__(self, signum: int) -> None:
         super().__init__(signum)
         self.signum = signum
+        self.watchdog: threading.Timer | None = None  # set when a signal raised it in this process
 
     @property
     def exit_code(self) -> int:
@@ -40,6 +41,21 @@ class Terminated(KeyboardInterrupt):
     def name(self) -> str:
         """The signal's name (``SIGTERM``)."""
         return signal.Signals(self.signum).name
+
+
+def finish(stop: Terminated) -> None:
+    """The clean-up of a signal is done (the exception reached the command line): exit now, with the signal's
+    code, when a signal raised ``stop`` in this process; the interpreter's own shutdown, which joins the threads
+    of a pool that was not waited for, is skipped. (A ``Terminated`` raised otherwise, as by a test, returns.)"""
+    import sys
+
+    if stop.watchdog is None:
+        return
+    stop.watchdog.cancel()
+    for stream in (sys.stdout, sys.stderr):
+        with contextlib.suppress(OSError, ValueError):
+            stream.flush()
+    os._exit(stop.exit_code)
 
 
 def _hard_exit(stop: Terminated) -> None:
@@ -85,9 +101,9 @@ def stop_on_signals() -> Iterator[None]:
         for s in ours:
             signal.signal(s, signal.SIG_IGN)
         stop = Terminated(signum)
-        watchdog = threading.Timer(GRACE, _hard_exit, (stop,))
-        watchdog.daemon = True
-        watchdog.start()
+        stop.watchdog = threading.Timer(GRACE, _hard_exit, (stop,))
+        stop.watchdog.daemon = True
+        stop.watchdog.start()
         raise stop
 
     for s in ours:

@@ -151,22 +151,29 @@ def junit_xml(
 
 def _failure_lines(g: Any, checks: Sequence[str]) -> list[str]:
     """A failure's text: every check the case failed with both numbers, the velocity's first, and the class with
-    what shows it (on the line of the check it names).
+    what shows it (on the line of the check it names, which is not repeated).
 
     >>> from verify.checks.grading import Grade
     >>> _failure_lines(Grade("a", "wrong_stop", "expected 3, got 4"), ["iterations: expected 3, got 4"])
     ['wrong_stop: iterations: expected 3, got 4']
     >>> _failure_lines(Grade("a", "momentum_drift", "drift 0.1"), ["stop: x", "exit_velocity[0]: expected 1, got 2"])
     ['exit_velocity[0]: expected 1, got 2', 'momentum_drift: drift 0.1', 'stop: x']
+    >>> _failure_lines(Grade("a", "out_of_tolerance", "exit_velocity[0]: expected 1, got 2"),
+    ...                ["exit_velocity[0]: expected 1, got 2"])
+    ['out_of_tolerance: exit_velocity[0]: expected 1, got 2']
     """
-    velocity = [c for c in checks if c.startswith("exit_velocity")]
-    lines = [*velocity, f"{g.cls}: {g.detail}" if g.detail else g.cls]
-    for line in (c for c in checks if not c.startswith("exit_velocity")):
-        if g.detail and line.partition(": ")[2] == g.detail:  # the check the class names: on the class's line
-            lines[len(velocity)] = f"{g.cls}: {line}"
-        else:
-            lines.append(line)
-    return lines
+    head, rest = f"{g.cls}: {g.detail}" if g.detail else g.cls, []
+    for check in sorted(checks, key=lambda c: not c.startswith("exit_velocity")):  # the velocity's first
+        field, _, text = check.partition(": ")
+        if g.detail and check == g.detail:  # the class's detail is this check, field and all
+            continue
+        if g.detail and head.startswith(f"{g.cls}: ") and text and g.detail.startswith(text):
+            head = f"{g.cls}: {field}: {g.detail}"  # the check the class names: on the class's line
+            continue
+        rest.append(check)
+    velocity = [c for c in rest if c.startswith("exit_velocity")]
+    first = [head] if head.startswith(f"{g.cls}: exit_velocity") else []
+    return [*first, *velocity, *([] if first else [head]), *(c for c in rest if not c.startswith("exit_velocity"))]
 
 
 def error_xml(suite: str, message: str, prefix: str = "oracle", group: str = "cases") -> str:
