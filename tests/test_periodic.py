@@ -1,5 +1,5 @@
 """Cones carried by a period of impact sets: certificates for any number of constraints
-(verify.core.periodic), checked by the independent checker (tests/certificate_check.py)."""
+(verify.core.cones.period), checked by the independent checker (tests/certificate_check.py)."""
 
 from __future__ import annotations
 

@@ -226,7 +226,7 @@ def non_termination_halt(system: System, memory: int = 8, *, searched: set[tuple
     """A stop test for :func:`verify.core.rule.solve` that returns ``("non_terminating", certificate)``
     as soon as the run is proved never to exit: rates that repeat their direction (any
     number of constraints, exact backends), rates inside a cone that a period of linear impacts
-    maps into itself (three or more constraints: :mod:`verify.core.periodic`; exact, parameter and
+    maps into itself (three or more constraints: :mod:`verify.core.cones.period`; exact, parameter and
     interval backends), or rates inside invariant cones (two constraints). ``searched`` holds the cone
     searches (impulse, period) that an earlier attempt of the same run made in vain (:func:`period_halt`)."""
     cone = cone_halt(system)
