@@ -423,3 +423,15 @@ def test_momentum_drift_and_energy_error_lines_give_the_drift_and_the_energy() -
         "the kinetic energy of the exit velocity is " + format_decimal(energy(cs[0], velocity(gain)), 12)
     )
     assert f": {format_decimal(excess, 3)} too much > tolerance" in g.detail
+
+
+def test_results_of_another_law_are_said_to_be(tmp_path: Path) -> None:
+    """A result file whose records name another law than --law is graded as asked, and the report says so
+    (a simultaneous-law file checked under the rule fails case by case: the line tells why)."""
+    argv = [sys.executable, "-m", "verify", "oracle", "check", "golden/cases.json", "golden/results-simultaneous.json"]
+    done = subprocess.run([*argv, "--quiet"], capture_output=True, text=True, cwd=ROOT, check=False)
+    assert done.returncode == 1
+    assert "note: the results name the simultaneous law and were graded under the rule" in done.stdout
+    done = subprocess.run([*argv, "--law", "simultaneous", "--quiet"], capture_output=True, text=True, cwd=ROOT,
+                          check=False)  # fmt: skip
+    assert done.returncode == 0 and "note: the results name" not in done.stdout

@@ -323,6 +323,10 @@ def _oracle_check(args: argparse.Namespace, started: float) -> int:
             print(f"note: {len(comparison.limited)} {plural(len(comparison.limited), 'case')} checked only on the "
                   "impulses the exact run made before reaching --max-bits or --case-timeout: "
                   f"{', '.join(comparison.limited)}", file=report)  # fmt: skip
+        other = other_law(got, args.law)
+        if other:
+            print(f"note: the results name the {other} law and were graded under the {args.law} (--law "
+                  f"{args.law}); --law {other} grades them under their own", file=report)  # fmt: skip
     if args.junit:
         from verify.views.junit import junit_xml
 
@@ -353,6 +357,16 @@ class CaseClock:
             done, began = self._running
             self.seconds[done] = self.seconds.get(done, 0.0) + now - began
         self._running = (case_id, now) if case_id else None
+
+
+def other_law(results: list[Any], law: str) -> str | None:
+    """The law the results name (their ``law`` fields) when it is not ``law``, the one they are graded under.
+
+    >>> other_law([{"id": "a", "law": "simultaneous"}], "rule"), other_law([{"id": "a"}], "rule")
+    ('simultaneous', None)
+    """
+    named = sorted({r["law"] for r in results if isinstance(r, dict) and isinstance(r.get("law"), str)})
+    return named[0] if len(named) == 1 and named[0] != law else None
 
 
 def junit_group(cases: str) -> str:
