@@ -314,13 +314,15 @@ def _algebraic_digits(value: Any, digits: int, rounding: str) -> str:
 
 
 def plural(n: int, word: str) -> str:
-    """``word`` for one, ``word + "s"`` otherwise.
+    """``word`` for one, its plural otherwise (``-es`` after s, sh, ch, x; ``-ies`` for a consonant and y).
 
-    >>> plural(1, "mismatch"), plural(2, "case")
-    ('mismatch', 'cases')
+    >>> plural(1, "mismatch"), plural(2, "case"), plural(2, "mismatch"), plural(4, "printed entry")
+    ('mismatch', 'cases', 'mismatches', 'printed entries')
     """
     if n == 1:
         return word
+    if word.endswith("y") and word[-2:-1] not in ("a", "e", "o", "u", ""):
+        return word[:-1] + "ies"
     return word + ("es" if word.endswith(("s", "sh", "ch", "x")) else "s")
 
 
