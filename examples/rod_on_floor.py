@@ -22,11 +22,12 @@ from fractions import Fraction
 import sympy as sp
 from hypothesis import strategies as st
 
-from verify.checks.properties.own import family_verdicts
-from verify.core.rule import solve
-from verify.core.system import System
+from verify.dynamics.system import System
+from verify.laws.rule import solve
 from verify.maps.general import eps_map
-from verify.views.text import eps_map_text, properties_text
+from verify.maps.text import eps_map_text
+from verify.properties.own import family_verdicts
+from verify.properties.text import properties_text
 
 x, y, theta = sp.symbols("x y theta")
 
@@ -78,7 +79,7 @@ def main(argv: list[str]) -> int:
     m = rod_map()
     print(eps_map_text(m))
     if "--figure" in argv:
-        from verify.views.figures import eps_map_figure
+        from verify.maps.figures import eps_map_figure
 
         path = argv[argv.index("--figure") + 1]
         eps_map_figure(m, path)

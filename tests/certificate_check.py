@@ -1,7 +1,7 @@
 """An independent checker of non-termination certificates (invariant cones, two constraints).
 
 Written from the mathematics in the certificate's own words, without importing the code
-that finds certificates (verify.core.termination, verify.core.backends.symbolic, verify.checks.paper.cradle_map) or the
+that finds certificates (verify.proofs.termination, verify.numbers.backends.symbolic, verify.paper.cradle_map) or the
 rule: it recomputes the Gram matrix from the masses and normals with SymPy, applies the
 impulse maps itself, and checks every condition, either exactly at a rational eps or for
 every eps of an interval with algebraic endpoints (by the real roots of each polynomial).
@@ -20,7 +20,7 @@ from fractions import Fraction
 
 import sympy as sp
 
-from verify.core.parse import parse_number  # only to read number strings without eval
+from verify.numbers.parse import parse_number  # only to read number strings without eval
 
 EPS = sp.Symbol("eps")
 
@@ -284,7 +284,7 @@ def _step(G: sp.Matrix, e: list, J: list[int], x: list, beta: sp.Expr = 1) -> li
 
 def _betas(G: sp.Matrix, J: list[int], vectors: list, sign: _Signs) -> list | None:
     """[beta_lo, beta_hi] from the pairwise forms N_kl, D_kl of the vectors (the rule of
-    verify.core.cones.period, rewritten): beta = sum x_j^2/G_jj / (lam^T G_JJ lam)."""
+    verify.proofs.cones.period, rewritten): beta = sum x_j^2/G_jj / (lam^T G_JJ lam)."""
     GJ = sp.Matrix([[G[i, j] for j in J] for i in J])
     lam = [sp.Matrix([v[j] / G[j, j] for j in J]) for v in vectors]
     forms = [(sum(a[j] * lb[t] for t, j in enumerate(J)), (la.T * GJ * lb)[0]) for a, la in zip(vectors, lam)
@@ -304,7 +304,7 @@ def _betas(G: sp.Matrix, J: list[int], vectors: list, sign: _Signs) -> list | No
 def _cone_lp(y: list, gens: list, strict: list, need_strict: bool) -> bool:
     """y is a non-negative combination of gens (with weight on a strict one if asked), at a rational point:
     a simplex method written here for the checker (dense tableau over Fractions, Bland's rule), apart
-    from the search's (verify/core/cones/lp.py) and from SymPy's (whose lpmax stalled on some of them)."""
+    from the search's (verify/proofs/cones/lp.py) and from SymPy's (whose lpmax stalled on some of them)."""
     entries = [x for g in gens for x in g] + list(y)
     number = _q if all(sp.sympify(x).is_Rational for x in entries) else _Quadratic.of
     rows = [[number(g[m]) for g in gens] + [number(y[m])] for m in range(len(y))]

@@ -67,8 +67,8 @@ PROPERTY_PROFILE = {"dev": "dev", "ci": "ci", "thorough": "ci"}.get(PROFILE, "ci
 def property_verdicts(tmp_path_factory):
     """The verdict table at the test profile, computed once per command (properties and reports share it), on
     both cores, and written exactly (the checkpoints' encoding) for the other test process (:func:`shared`)."""
-    from verify.checks.properties.verdicts import verdicts
-    from verify.checks.tasks import decode, encode
+    from verify.properties.verdicts import verdicts
+    from verify.runner.tasks import decode, encode
 
     return shared(tmp_path_factory, f"property-verdicts-{PROPERTY_PROFILE}",
                   lambda: verdicts(PROPERTY_PROFILE, workers=2),
@@ -81,6 +81,6 @@ def paper_corner_maps():
     """The paper's corner mapped over its CORs as the corner report maps it (``corner_maps``: half a minute of
     exact cells), once per test process (its number fields' arithmetic does not pickle, so it is not shared
     between processes as ``property_verdicts`` is)."""
-    from verify.checks.paper.corner_map import corner_maps
+    from verify.paper.corner_map import corner_maps
 
     return corner_maps()

@@ -2,7 +2,7 @@
 
 from __future__ import annotations
 
-from verify.physics.protocol import Adapter, NotInstalled
+from verify.engines.protocol import Adapter, NotInstalled
 
 
 class Ghost(Adapter):

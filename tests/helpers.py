@@ -45,8 +45,8 @@ def assert_exact_vector(expected: list[Any], K: Any, got: Any) -> None:
 
 def cradle_case(case_id: str, masses: list[str], restitution: list[str], velocity: list[str]) -> dict[str, Any]:
     """A cradle's case record, built by the model (geometry) and the one case-record writer."""
-    from verify.core.parse import to_number
     from verify.models.cradle import cradle_geometry
+    from verify.numbers.parse import to_number
     from verify.records.results import case_record
 
     g, normals = cradle_geometry([to_number(m) for m in masses])
@@ -93,7 +93,7 @@ _HERE: dict[str, Any] = {}
 
 
 def measured_once(measure: Callable[..., Any], tmp_path_factory: pytest.TempPathFactory) -> Callable[..., Any]:
-    """``measure`` (e.g. ``verify.checks.bench.bench``) made once per command for each set of options (all but
+    """``measure`` (e.g. ``verify.bench.throughput.bench``) made once per command for each set of options (all but
     ``progress``), for every test process (:func:`shared`): the commands that print it (text, JSON) in several tests
     print the same figures, measured once."""
 
@@ -108,6 +108,8 @@ def measured_once(measure: Callable[..., Any], tmp_path_factory: pytest.TempPath
 def bench_measured_once(monkeypatch: pytest.MonkeyPatch, tmp_path_factory: pytest.TempPathFactory) -> None:
     """Within the test, ``verify bench`` prints the measurement made once per command for its options
     (:func:`measured_once`): the tests that print it (the docs' text and JSON transcripts, the smoke test) share it."""
-    import verify.checks.bench
+    import verify.bench.throughput
 
-    monkeypatch.setattr(verify.checks.bench, "bench", measured_once(verify.checks.bench.bench, tmp_path_factory))
+    monkeypatch.setattr(
+        verify.bench.throughput, "bench", measured_once(verify.bench.throughput.bench, tmp_path_factory)
+    )

@@ -22,8 +22,8 @@ from fractions import Fraction
 from pathlib import Path
 from typing import Any
 
-from verify.core.format import format_exact
 from verify.maps import torus
+from verify.numbers.format import format_exact
 
 #: the recorded sweeps of the five-ball map
 RECORDED = Path(__file__).resolve().parent / "data" / "five-balls-sweeps.json"

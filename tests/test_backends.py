@@ -7,8 +7,9 @@ from fractions import Fraction
 import pytest
 import sympy as sp
 
-import verify.core.backends
-from verify.core.backends import (
+import verify.numbers.backends
+from verify.errors import BadNumber, InvalidInput, Undecided
+from verify.numbers.backends import (
     BACKENDS,
     IntervalBackend,
     NumberFieldBackend,
@@ -16,10 +17,9 @@ from verify.core.backends import (
     get_backend,
     rational_impls,
 )
-from verify.core.backends.base import Backend
-from verify.core.backends.symbolic import Piece, SymbolicBackend
-from verify.core.format import format_decimal
-from verify.errors import BadNumber, InvalidInput, Undecided
+from verify.numbers.backends.base import Backend
+from verify.numbers.backends.symbolic import Piece, SymbolicBackend
+from verify.numbers.format import format_decimal
 
 # (name, operation on (K, a, b), exact expected value) with a = 1/3 and b = -5/7
 CONTRACT = [
@@ -89,9 +89,9 @@ def test_capabilities_are_declared_and_kept(K: Backend, declared: set[str]) -> N
 
 
 def test_the_package_exports_its_public_names() -> None:
-    for name in verify.core.backends.__all__:
-        assert getattr(verify.core.backends, name) is not None
-    assert not [n for n in verify.core.backends.__all__ if n.startswith("_")]
+    for name in verify.numbers.backends.__all__:
+        assert getattr(verify.numbers.backends, name) is not None
+    assert not [n for n in verify.numbers.backends.__all__ if n.startswith("_")]
 
 
 @pytest.mark.parametrize("impl", list(rational_impls()))
@@ -214,7 +214,7 @@ def test_roots_of_one_polynomial_are_equal_exactly_when_their_intervals_share_th
     """Two real algebraic numbers on one polynomial whose isolating intervals overlap: the same root (however
     narrowed) compares equal, two roots whose intervals overlap where there is no root do not, either order, as
     count_roots on the overlap says."""
-    from verify.core.algebraic import RealAlgebraic, count_roots, poly_from_coeffs
+    from verify.numbers.algebraic import RealAlgebraic, count_roots, poly_from_coeffs
 
     first, second = RealAlgebraic.roots_in(poly_from_coeffs([10, -30, 21]))  # 1.11... and 1.88...
     p = first.poly  # irreducible

@@ -1,6 +1,6 @@
-"""The ball engine (:mod:`verify.core.engines.balls`) against the exact rule.
+"""The ball engine (:mod:`verify.laws.loops.balls`) against the exact rule.
 
-Every run here is compared with :func:`verify.core.rule.solve` on the rationals: the same
+Every run here is compared with :func:`verify.laws.rule.solve` on the rationals: the same
 impact sets and stop, and enclosures (exit velocity, betas) that contain the exact values.
 Nothing is timed (``verify bench`` measures).
 """
@@ -15,15 +15,15 @@ from typing import Any
 import pytest
 from hypothesis import given, settings
 
-from verify.checks.bench import LONG_RUN
-from verify.checks.properties.strategies import cases
-from verify.core.backends import IntervalBackend
-from verify.core.engines import balls
-from verify.core.engines.policy import Limits, Run
-from verify.core.rule import Budget, _ExactRates, impulse, solve
-from verify.core.system import System
+from verify.bench.throughput import LONG_RUN
+from verify.dynamics.policy import Limits, Run
+from verify.dynamics.system import System
 from verify.errors import Undecided
+from verify.laws.loops import balls
+from verify.laws.rule import Budget, _ExactRates, impulse, solve
 from verify.models.corner import corner_system
+from verify.numbers.backends import IntervalBackend
+from verify.properties.strategies import cases
 
 DPS = 50
 
@@ -333,8 +333,8 @@ def test_a_general_multiple_impulse_keeps_the_ball_invariant() -> None:
     measured exactly in the norm d^T G^-1 d."""
     import numpy as np
 
-    from verify.core.backends import RationalBackend
-    from verify.core.linalg import ldl, solve_spd
+    from verify.numbers.backends import RationalBackend
+    from verify.numbers.linalg import ldl, solve_spd
 
     s = System([[1, 0, 0], [0, 2, 0], [0, 0, 1]], [[-1, 1, 0], [0, -1, 1]], [1, 1])
     Q = s.backend

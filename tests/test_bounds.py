@@ -1,4 +1,4 @@
-"""The bounds inside the algorithms (verify.core.bounds): each is a constant of the module it names, each is
+"""The bounds inside the algorithms (verify.bounds): each is a constant of the module it names, each is
 recorded where the code compares with it, and ``verify bounds`` adds up what the processes of a command used."""
 
 from __future__ import annotations
@@ -14,9 +14,9 @@ from pathlib import Path
 import pytest
 
 from tests.test_periodic import CASES, _system
-from verify.core import bounds
-from verify.core.cones import period
-from verify.core.rule import solve
+from verify import bounds
+from verify.laws.rule import solve
+from verify.proofs.cones import period
 
 ROOT = Path(__file__).resolve().parent.parent
 

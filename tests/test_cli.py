@@ -99,7 +99,7 @@ BAD = [
     ("unknown option", ["cradle", "--eps", "0.5", "--frobnicate"], "unrecognized arguments: --frobnicate"),
     ("unknown command", ["frobnicate"], "invalid choice: 'frobnicate'"),
     ("unknown backend", ["cradle", "--eps", "0.5", "--backend", "quantum"], "invalid choice: 'quantum'"),
-    ("negative cap", ["cradle", "--eps", "0.5", "--max-iterations", "-1"], "--max-iterations must be >= 0"),
+    ("negative cap", ["cradle", "--eps", "0.5", "--max-impulses", "-1"], "--max-impulses must be >= 0"),
     ("tiny dps", ["cradle", "--eps", "0.5", "--backend", "mp", "--dps", "2"], "dps must be an integer >= 5"),
     ("non-integer option", ["cradle", "--eps", "0.5", "--balls", "three"], "--balls must be an integer, got 'three'"),
     ("no command", [], ""),
@@ -181,8 +181,8 @@ def test_the_command_line_names_its_flag_where_the_library_names_its_parameter(c
 def test_a_run_that_does_not_exit_prints_the_velocity_at_the_stop_everywhere(tmp_path, capsys):
     """``verify solve`` (proved never to exit, and at a cap), ``verify cradle`` and ``Result.summary``
     give the velocity where a run stopped one name, "exit velocity" only for an exit."""
-    from verify.core.rule import solve
-    from verify.core.system import System
+    from verify.dynamics.system import System
+    from verify.laws.rule import solve
 
     never = cradle_case("never", ["1", "1", "1"], ["1/100", "1/100"], ["1", "0", "0"])
     capped = {**cradle_case("capped", ["1", "1", "1"], ["1/2", "1/2"], ["1", "0", "0"]), "max_iterations": 1}

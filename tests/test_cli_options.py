@@ -3,8 +3,8 @@
 A new option with one of the checked types (verify.cli.common.BoundedInt, Seconds, NonNegativeRational,
 ExactNumber, OutputDir, OutputFile) is covered here without editing this file; an option typed
 with a bare ``int`` or ``float`` (whose range nothing checks) fails the walk. Then: the budget
-options of ``verify solve`` and ``verify oracle check`` (--max-iterations, --max-bits,
---case-timeout), the status line on a terminal, and a failing case named in the error.
+options of ``verify solve`` and ``verify oracle check`` (--max-impulses, --max-bits,
+--case-time-limit), the status line on a terminal, and a failing case named in the error.
 """
 
 from __future__ import annotations
@@ -130,9 +130,9 @@ def test_no_option_is_a_bare_int_or_float():
 def test_the_walk_finds_the_options():
     names = {(" ".join(w), n) for w, _, _, n in options(NUMERIC + PATHS)}
     expected = [
-        ("cradle", "--dps"), ("solve", "--max-iterations"), ("solve", "--max-bits"), ("solve", "--case-timeout"),
-        ("oracle check", "--timeout"), ("oracle check", "--case-timeout"), ("cradle-map", "--approach"),
-        ("sweep", "--seed"), ("bench", "--size"), ("table1", "--exact-cap"), ("properties", "--workers"),
+        ("cradle", "--dps"), ("solve", "--max-impulses"), ("solve", "--max-bits"), ("solve", "--case-time-limit"),
+        ("oracle check", "--impl-time-limit"), ("oracle check", "--case-time-limit"), ("cradle-map", "--approach"),
+        ("sweep", "--seed"), ("bench", "--size"), ("table1", "--max-impulses"), ("properties", "--workers"),
         ("cradle", "--v0"), ("oracle check", "--rtol"), ("report", "--out"), ("oracle export", "DIR"),
         ("bench", "--save"), ("cradle-map", "--figure"), ("corner-claims", "--figures"),
         ("properties", "--counterexamples"), ("all", "--out"),
@@ -223,7 +223,7 @@ def test_output_paths_are_checked_without_creating_anything(tmp_path):
 
 
 def test_a_failed_export_leaves_no_temporary_file(tmp_path, monkeypatch, capsys):
-    from verify.checks import oracle
+    from verify.oracle import reference as oracle
 
     case = {"id": "c", "mass_matrix": [["1", "0"], ["0", "1"]], "normals": [["-1", "1"]], "time_terms": ["0"],
             "restitution": ["1/2"], "velocity": ["1", "0"], "max_iterations": 10}  # fmt: skip
@@ -237,7 +237,7 @@ def test_a_failed_export_leaves_no_temporary_file(tmp_path, monkeypatch, capsys)
 
 
 def test_a_failed_report_leaves_no_temporary_file(tmp_path, monkeypatch, capsys):
-    from verify.views import pages as report
+    from verify.report import pages as report
 
     monkeypatch.setattr(report, "PAGES", [("table1.md", lambda out, ctx: "# page\n")])
     out_dir = tmp_path / "reports"
@@ -278,7 +278,7 @@ def solve_json(argv, capsys) -> list[dict]:
 
 
 def test_solve_progress_hook_counts_every_impulse():
-    from verify.core.rule import solve
+    from verify.laws.rule import solve
     from verify.records.results import case_from_record
 
     c = case_from_record(SMALL)
@@ -289,7 +289,7 @@ def test_solve_progress_hook_counts_every_impulse():
 
 def test_solve_max_iterations_overrides_the_cases_cap(tmp_path, capsys):
     path = case_file(tmp_path, dict(SMALL, max_iterations=50), dict(SMALL, id="small-2"))
-    (a, b) = solve_json(["solve", path, "--json", "--max-iterations", "1"], capsys)
+    (a, b) = solve_json(["solve", path, "--json", "--max-impulses", "1"], capsys)
     assert (a["stop"], a["iterations"]) == (b["stop"], b["iterations"]) == ("max_iterations", 1)
     (a, b) = solve_json(["solve", path, "--json"], capsys)
     assert a["stop"] == b["stop"] == "exit"
@@ -299,11 +299,11 @@ def test_solve_max_bits_ends_a_long_run_with_stop_budget(tmp_path, capsys):
     (r,) = solve_json(["solve", case_file(tmp_path, CRADLE_4), "--json", "--max-bits", "3000"], capsys)
     assert r["stop"] == "budget" and 100 < r["iterations"] < 400  # the default cap would take minutes
     (r,) = solve_json(["solve", case_file(tmp_path, SMALL), "--json", "--max-bits", "10"], capsys)
-    assert (r["stop"], r["iterations"]) == ("budget", 2)  # as verify.core.rule.Budget's doctest
+    assert (r["stop"], r["iterations"]) == ("budget", 2)  # as verify.laws.rule.Budget's doctest
 
 
 def test_solve_case_timeout_ends_a_long_run_with_stop_budget(tmp_path, capsys):
-    (r,) = solve_json(["solve", case_file(tmp_path, CRADLE_4), "--json", "--case-timeout", "1/100"], capsys)
+    (r,) = solve_json(["solve", case_file(tmp_path, CRADLE_4), "--json", "--case-time-limit", "1/100"], capsys)
     assert r["stop"] == "budget" and r["iterations"] < 10_000
 
 
@@ -337,14 +337,14 @@ def test_status_line_counts_impulses(tmp_path, monkeypatch):
     monkeypatch.delenv("TERM", raising=False)
     clock = iter(range(0, 10**6))  # each reading of the clock one second later: every update is shown
     monkeypatch.setattr("time.monotonic", lambda: float(next(clock)))
-    assert main(["solve", case_file(tmp_path, SMALL), "--max-iterations", "2"]) == 0
+    assert main(["solve", case_file(tmp_path, SMALL), "--max-impulses", "2"]) == 0
     assert "case 1/1 small: 1 impulse" in terminal.getvalue()
     assert "case 1/1 small: 2 impulses" in terminal.getvalue()
 
 
 def test_a_failing_case_is_named(tmp_path, monkeypatch, capsys):
-    from verify.core import rule
     from verify.errors import NoConvergence
+    from verify.laws import rule
 
     real = rule.solve
 
@@ -403,7 +403,7 @@ def test_an_internal_error_is_one_line_with_its_own_exit_code(monkeypatch, capsy
 
 
 def their_results(tmp_path: Path, records: list[dict], edit) -> str:
-    from verify.checks.oracle import golden_results
+    from verify.oracle.reference import golden_results
 
     results = golden_results(records)
     for r in results:
@@ -414,8 +414,8 @@ def their_results(tmp_path: Path, records: list[dict], edit) -> str:
 
 
 def test_oracle_check_with_a_budget_checks_the_impulses_it_made(tmp_path, capsys):
-    from verify.checks.oracle import golden_results
-    from verify.core.rule import Budget
+    from verify.laws.rule import Budget
+    from verify.oracle.reference import golden_results
 
     records = [dict(CRADLE_4, max_iterations=400)]
     cases = case_file(tmp_path, dict(CRADLE_4))
@@ -469,7 +469,7 @@ def test_oracle_check_max_iterations_reaches_the_implementation(tmp_path, capsys
     command = f"{sys.executable} {ROOT / 'examples' / 'float_impl.py'}"
     assert main(["oracle", "check", cases, "--impl", command]) == 0  # exits after 3 impulses, both
     capsys.readouterr()
-    assert main(["oracle", "check", cases, "--impl", command, "--max-iterations", "1", "--json"]) == 0
+    assert main(["oracle", "check", cases, "--impl", command, "--max-impulses", "1", "--json"]) == 0
     assert json.loads(capsys.readouterr().out)["mismatches"] == []  # both stop at the cap of 1
 
 
@@ -486,7 +486,7 @@ def test_help_of_every_command_works_and_names_the_docs(capsys):
     top = build_parser().format_help()
     assert "Formats and commands: docs/ in the source repository (docs/README.md)." in top
     solve_help = " ".join(dict(commands(build_parser()))[("solve",)].format_help().split())
-    assert "docs/records.md in the source repository" in solve_help and "--case-timeout" in solve_help
+    assert "docs/records.md in the source repository" in solve_help and "--case-time-limit" in solve_help
 
 
 # -- the number of balls (issue 34, item 17) ------------------------------------------------------
@@ -522,3 +522,68 @@ def test_a_list_of_another_length_than_balls_is_refused_in_one_line(capsys):
     assert main(["cradle", "--eps", "0.5", "--balls", "3", "--velocity", "1,0"]) == 2
     err = capsys.readouterr().err
     assert err == "verify: error: verify cradle: --velocity has 2 entries but there are 3 balls\n", err
+
+
+# -- one vocabulary (issue 61, item 7) ---------------------------------------------------------------------
+
+#: the 0.2 names of renamed options: each still parses, hidden from --help, with a note on stderr
+OLD_NAMES = {"--max-iterations": "--max-impulses", "--exact-cap": "--max-impulses",
+             "--case-timeout": "--case-time-limit", "--timeout": "--impl-time-limit"}  # fmt: skip
+#: ``oracle generate --out FILE`` is ``--save FILE`` (as ``bench --save``): --out is a folder everywhere else
+OLD_FILE_OUT = ("--out", "--save")
+#: words of options that mean one thing each: the cap on impulses, the time limits, an output folder
+CAP, FOLDER = "--max-impulses", "--out"
+
+
+def test_every_subcommand_takes_quiet():
+    missing = [" ".join(w) for w, p in commands(build_parser()) if "--quiet" not in p._option_string_actions]
+    assert not missing, f"without --quiet: {missing}"
+
+
+def test_no_subcommand_shows_an_old_name_and_each_cap_is_max_impulses():
+    from verify.cli.common import Renamed
+
+    for words, p in commands(build_parser()):
+        shown = p.format_help()
+        assert not [old for old in OLD_NAMES if f"{old} " in shown or f"{old}\n" in shown], words
+        for action in p._actions:
+            if isinstance(action, Renamed):
+                pairs = {(old, action.option_strings[0]) for old in action.old}
+                assert pairs <= {*OLD_NAMES.items(), OLD_FILE_OUT}, (words, pairs)
+            if action.dest in ("max_iterations", "exact_cap"):
+                pytest.fail(f"verify {' '.join(words)}: a cap on impulses not named {CAP}")
+
+
+def test_out_is_a_folder_wherever_it_is_an_option():
+    from verify.cli.common import OutputDir, Renamed
+
+    found = [
+        (w, a)
+        for w, p in commands(build_parser())
+        for a in p._actions
+        if FOLDER in a.option_strings and not (isinstance(a, Renamed) and FOLDER in a.old)  # oracle generate's 0.2 name
+    ]
+    assert {" ".join(w) for w, _ in found} >= {"report", "all", "engines", "oracle export"}
+    assert all(isinstance(a.type, OutputDir) for _, a in found), [(w, a.option_strings) for w, a in found]
+
+
+@pytest.mark.parametrize(("argv", "old", "new"), [
+    (["cradle", "--eps", "1/2", "--max-iterations", "2", "--json"], "--max-iterations", "--max-impulses"),
+    (["table1", "--exact-cap", "5", "--json"], "--exact-cap", "--max-impulses"),
+])  # fmt: skip
+def test_an_old_name_still_works_with_a_note(argv, old, new, capsys, monkeypatch):
+    assert main(argv) == 0
+    with_old = capsys.readouterr()
+    assert with_old.err.strip() == f"verify: note: {old} is now {new} (the old name works in 0.3 only)"
+    assert main([new if a == old else a for a in argv]) == 0
+    with_new = capsys.readouterr()
+    assert with_new.err == "" and with_new.out == with_old.out
+
+
+def test_oracle_export_takes_its_folder_once(tmp_path, capsys):
+    assert main(["oracle", "export", "--out", str(tmp_path / "a")]) == 0
+    assert main(["oracle", "export", str(tmp_path / "b")]) == 0
+    assert (tmp_path / "a" / "cases.json").read_bytes() == (tmp_path / "b" / "cases.json").read_bytes()
+    capsys.readouterr()
+    assert main(["oracle", "export", str(tmp_path / "c"), "--out", str(tmp_path / "d")]) == 2
+    assert "give the folder once" in capsys.readouterr().err and not (tmp_path / "c").exists()

@@ -10,14 +10,14 @@ from hypothesis import given, settings
 from hypothesis import strategies as st
 
 from tests import certificate_check
-from verify.checks.paper.float_check import float_vs_exact
-from verify.checks.sweep import random_corner_cases, sweep
 from verify.cli import main
-from verify.core.backends import get_backend
-from verify.core.rule import beta
-from verify.core.termination import cone_parameters
+from verify.laws.rule import beta
 from verify.models.corner import corner_geometry, corner_system, paper_run, run_corner
 from verify.models.wedge import approach_slopes, below_boundary, rebounds_by_slope, symmetric_boundary
+from verify.numbers.backends import get_backend
+from verify.paper.float_check import float_vs_exact
+from verify.paper.sweep import random_corner_cases, sweep
+from verify.proofs.termination import cone_parameters
 
 slopes = st.fractions(min_value=F(1, 10), max_value=10, max_denominator=60)
 cors = st.fractions(min_value=0, max_value=1, max_denominator=30)
@@ -256,7 +256,7 @@ def test_repeated_multiple_impacts_forever_are_certified():
 
 def test_corner_figures(tmp_path):
     pytest.importorskip("matplotlib")
-    from verify.views import figures
+    from verify.paper import figures
 
     for draw, kwargs in (
         (figures.corner_multiple_impacts_map, {"n": 4}),

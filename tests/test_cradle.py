@@ -8,8 +8,8 @@ import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
-from verify.core.rule import solve
 from verify.errors import InvalidSystem
+from verify.laws.rule import solve
 from verify.models.cradle import cradle_geometry, cradle_system, cradle_system_full, run_cradle
 
 eps_open = st.fractions(min_value=F(1, 60), max_value=F(59, 60), max_denominator=60)

@@ -12,10 +12,7 @@ from hypothesis import given, settings
 from hypothesis import strategies as st
 
 from tests import certificate_check
-from verify.checks.paper.cradle_map import aeev_rows_explained
 from verify.cli import main
-from verify.core.algebraic import RealAlgebraic
-from verify.core.backends.symbolic import EPS
 from verify.errors import InvalidInput, InvalidSystem
 from verify.maps.cradle import (
     approach_counts,
@@ -26,6 +23,9 @@ from verify.maps.cradle import (
     undecided_measure,
 )
 from verify.models.cradle import run_cradle
+from verify.numbers.algebraic import RealAlgebraic
+from verify.numbers.backends.symbolic import EPS
+from verify.paper.cradle_map import aeev_rows_explained
 
 BOUND = 40
 
@@ -275,7 +275,7 @@ def test_cli_text_and_figure(tmp_path, capsys):
 
 def test_the_text_says_where_the_exact_endpoints_are_for_its_caller(capsys):
     """From the library the text names the function that holds them, from the command line --json."""
-    from verify.views.text import cradle_map_text
+    from verify.maps.text import cradle_map_text
 
     small = cradle_map(max_impulses=8)
     text = cradle_map_text(small, aeev_rows=[], approach=[])
@@ -290,7 +290,7 @@ MAP_2112 = {"mass_matrix": [["2", "0", "0", "0"], ["0", "1", "0", "0"], ["0", "0
 
 def _point_parts_and_solve(parts, system_at, velocity, cap):
     """(part, the run of solve at the part's point) for every point part with a rational value."""
-    from verify.core.rule import solve
+    from verify.laws.rule import solve
 
     for part in parts:
         if part.piece.is_point and part.piece.lower.is_rational:
@@ -299,7 +299,7 @@ def _point_parts_and_solve(parts, system_at, velocity, cap):
 
 @pytest.mark.parametrize("which", ["4 unit balls", "masses 2, 1, 1, 2"])
 def test_a_point_part_is_decided_as_solve_decides_it(which) -> None:
-    from verify.core.system import System
+    from verify.dynamics.system import System
     from verify.maps.general import eps_map
     from verify.models.cradle import cradle_system
 

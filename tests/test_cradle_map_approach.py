@@ -65,7 +65,7 @@ def test_a_run_beyond_the_budget_is_said_in_words_with_no_ratio(map123):
     assert [r.stop for r in direct] == ["exit", "max_iterations"]
     assert rows[0][1] == direct[0].iterations
     assert rows[1][1] == f"> {direct[1].iterations} (budget)"
-    from verify.views.text import approach_table
+    from verify.maps.text import approach_table
 
     lines = approach_table(rows)
     eps, *words = lines[-2].split()  # the last row, before the footnote
@@ -74,7 +74,7 @@ def test_a_run_beyond_the_budget_is_said_in_words_with_no_ratio(map123):
 
 
 def test_no_ratio_to_or_from_a_row_without_a_count():
-    from verify.views.text import approach_table
+    from verify.maps.text import approach_table
 
     lines = approach_table([(F(1, 10), 8), (F(1, 100), "> 10 (budget)"), (F(1, 1000), 78)])
     row = {line.split()[0]: line.split()[1:] for line in lines[3:-1]}
@@ -95,7 +95,7 @@ def test_staircase_legend_shows_only_what_is_drawn():
     pytest.importorskip("matplotlib")
     import matplotlib.pyplot as plt
 
-    from verify.views.figures import staircase_figure, staircase_legend
+    from verify.maps.figures import staircase_figure, staircase_legend
 
     for m in (cradle_map(4, ["1", "2", "3", "4"], max_impulses=6), cradle_map(max_impulses=2)):
         labels = [label for _, label in staircase_legend(m)]
@@ -119,7 +119,7 @@ def test_four_balls_staircase_claims_only_what_is_proved(tmp_path, monkeypatch):
     pytest.importorskip("matplotlib")
     from matplotlib.figure import Figure
 
-    from verify.views.figures import cradle_staircase
+    from verify.maps.figures import cradle_staircase
 
     saved = []
     real_savefig = Figure.savefig

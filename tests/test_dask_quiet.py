@@ -26,7 +26,7 @@ ERROR = "a Dask error stays visible"
 #: verify sweep, whose batch logs a warning and an error through distributed.client, then runs as usual
 SCRIPT = f"""
 import logging, sys
-import verify.checks.sweep as sweep
+import verify.paper.sweep as sweep
 real = sweep.random_sweep
 def logging_sweep(*args, **kwargs):
     logging.getLogger("distributed.client").warning({WARNING!r})

@@ -1,4 +1,4 @@
-"""Resultants and discriminants by interpolation (verify.core.backends.eliminate) give flint's own polynomials."""
+"""Resultants and discriminants by interpolation (verify.maps.backends.eliminate) give flint's own polynomials."""
 
 from __future__ import annotations
 
@@ -9,14 +9,14 @@ import pytest
 from hypothesis import given
 from hypothesis import strategies as st
 
-from verify.core.backends.plane import FLINT_POLYS
+from verify.maps.backends.plane import FLINT_POLYS
 
 pytestmark = pytest.mark.skipif(not FLINT_POLYS, reason="python-flint is not installed (the fast extra)")
 
 if FLINT_POLYS:
     import flint
 
-    from verify.core.backends.eliminate import THRESHOLD, discriminant_y, resultant_y
+    from verify.maps.backends.eliminate import THRESHOLD, discriminant_y, resultant_y
 
 coefficients = st.fractions(min_value=-20, max_value=20, max_denominator=12)
 terms = st.dictionaries(st.tuples(st.integers(0, 7), st.integers(0, 7)), coefficients, min_size=1, max_size=14)

@@ -16,9 +16,9 @@ from typing import Any
 
 import pytest
 
-from verify.checks import engines
-from verify.core.parse import parse_number, to_number
-from verify.physics.scene import scene_of
+from verify.engines import run as engines
+from verify.engines.scene import scene_of
+from verify.numbers.parse import parse_number, to_number
 
 ROOT = Path(__file__).resolve().parents[1]
 RECORD = ROOT / "reports" / "engines.json"
@@ -97,7 +97,7 @@ def test_every_engine_case_is_a_scene() -> None:
 def test_the_page_is_rendered_from_the_committed_record() -> None:
     """Every finding line of the page comes from the record (the staleness of the page itself is
     tests/test_reports.py's)."""
-    from verify.views.pages import engines_page_text
+    from verify.engines.pages import engines_page_text
 
     record = json.loads(RECORD.read_text(encoding="utf-8"))
     page = (ROOT / "reports" / "engines.md").read_text(encoding="utf-8")
@@ -133,8 +133,8 @@ def test_box2d_is_the_exact_sequential_law_of_its_own_settings(box2d_record: dic
     """Box2D 2.3 at its defaults (8 velocity iterations, restitution above 1 m/s) leaves the 3-ball cradles at
     eps > 0 as the exact sequential law with those settings does, to float32 precision (1e-5 of the speed),
     recomputed here; the record's explanation says so, and its summary counts its rows."""
-    from verify.core.rule import solve
-    from verify.core.sequential import Sequential
+    from verify.laws.rule import solve
+    from verify.laws.sequential import Sequential
     from verify.records.results import case_from_record
 
     (entry,) = box2d_record["engines"]
@@ -166,7 +166,7 @@ def test_sapien_runs_end_to_end_and_drops_restitution_under_its_threshold(sapien
     why not, and PhysX's bounce threshold (2 m/s) shows: the 3-ball cradle with CORs 1 approached at 9/5
     leaves as the simultaneous law with CORs 0 does (recomputed here, to float32 precision), at 11/5 it
     bounces (far from that plastic answer)."""
-    from verify.core.rule import solve
+    from verify.laws.rule import solve
     from verify.records.results import case_from_record
 
     (entry,) = sapien_record["engines"]

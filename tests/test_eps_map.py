@@ -12,15 +12,15 @@ import pytest
 import sympy as sp
 
 from verify.cli import main
-from verify.core.format import format_decimal
-from verify.core.parse import parse_number, to_number
-from verify.core.rule import solve
-from verify.core.system import System
+from verify.dynamics.system import System
 from verify.errors import InvalidInput
+from verify.laws.rule import solve
 from verify.maps.cradle import cradle_map, map_json
 from verify.maps.general import eps_map, eps_map_json
 from verify.maps.line import parts_json
 from verify.models.cradle import cradle_system
+from verify.numbers.format import format_decimal
+from verify.numbers.parse import parse_number, to_number
 from verify.records.results import case_from_record
 
 CORNER = Path(__file__).resolve().parents[1] / "docs" / "examples" / "corner-map.json"
@@ -140,7 +140,7 @@ def test_a_system_with_algebraic_numbers_is_mapped_and_others_are_refused(tmp_pa
 
 
 def test_the_json_and_the_text_name_the_contacts_and_the_parameter() -> None:
-    from verify.views.text import eps_map_text
+    from verify.maps.text import eps_map_text
 
     m = eps_map(cradle_system("1", 3), ["1", "0", "0"], ["e", "1"], max_impulses=6)
     data = eps_map_json(m)
@@ -153,7 +153,7 @@ def test_the_json_and_the_text_name_the_contacts_and_the_parameter() -> None:
 @pytest.mark.parametrize("cors", [["e", "e"], ["e1", "e2"]])
 def test_the_map_figure_is_drawn_for_one_and_two_parameters(tmp_path, cors) -> None:
     pytest.importorskip("matplotlib")
-    from verify.views.figures import eps_map_figure
+    from verify.maps.figures import eps_map_figure
 
     m = eps_map(cradle_system("1", 3), ["1", "0", "0"], cors, lines=2, max_impulses=6)
     path = eps_map_figure(m, tmp_path / "map.png")
@@ -173,7 +173,7 @@ def test_a_parts_exit_velocity_is_written_in_the_parameters_own_name() -> None:
 
 def test_the_text_says_where_the_exact_endpoints_are_for_its_caller(capsys) -> None:
     """Item 18: from the library, the text pointed at ``--json``, an option the library has not."""
-    from verify.views.text import eps_map_text
+    from verify.maps.text import eps_map_text
 
     m = eps_map(System([[1, 0], [0, 1]], [[-1, 1]], [1]), ["1", "0"], ["e"])
     text = eps_map_text(m)
@@ -227,7 +227,7 @@ def test_the_one_parameter_figure_has_a_legend_entry_for_never_exits_and_unexplo
     from matplotlib.collections import LineCollection
     from matplotlib.patches import Patch
 
-    from verify.views.figures import eps_map_plot
+    from verify.maps.figures import eps_map_plot
 
     m = eps_map(cradle_system("1", 3), ["1", "0", "0"], max_impulses=8)
     stops = {p.stop for p in m.lines[0].parts}
@@ -258,7 +258,7 @@ def test_the_grid_figure_names_never_exits_and_unexplored_in_its_legend() -> Non
     pytest.importorskip("matplotlib")
     import matplotlib.pyplot as plt
 
-    from verify.views.figures import eps_map_plot
+    from verify.maps.figures import eps_map_plot
 
     m = eps_map(cradle_system("1", 3), ["1", "0", "0"], ["e1", "e2"], lines=2, max_impulses=6)
     fig = eps_map_plot(m)
@@ -334,9 +334,9 @@ def test_a_case_names_its_contacts_and_the_results_maps_and_figures_use_the_name
     pytest.importorskip("matplotlib")
     import matplotlib.pyplot as plt
 
+    from verify.maps.figures import eps_map_plot
     from verify.maps.general import case_map
     from verify.records.results import load_cases
-    from verify.views.figures import eps_map_plot
 
     named = _named_cradle(tmp_path, ["ball 1-2", "ball 2-3"], cors=("1/2", "1/2"))
     (case,) = load_cases(str(named))

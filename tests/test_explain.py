@@ -11,10 +11,10 @@ from typing import Any
 
 import sympy as sp
 
-from verify.checks.engines import engine_cases
-from verify.checks.explain import Explainer, explain_case, explained_summary, models
-from verify.core.rule import solve
-from verify.core.sequential import Sequential
+from verify.engines.explain import Explainer, explain_case, explained_summary, models
+from verify.engines.run import engine_cases
+from verify.laws.rule import solve
+from verify.laws.sequential import Sequential
 from verify.records.results import case_from_record
 
 CASES = {c["id"]: c for c in engine_cases()}

@@ -19,10 +19,10 @@ from typing import Any
 
 import pytest
 
-from verify.checks.hardcases import generate_file_text
 from verify.cli import main
-from verify.core.algebraic import RealAlgebraic
-from verify.core.parse import parse_number
+from verify.numbers.algebraic import RealAlgebraic
+from verify.numbers.parse import parse_number
+from verify.oracle.hardcases import generate_file_text
 from verify.records.results import CASE_DECIMAL_DIGITS, CASE_NUMBER_FIELDS
 
 ROOT = Path(__file__).resolve().parents[1]

@@ -1,6 +1,6 @@
-"""The float path (:mod:`verify.core.engines.floats`): every rung gives the exact engine's branches.
+"""The float path (:mod:`verify.laws.loops.floats`): every rung gives the exact engine's branches.
 
-Each test compares the float path with :func:`verify.core.rule.solve` on the rational backend
+Each test compares the float path with :func:`verify.laws.rule.solve` on the rational backend
 (impact sets, stop, and the exit velocity inside its radius), and the rung tests check that the
 case really went through the rung they name: the floats alone (the frame of the rates), the
 exact catch-up, or the exact redo. Nothing here is timed (``verify bench`` measures).
@@ -14,13 +14,13 @@ import numpy as np
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
-from verify.checks.bench import batch
-from verify.checks.properties.strategies import cases, cors, positive_rationals, small_rationals
-from verify.core.engines import floats
-from verify.core.engines.floats import RUNG_CATCH_UP, RUNG_EXACT, RUNG_FLOATS, solve_batch, systems_batch
-from verify.core.rule import Budget, solve
-from verify.core.system import System
+from verify.bench.throughput import batch
+from verify.dynamics.system import System
+from verify.laws.loops import floats
+from verify.laws.loops.floats import RUNG_CATCH_UP, RUNG_EXACT, RUNG_FLOATS, solve_batch, systems_batch
+from verify.laws.rule import Budget, solve
 from verify.models.corner import corner_batch, corner_system
+from verify.properties.strategies import cases, cors, positive_rationals, small_rationals
 
 F = Fraction
 IDENTITY = [[1, 0, 0], [0, 1, 0], [0, 0, 1]]

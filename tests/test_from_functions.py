@@ -9,10 +9,10 @@ from fractions import Fraction
 import pytest
 import sympy as sp
 
-from verify.core.backends import RationalBackend, exact_for
-from verify.core.system import System
+from verify.dynamics.system import System
 from verify.errors import BadNumber, InvalidInput, InvalidSystem
 from verify.models.cradle import run_cradle
+from verify.numbers.backends import RationalBackend, exact_for
 
 t, x1, x2, R = sp.symbols("t x1 x2 R")
 UNIT = [[1, 0], [0, 1]]

@@ -15,8 +15,8 @@ from hypothesis import given
 from hypothesis import strategies as st
 
 from tests.helpers import assert_exact, assert_exact_vector
-from verify.core.rule import beta, global_orthogonal_component, impulse, orthogonal_component
-from verify.core.system import System
+from verify.dynamics.system import System
+from verify.laws.rule import beta, global_orthogonal_component, impulse, orthogonal_component
 
 CRADLE = System([[1, 0, 0], [0, 1, 0], [0, 0, 1]], [[-1, 1, 0], [0, -1, 1]], [1, 1])
 K_SLOPE = F(1, 2)

@@ -1,4 +1,4 @@
-"""The paper's loop in PARI/GP (verify/data/gp, verify.checks.gp) against the exact engine.
+"""The paper's loop in PARI/GP (verify/data/gp, verify.bench.gp) against the exact engine.
 
 Skipped where gp is not installed, except the tests of what happens then.
 """
@@ -7,13 +7,13 @@ from fractions import Fraction
 
 import pytest
 
-from verify.checks import gp
-from verify.checks.bench import batch, short_batch
-from verify.core.backends import RationalBackend
-from verify.core.rule import solve
-from verify.core.system import System
+from verify.bench import gp
+from verify.bench.throughput import batch, short_batch
+from verify.dynamics.system import System
+from verify.laws.rule import solve
 from verify.models.corner import corner_system
 from verify.models.cradle import run_cradle
+from verify.numbers.backends import RationalBackend
 
 needs_gp = pytest.mark.skipif(not gp.available(), reason="PARI/GP (gp) is not installed")
 F = Fraction

@@ -19,9 +19,9 @@ from typing import Any
 import pytest
 
 from tests.helpers import cradle_case
-from verify.checks import oracle
-from verify.checks.grading import CLASSES, free_directions, ulp, ulps
-from verify.core.rule import Budget
+from verify.laws.rule import Budget
+from verify.oracle import reference as oracle
+from verify.oracle.grading import CLASSES, free_directions, ulp, ulps
 
 ROOT = Path(__file__).resolve().parents[1]
 RTOL = Fraction(1, 10**9)
@@ -234,7 +234,7 @@ def test_a_bare_json_nan_where_no_number_belongs_names_the_file_and_field(tmp_pa
 
 
 def test_a_budget_in_ulps_lets_a_case_pass_and_only_that_case(tmp_path: Path) -> None:
-    from verify.checks.grading import Budgets, ulp
+    from verify.oracle.grading import Budgets, ulp
 
     cs = cases()[:2]
     exact = exact_results(cs)
@@ -348,7 +348,7 @@ def test_a_component_that_is_exactly_0_has_a_floor_scaled_by_the_entrance_speed(
 
 
 def test_the_summary_prints_the_basis_of_the_tolerance() -> None:
-    from verify.checks.grading import Tolerance
+    from verify.oracle.grading import Tolerance
 
     done = run_check("golden/cases.json", "golden/results.json")
     assert done.returncode == 0
@@ -364,7 +364,7 @@ def test_the_summary_prints_the_basis_of_the_tolerance() -> None:
 def test_beta_has_its_own_tolerance_not_the_velocity_s(tmp_path: Path) -> None:
     """{"default": {"rtol": "0", "ulps": 4096}} leaves beta's tolerance at its own default: a beta rounded
     as a float rounds it is not a wrong branch (and not exact); beta's own field still grades it."""
-    from verify.checks import grading
+    from verify.oracle import grading
 
     cs = [cradle_case("both", ["1", "2", "1"], ["1/2", "1"], ["1", "0", "-1"])]
     (r,) = exact_results(cs)
@@ -381,7 +381,7 @@ def test_beta_has_its_own_tolerance_not_the_velocity_s(tmp_path: Path) -> None:
 
 def test_every_wrong_branch_line_shows_the_exact_rates_where_the_runs_part() -> None:
     """Also where the exact run ends and the other goes on: the rates of the exact exit velocity."""
-    from verify.core.format import format_exact
+    from verify.numbers.format import format_exact
 
     cs = cases()[:1]
     (r,) = exact_results(cs)
@@ -403,7 +403,7 @@ def test_every_wrong_branch_line_shows_the_exact_rates_where_the_runs_part() -> 
 
 
 def test_momentum_drift_and_energy_error_lines_give_the_drift_and_the_energy() -> None:
-    from verify.core.format import format_decimal
+    from verify.numbers.format import format_decimal
 
     cs = cases()[:1]
     (r,) = exact_results(cs)

@@ -1,4 +1,4 @@
-"""The hard-case generator (verify.checks.hardcases): stable bytes, exact sides, valid records."""
+"""The hard-case generator (verify.oracle.hardcases): stable bytes, exact sides, valid records."""
 
 from __future__ import annotations
 
@@ -15,10 +15,10 @@ from pathlib import Path
 import pytest
 import sympy as sp
 
-from verify.checks.hardcases import beside, generate, generate_file_text, level_spec
-from verify.core.algebraic import RealAlgebraic
-from verify.core.numeric import certified_sign
-from verify.core.rule import solve
+from verify.laws.rule import solve
+from verify.numbers.algebraic import RealAlgebraic
+from verify.numbers.numeric import certified_sign
+from verify.oracle.hardcases import beside, generate, generate_file_text, level_spec
 from verify.records.results import Case, case_from_record
 from verify.records.schema import validate
 
@@ -44,7 +44,7 @@ def load(record: dict) -> Case:
 
 def test_the_same_bytes_twice_and_under_another_hash_seed() -> None:
     assert generate_file_text(1, 0) == text(1, 0)
-    code = "import sys; from verify.checks.hardcases import generate_file_text as g; sys.stdout.write(g(1, 0))"
+    code = "import sys; from verify.oracle.hardcases import generate_file_text as g; sys.stdout.write(g(1, 0))"
     env = {**os.environ, "PYTHONHASHSEED": "12345"}
     out = subprocess.run([sys.executable, "-c", code], capture_output=True, env=env, check=True, cwd=ROOT).stdout
     assert hashlib.sha256(out).hexdigest() == hashlib.sha256(text(1, 0).encode()).hexdigest()

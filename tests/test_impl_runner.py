@@ -14,9 +14,9 @@ from pathlib import Path
 
 import pytest
 
-from verify.checks.impl import IMPL_NOTE, run_implementation, split_command
 from verify.cli.signals import GRACE
 from verify.errors import InvalidInput
+from verify.oracle.impl import IMPL_NOTE, run_implementation, split_command
 
 PY = sys.executable
 
@@ -205,7 +205,7 @@ def test_output_at_the_cap_is_accepted() -> None:
 
 MEMORY_PROBE = """
 import resource, shlex, sys
-from verify.checks.impl import run_implementation
+from verify.oracle.impl import run_implementation
 from verify.errors import InvalidInput
 flood = shlex.join([sys.executable, "-c", "import sys\\nwhile True: sys.stdout.write('x' * 2**20)"])
 before = resource.getrusage(resource.RUSAGE_SELF).ru_maxrss

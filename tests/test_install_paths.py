@@ -18,7 +18,7 @@ from pathlib import Path
 
 import pytest
 
-from verify.checks.hardcases import generate_file_text
+from verify.oracle.hardcases import generate_file_text
 
 ROOT = Path(__file__).resolve().parents[1]
 PURE = {"VERIFY_RATIONALS": "python", "SYMPY_GROUND_TYPES": "python"}
@@ -53,7 +53,7 @@ def test_a_module_made_absent_cannot_be_imported(tmp_path: Path) -> None:
 
 
 def test_the_pure_python_arithmetic_is_what_the_process_uses(tmp_path: Path) -> None:
-    code = "from verify.core.backends import rationals; print(rationals().describe())"
+    code = "from verify.numbers.backends import rationals; print(rationals().describe())"
     out = subprocess.run(
         [sys.executable, "-c", code], env={**os.environ, **PURE}, capture_output=True, text=True, check=False
     )

@@ -8,8 +8,8 @@ from fractions import Fraction
 import pytest
 
 from verify.cli import main
-from verify.core.format import format_decimal
-from verify.core.parse import parse_number
+from verify.numbers.format import format_decimal
+from verify.numbers.parse import parse_number
 
 CORNER_COR_0 = ["corner", "--slope", "1/2", "--phi", "0", "--eps1", "0", "--eps2", "1", "--v0", "2"]
 CRADLE = ["cradle", "--eps", "0.9"]

@@ -15,7 +15,7 @@ from typing import Any
 import pytest
 
 from tests.helpers import cradle_case
-from verify.checks import oracle
+from verify.oracle import reference as oracle
 
 ROOT = Path(__file__).resolve().parents[1]
 

@@ -1,13 +1,8 @@
 """The package's shape: layers that import in one direction, small functions, no private names
-across modules, no import cycle.
+across modules, no import cycle, no sub-package holding more than a fifth of the package.
 
-The layers, lowest first (a module may import its own layer and the layers below it):
-
-    errors <- core <- models <- records <- physics <- maps <- checks <- views <- cli
-
-``maps`` (the exact maps over a parameter) sits at the layer of ``checks``, just below it: the checks and
-the paper's cradle map are built on the maps, which need none of the checks.
-
+The layers, lowest first (a module may import its own layer and the layers below it), are :data:`LAYERS`;
+``docs/architecture.md`` says what each holds (``tests/test_architecture.py`` keeps it in step).
 ``verify/__init__.py`` (the public API) and ``verify/__main__.py`` stand above them all.
 Everything here reads the source with :mod:`ast`; nothing of the package is run.
 """
@@ -21,7 +16,10 @@ from pathlib import Path
 import pytest
 
 PACKAGE = Path(__file__).resolve().parents[1] / "verify"
-LAYERS = ("errors", "core", "models", "records", "physics", "maps", "checks", "views", "cli")
+LAYERS = (
+    "errors", "bounds", "numbers", "dynamics", "proofs", "laws", "models", "records", "views", "runner", "maps",
+    "properties", "paper", "oracle", "engines", "bench", "report", "cli",
+)  # fmt: skip
 TOP = ("__init__", "__main__")
 MAX_FUNCTION_LINES = 80
 
@@ -79,9 +77,27 @@ def imports(module: str, *, top_level_only: bool = False) -> Iterator[tuple[str,
 
 def test_the_package_has_layers_as_subpackages() -> None:
     subpackages = {p.parent.name for p in PACKAGE.glob("*/__init__.py")}
-    assert set(LAYERS[1:]) <= subpackages
+    modules = {p.stem for p in PACKAGE.glob("*.py")}
+    assert set(LAYERS) <= subpackages | modules
     top = [p.name for p in PACKAGE.glob("*.py")]
     assert len(top) <= 8, top
+
+
+#: the largest share of the package's lines that one top-level sub-package may hold
+MAX_SHARE = 0.2
+
+
+def test_no_sub_package_holds_more_than_a_fifth_of_the_lines() -> None:
+    lines = {name: len(path.read_text(encoding="utf-8").splitlines()) for name, path in MODULES.items()}
+    total = sum(lines.values())
+    shares = {}
+    for name, n in lines.items():
+        parts = name.split(".")
+        if len(parts) > 2 or (MODULES[name].name == "__init__.py" and len(parts) == 2):
+            shares[parts[1]] = shares.get(parts[1], 0) + n
+    assert shares, "the guard: there are sub-packages"
+    big = {k: f"{v / total:.1%}" for k, v in shares.items() if v > MAX_SHARE * total}
+    assert not big, f"sub-packages over {MAX_SHARE:.0%} of {total} lines: {big}"
 
 
 @pytest.mark.parametrize("module", sorted(MODULES))
@@ -155,8 +171,30 @@ def test_functions_are_short() -> None:
 
 
 def test_the_checks_see_a_violation() -> None:
-    """The walk itself works: a checks module imports a core module, found and allowed; the
-    reverse would be refused."""
-    found = {t for m in MODULES if m.startswith("verify.checks") for t, _, _ in imports(m)}
-    assert any(t.startswith("verify.core") for t in found)
-    assert layer("verify.cli") > layer("verify.checks.oracle") > layer("verify.core.rule") > layer("verify.errors")
+    """The walk itself works: an oracle module imports a law, found and allowed; the reverse would be
+    refused."""
+    found = {t for m in MODULES if m.startswith("verify.oracle") for t, _, _ in imports(m)}
+    assert any(t.startswith("verify.laws") for t in found)
+    assert layer("verify.cli") > layer("verify.oracle.reference") > layer("verify.laws.rule") > layer("verify.errors")
+
+
+def probed_backends(tree: ast.AST) -> list[int]:
+    """Lines that call getattr or hasattr on a backend: ``K``, ``Q`` or anything named ``...backend``."""
+    lines = []
+    for node in ast.walk(tree):
+        if isinstance(node, ast.Call) and isinstance(node.func, ast.Name) and node.func.id in ("getattr", "hasattr"):
+            target = node.args[0] if node.args else None
+            name = (
+                target.id if isinstance(target, ast.Name) else target.attr if isinstance(target, ast.Attribute) else ""
+            )
+            if name in ("K", "Q") or name.endswith("backend"):
+                lines.append(node.lineno)
+    return lines
+
+
+def test_no_backend_is_probed_for_an_attribute() -> None:
+    """The backend contract (``verify.numbers.backends.base.Backend``, a Protocol) declares every capability
+    and method the code uses: a caller reads ``K.rationals``, never ``getattr(K, "rationals", False)``."""
+    assert probed_backends(ast.parse("getattr(K, 'rationals', False)\nhasattr(system.backend, 'bounds')")) == [1, 2]
+    wrong = [f"{module}: line {line}" for module, tree in TREES.items() for line in probed_backends(tree)]
+    assert not wrong, "\n".join(wrong)

@@ -15,10 +15,10 @@ from pathlib import Path
 
 import pytest
 
-from verify.checks.properties.verdicts import Verdict
-from verify.core.outcome import Result
+from verify.laws.outcome import Result
 from verify.maps.general import EpsMap
 from verify.maps.line import Part
+from verify.properties.verdicts import Verdict
 
 ROOT = Path(__file__).resolve().parents[1]
 PAGE = ROOT / "docs" / "library.md"

@@ -1,4 +1,4 @@
-"""Exact cone membership (verify.core.cones.lp): the simplex against the independent checker's own
+"""Exact cone membership (verify.proofs.cones.lp): the simplex against the independent checker's own
 linear program, exactly, on every rational backend, and its count of pivots."""
 
 from __future__ import annotations
@@ -11,8 +11,8 @@ from hypothesis import strategies as st
 
 from tests.certificate_check import _cone_lp
 from tests.helpers import Poison, exact_value
-from verify.core.backends.rational import RationalBackend
-from verify.core.cones.lp import SearchTooLong, feasible, pivot_budget
+from verify.numbers.backends.rational import RationalBackend
+from verify.proofs.cones.lp import SearchTooLong, feasible, pivot_budget
 
 # small entries make degenerate cones (repeated, parallel, opposite and zero vectors) common
 entries = st.integers(min_value=-3, max_value=3)
@@ -86,8 +86,8 @@ def test_every_basis_change_is_counted_against_the_pivot_budget() -> None:
 def test_the_hull_of_polar_values_is_the_same_on_every_rational_type() -> None:
     """The corners of a cone's section (polar._hull3: h rounded to 2^-16 units, turns in floating point under a
     certified bound) on Python's, gmpy2's and FLINT's rationals: the same corners, and h of plain ints."""
-    from verify.core.backends.rational import RationalBackend
-    from verify.core.cones.polar import _hull3
+    from verify.numbers.backends.rational import RationalBackend
+    from verify.proofs.cones.polar import _hull3
 
     vectors = [[3, 1, 1], [1, 3, 1], [1, 1, 3], [2, 2, 2], [5, 1, 2], [-1, 4, 4]]
     corners = []

@@ -1,4 +1,4 @@
-"""Maps of systems whose numbers are algebraic (verify.core.backends.fieldfunc, NumberFieldBackend.sign_at): the
+"""Maps of systems whose numbers are algebraic (verify.numbers.backends.fieldfunc, NumberFieldBackend.sign_at): the
 paper's corner at alpha = pi/6 (docs/examples/paper-corner-map.json) mapped over eps1 with eps2 = 1/1000, each
 point answered as a single exact run answers it, and the field's arithmetic giving a rational system's map."""
 
@@ -15,14 +15,14 @@ import sympy as sp
 
 from tests import certificate_check
 from verify.cli import main
-from verify.core.algebraic import RealAlgebraic, poly_from_coeffs
-from verify.core.backends import NumberFieldBackend
-from verify.core.backends.fieldfunc import FieldArithmetic
-from verify.core.backends.symbolic import EPS, Piece, RootCache, SymbolicBackend
-from verify.core.rule import solve
+from verify.laws.rule import solve
 from verify.maps.general import case_map
 from verify.maps.line import line_parts
 from verify.models.corner import corner_system
+from verify.numbers.algebraic import RealAlgebraic, poly_from_coeffs
+from verify.numbers.backends import NumberFieldBackend
+from verify.numbers.backends.fieldfunc import FieldArithmetic
+from verify.numbers.backends.symbolic import EPS, Piece, RootCache, SymbolicBackend
 
 CASE = "docs/examples/paper-corner-map.json"
 CAP = 12
@@ -173,7 +173,7 @@ def test_the_command_line_maps_the_paper_corner(tmp_path, capsys) -> None:
     assert any("sqrt" in v for c in cells["cells"] for v in c["exit_velocity"])
 
 
-# -- two parameters over a number field: cells (verify.core.backends.tower) ----------------------------------------
+# -- two parameters over a number field: cells (verify.maps.backends.tower) ----------------------------------------
 
 SQRT3_CORNER = {"mass_matrix": [["1", "0", "0"], ["0", "1", "0"], ["0", "0", "1"]],
                 "normals": [["-sqrt(3)/3", "1", "0"], ["-sqrt(3)/3", "-1", "0"]],
@@ -256,11 +256,11 @@ def test_cells_of_the_paper_corner_at_three_impulses_as_single_runs(paper_corner
 
 
 def test_the_paper_statement_on_repeated_multiple_impacts_has_its_exact_boundary() -> None:
-    """verify.checks.paper.corner_map: on eps2 = 1/1000 the first two impulses are both multiple impacts exactly for
+    """verify.paper.corner_map: on eps2 = 1/1000 the first two impulses are both multiple impacts exactly for
     eps1 above 1513/6500 + 2013*sqrt(3)/6500 (0.76917...); single exact runs on either side of it agree, and the
     paper's eps1 = 0.999 is inside."""
-    from verify.checks.paper.corner_map import corner_maps, repeated
     from verify.models.corner import run_corner
+    from verify.paper.corner_map import corner_maps, repeated
 
     found = corner_maps(line_impulses=4, plane_impulses=2)
     (piece,) = found.repeated_pieces()
@@ -276,8 +276,8 @@ def test_the_paper_statement_on_repeated_multiple_impacts_has_its_exact_boundary
 def test_a_new_curve_over_a_number_field_is_named_in_its_message() -> None:
     """The message of NewCurves for a function over a number field writes the function (it read a rational
     fraction's numerator, which the tower's functions do not have)."""
-    from verify.core.backends.plane import NewCurves, PlaneBackend, polys
-    from verify.core.backends.tower import Tower
+    from verify.maps.backends.plane import NewCurves, PlaneBackend, polys
+    from verify.maps.backends.tower import Tower
 
     P = polys()
     K = PlaneBackend(

@@ -8,11 +8,11 @@ from hypothesis import given
 from hypothesis import strategies as st
 
 from tests import certificate_check
-from verify.core.backends.symbolic import EPS, Piece, RootCache, SymbolicBackend
 from verify.maps.boundary import collisions, pattern_map, pattern_of
 from verify.maps.cradle import cradle_map
 from verify.maps.general import case_map
 from verify.models.cradle import cradle_system
+from verify.numbers.backends.symbolic import EPS, Piece, RootCache, SymbolicBackend
 
 E = sp.Symbol("e")
 
@@ -123,7 +123,7 @@ def test_the_masses_2_1_1_2_never_exit_up_to_and_at_2_minus_sqrt_3(tmp_path) -> 
 
 
 def _algebraic(x):
-    from verify.core.algebraic import RealAlgebraic
+    from verify.numbers.algebraic import RealAlgebraic
 
     return RealAlgebraic.from_number(x)
 
@@ -139,8 +139,8 @@ def test_above_the_boundary_no_cone_is_mapped_into_itself() -> None:
     """The claim the map prints above eps*: the period's largest eigenvalues are not real and none of its real
     eigenvalues is positive (so its spectral radius is not an eigenvalue); checked here at rational points with
     the test's own period matrix, and refused below eps*."""
-    from verify.core.algebraic import RealAlgebraic
     from verify.maps.boundary import without_real_top
+    from verify.numbers.algebraic import RealAlgebraic
 
     cache = RootCache()
     K = SymbolicBackend(Piece.closed(0, 1), cache)
@@ -249,8 +249,8 @@ def test_the_growth_arguments_signs_over_a_quadratic_field_are_exact(a, b, c, d)
     coefficients) part by part, cut at the real roots of the norms; each part's sign is the sign of the function at
     that part's points, compared here with a 60-digit evaluation at its ends' neighbourhood (strictly inside an
     interval part, at a point part itself), and a root of c is a pole (None)."""
-    from verify.core.algebraic import RealAlgebraic
     from verify.maps.growth import signs_on
+    from verify.numbers.algebraic import RealAlgebraic
 
     root = sp.sqrt(d)
     poly = lambda cs: sum((k * EPS**i for i, k in enumerate(cs)), sp.Integer(0))  # noqa: E731

@@ -17,10 +17,10 @@ from hypothesis import given
 from hypothesis import strategies as st
 
 from verify.cli import main
-from verify.core.algebraic import RealAlgebraic
 from verify.maps import line
 from verify.maps.cradle import cradle_map, map_json
 from verify.maps.line import Watch
+from verify.numbers.algebraic import RealAlgebraic
 
 
 def _covers_once(parts) -> bool:
@@ -150,8 +150,8 @@ def test_bad_budgets_are_refused_with_exit_code_2(capsys, command, option, value
 
 @given(st.lists(st.fractions(min_value=0, max_value=1, max_denominator=9), max_size=6), st.data())
 def test_what_is_left_uncovered_is_exactly_what_no_part_holds(cuts, data) -> None:
-    from verify.core.backends.symbolic import Piece
     from verify.maps.line import uncovered
+    from verify.numbers.backends.symbolic import Piece
 
     domain = Piece.closed(0, 1)
     parts = domain.cut([RealAlgebraic.rational(c) for c in cuts])
@@ -172,7 +172,7 @@ def _covers_once_pieces(pieces) -> bool:
 
 
 def test_ctrl_c_while_a_piece_is_cut_still_gives_a_whole_map(monkeypatch: pytest.MonkeyPatch) -> None:
-    from verify.core.backends.symbolic import Piece
+    from verify.numbers.backends.symbolic import Piece
 
     real, count = Piece.cut, [0]
 

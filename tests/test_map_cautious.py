@@ -9,8 +9,8 @@ from fractions import Fraction as F
 import pytest
 import sympy as sp
 
-from verify.core.rule import solve
-from verify.core.system import System
+from verify.dynamics.system import System
+from verify.laws.rule import solve
 from verify.maps.cradle import cradle_map
 from verify.maps.general import eps_map
 
@@ -83,7 +83,7 @@ def test_five_balls_no_point_left_unexplored_is_decided_by_a_single_run() -> Non
     never to exit by the growth argument (verify.maps.growth; its certificate is checked by
     tests/test_map_boundary.py), so only eps above the boundary are left; and no point left unexplored is decided by
     a single run."""
-    from verify.core.algebraic import RealAlgebraic, poly_from_coeffs
+    from verify.numbers.algebraic import RealAlgebraic, poly_from_coeffs
 
     cap = 20
     m = cradle_map(balls=5, lower="0.222", upper="0.272", max_impulses=cap)
@@ -128,7 +128,7 @@ def test_an_interval_below_the_boundary_gets_the_turning_cones_of_the_boundary_a
     assert cert["boundary"]["reached"] is False
     run = solve(System(_unit_balls(5), _normals(5), ["51/200"] * 4), ["1", "0", "0", "0", "0"], max_iterations=14)
     assert run.stop == "non_terminating"
-    monkeypatch.setattr("verify.core.parse.MAX_LENGTH", 10**5)  # the certificate's numbers, not a user's input
+    monkeypatch.setattr("verify.numbers.parse.MAX_LENGTH", 10**5)  # the certificate's numbers, not a user's input
     lo, hi = F(255, 1000), F(2595, 10000)
     for q in (lo + (hi - lo) / 100, (lo + hi) / 2, hi - (hi - lo) / 100):
         assert certificate_check.check_period(_at(cert, q), ["1"] * 5, _normals(5), restitution=[str(q)] * 4) == []

@@ -11,11 +11,11 @@ import pytest
 import sympy as sp
 
 from tests.test_map_boundary import E, _period
-from verify.core.algebraic import RealAlgebraic
-from verify.core.backends import get_backend
 from verify.maps.cradle import cradle_map
 from verify.maps.line import undecided_length
 from verify.models.cradle import run_cradle
+from verify.numbers.algebraic import RealAlgebraic
+from verify.numbers.backends import get_backend
 
 LAM = sp.Symbol("lam")
 CASES = {
@@ -84,8 +84,8 @@ def test_from_points_of_the_ellipses_the_run_exits_where_it_leaves_the_period(sy
     the rates (S1,S3)(S2) starts from, scaled by eps per period, lie on the ellipses Q(w) = Q(w_0) +- c u of the
     test's own period matrix; from points of them (rational slopes t) a run that follows one period then exits
     within one impulse or follows it again. And the ellipses are what the runs' rates do lie on."""
-    from verify.core.rule import solve
-    from verify.core.system import System
+    from verify.dynamics.system import System
+    from verify.laws.rule import solve
 
     masses, (lower, upper), _ = CASES[system]
     sets = [[0, 2], [1]]

@@ -9,12 +9,12 @@ from fractions import Fraction
 import pytest
 import sympy as sp
 
-from verify.core.algebraic import RealAlgebraic
-from verify.core.backends.plane import FLINT_POLYS, Frac, PlaneBackend, X, Y, polys
-from verify.core.rule import solve
+from verify.laws.rule import solve
+from verify.maps.backends.plane import FLINT_POLYS, Frac, PlaneBackend, X, Y, polys
 from verify.maps.cells import decompose
 from verify.maps.plane import PlaneMap, plane_parts
 from verify.models.corner import corner_system
+from verify.numbers.algebraic import RealAlgebraic
 
 BOX = (Fraction(0), Fraction(1), Fraction(0), Fraction(1))
 NAMES = ("e1", "e2")
@@ -86,8 +86,8 @@ def test_the_cells_fill_the_box(corner_map: PlaneMap) -> None:
 def test_the_line_through_the_map_is_the_one_parameter_map(corner_map: PlaneMap) -> None:
     """On the line e2 = 1/2 the cells behave as the one-parameter map of that line (verify.maps.line) does: the
     same impact sets at 401 rational e1, and the same part at each end of its pieces."""
-    from verify.core.backends.symbolic import EPS, Piece
     from verify.maps.line import line_parts
+    from verify.numbers.backends.symbolic import EPS, Piece
 
     parts = line_parts(lambda K: corner_system("1/2", EPS, "1/2", backend=K), VELOCITY, Piece.closed(0, 1), 40)
     assert len(parts) > 1  # the line crosses cells of different behaviours
@@ -197,9 +197,9 @@ def test_the_text_names_the_contacts_as_the_legend_and_the_line_maps_do() -> Non
     """A map of cells in words names each impact set by the contacts' names (S1, S2), as the figure's legend and
     the one-parameter tables do: each row's sequence is the one of its cell, and the legend's sequences are the
     areas' lines'."""
+    from verify.maps.figures import plane_legend
     from verify.maps.general import case_map
-    from verify.views.figures import plane_legend
-    from verify.views.text import eps_map_text
+    from verify.maps.text import eps_map_text
 
     m = case_map("docs/examples/corner-map.json", cells=True, max_impulses=4)
     text = eps_map_text(m)
@@ -266,7 +266,7 @@ def test_four_balls_each_drawn_point_as_a_single_run() -> None:
     proves never-exits (e_out = 0 with e_mid = 0 or 1, and (1/2, 0)), the cell carries the certificate, and the
     tests' own checker passes it."""
     from tests import certificate_check
-    from verify.core.system import System
+    from verify.dynamics.system import System
     from verify.maps.general import case_map
 
     m = case_map("docs/examples/balls-2112-cors.json", cells=True, max_impulses=8)
@@ -303,7 +303,7 @@ def test_four_balls_each_drawn_point_as_a_single_run() -> None:
 def test_a_cell_run_past_the_deadline_stops() -> None:
     """The wall-clock budget is checked at every sign of a cell's run, not only between cells: past its deadline a
     sign raises OutOfTime, and the map leaves that cell unexplored with the budget's reason."""
-    from verify.core.backends.plane import OutOfTime
+    from verify.maps.backends.plane import OutOfTime
     from verify.maps.line import Watch
 
     K = PlaneBackend(polys(), (Fraction(1, 2), Fraction(1, 3)), known=set(), deadline=0.0)
@@ -362,7 +362,7 @@ def test_cells_of_three_contacts_proved_never_to_exit_carry_a_period_cone_that_h
     At every drawn rational point of such a cell, the certificate with the point's values passes the tests' own
     checker with the rates of a single exact run there, and that run does not exit within 200 impulses."""
     from tests import certificate_check
-    from verify.core.system import System
+    from verify.dynamics.system import System
     from verify.maps.general import case_map
 
     m = case_map("docs/examples/balls-2112-cors.json", cells=True, max_impulses=8, cell_cones=True,

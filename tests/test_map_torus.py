@@ -14,9 +14,6 @@ from tests.helpers import shared
 from tests.sweeps import MAP, cells_of, replayed
 from tests.sweeps import load as load_sweeps
 from tests.test_map_cautious import POINTS, _drawn, _first_decided, _normals, _unit_balls
-from verify.core.algebraic import RealAlgebraic
-from verify.core.backends.symbolic import EPS, Piece
-from verify.core.format import format_exact
 from verify.errors import BadNumber
 from verify.maps.boundary import Pattern
 from verify.maps.cradle import cradle_map
@@ -25,6 +22,9 @@ from verify.maps.meanvalue import cell, working_precision
 from verify.maps.torus import exit_cells, exits_on_cells, torus_period
 from verify.maps.watch import Watch
 from verify.models.cradle import cradle_system
+from verify.numbers.algebraic import RealAlgebraic
+from verify.numbers.backends.symbolic import EPS, Piece
+from verify.numbers.format import format_exact
 
 NORMALS = [[-1, 1, 0, 0, 0], [0, -1, 1, 0, 0], [0, 0, -1, 1, 0], [0, 0, 0, -1, 1]]
 SETS = [(0, 2), (1, 3)]

@@ -12,11 +12,11 @@ from hypothesis import strategies as st
 from tests import certificate_check
 from tests.test_cradle_map import inner_rational
 from verify.cli import main
-from verify.core.backends.symbolic import EPS, Piece, RootCache
 from verify.maps.cradle import cradle_map
 from verify.maps.line import line_parts, widened
 from verify.maps.widen import _simplest, short_point
 from verify.models.cradle import cradle_system, run_cradle
+from verify.numbers.backends.symbolic import EPS, Piece, RootCache
 
 NORMALS = [["-1", "1", "0", "0"], ["0", "-1", "1", "0"], ["0", "0", "-1", "1"]]
 

@@ -1,5 +1,5 @@
 """A module or file that the docs, the tests or the docstrings name exists (issue 61, item 6): a stale name
-fails here, not in a reader's hands. Names with a placeholder (``verify.physics.NAME``) are patterns."""
+fails here, not in a reader's hands. Names with a placeholder (``verify.engines.adapters.NAME``) are patterns."""
 
 from __future__ import annotations
 

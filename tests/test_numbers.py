@@ -10,9 +10,9 @@ import sympy as sp
 from hypothesis import example, given
 from hypothesis import strategies as st
 
-from verify.core.format import format_decimal, format_exact, ilog10, int_to_str
-from verify.core.parse import parse_number, split_list, to_number, to_sympy
 from verify.errors import BadNumber
+from verify.numbers.format import format_decimal, format_exact, ilog10, int_to_str
+from verify.numbers.parse import parse_number, split_list, to_number, to_sympy
 
 GOOD = [
     ("7", Fraction(7)),
@@ -209,9 +209,9 @@ def test_format_decimal_reads_exact_rationals_through_their_integers():
 
 @pytest.mark.parametrize("impl", ["gmpy2", "flint", "python"])
 def test_format_decimal_reads_the_values_of_every_rational_backend(impl):
-    from verify.core.backends import RationalBackend, rational_impls
-    from verify.core.rule import solve
-    from verify.core.system import System
+    from verify.dynamics.system import System
+    from verify.laws.rule import solve
+    from verify.numbers.backends import RationalBackend, rational_impls
 
     if impl not in rational_impls():
         pytest.skip(f"{impl} is not installed")
@@ -241,7 +241,7 @@ def test_format_decimal_refuses_floats_and_unknown_types_by_name(value, name):
 
 
 def test_format_decimal_refuses_number_field_elements_and_points_to_the_backend():
-    from verify.core.backends import NumberFieldBackend
+    from verify.numbers.backends import NumberFieldBackend
 
     K = NumberFieldBackend([sp.sqrt(2)])
     x = K.convert(3 - 2 * sp.sqrt(2))
@@ -251,7 +251,7 @@ def test_format_decimal_refuses_number_field_elements_and_points_to_the_backend(
 
 
 def test_format_decimal_rounds_algebraic_values_in_the_direction_asked():
-    from verify.core.algebraic import RealAlgebraic
+    from verify.numbers.algebraic import RealAlgebraic
 
     assert (format_decimal(sp.sqrt(2), 3, "floor"), format_decimal(sp.sqrt(2), 3, "ceiling")) == ("1.41", "1.42")
     assert format_decimal(-sp.sqrt(2), 3, "floor") == "-1.42"
@@ -281,8 +281,8 @@ def test_a_closed_form_that_cancels_beyond_the_precision_bound_is_decided_exactl
     256 bits of interval arithmetic; the number's minimal polynomial then decides its sign and digits."""
     import mpmath
 
-    from verify.core import numeric
     from verify.errors import NoConvergence
+    from verify.numbers import numeric
 
     monkeypatch.setattr(numeric, "MAX_PREC", 256)
     x = sp.expand((sp.sqrt(2) - 1) ** 400)
@@ -300,7 +300,7 @@ def test_the_command_line_lifts_the_limit_on_printed_integers_and_restores_it(mo
     import sys
 
     from verify.cli import main
-    from verify.views import text
+    from verify.records import text
 
     seen = []
     monkeypatch.setattr(text, "cradle_text", lambda *a, **k: seen.append(str(sp.Integer(10) ** 5000)) or "")

@@ -13,10 +13,10 @@ import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
-from verify.checks import oracle
-from verify.checks.properties import formulas
 from verify.cli import main
 from verify.errors import InvalidInput
+from verify.oracle import reference as oracle
+from verify.properties import formulas
 from verify.records.results import load_cases
 
 GOLDEN = Path(__file__).resolve().parent.parent / "golden"
@@ -50,7 +50,7 @@ def _rate(a, t, v):
     """p(F) of a case's constraint, or None when an entry is irrational."""
     from fractions import Fraction
 
-    from verify.core.parse import parse_number, to_number
+    from verify.numbers.parse import parse_number, to_number
 
     values = [to_number(parse_number(x)) for x in (*a, t, *v)]
     if not all(isinstance(x, Fraction) for x in values):
@@ -137,7 +137,7 @@ def test_a_float_implementation_passes_except_where_it_takes_another_branch(caps
     ],
 )
 def test_impl_failures_are_one_line_errors(capsys, command, message) -> None:
-    args = ["oracle", "check", str(GOLDEN / "cases.json"), "--impl", command, "--timeout", "0.5"]
+    args = ["oracle", "check", str(GOLDEN / "cases.json"), "--impl", command, "--impl-time-limit", "0.5"]
     assert main(args) == 2
     err = capsys.readouterr().err
     assert err.count("\n") == 1 and message in err
@@ -239,9 +239,12 @@ def test_deep_nesting_is_refused_quickly(tmp_path) -> None:
         load_cases(str(path))
 
 
-def test_the_readme_shows_what_the_worked_example_prints(capsys) -> None:
-    readme = (GOLDEN.parent / "README.md").read_text()
-    shown = [line for line in readme.splitlines() if line.startswith("MISMATCH ")]
+def test_the_docs_show_what_the_worked_example_prints(capsys) -> None:
+    page = (GOLDEN.parent / "docs" / "oracle.md").read_text()
+    worked = page[page.index("### Worked example: a float implementation") :]
+    worked = worked[: worked.index("\n### ", 1)]
+    shown = [line for line in worked.splitlines() if line.startswith("MISMATCH ")]
+    assert len(shown) == 7, "the guard: the worked example shows its mismatches"
     main(["oracle", "check", str(GOLDEN / "cases.json"), "--impl", f"{sys.executable} {FLOAT_IMPL}"])
     printed = [line for line in capsys.readouterr().out.splitlines() if line.startswith("MISMATCH ")]
     assert shown == printed

@@ -17,7 +17,7 @@ from typing import Any
 
 import pytest
 
-from verify.checks import oracle
+from verify.oracle import reference as oracle
 
 ROOT = Path(__file__).resolve().parents[1]
 DOC = ROOT / "docs" / "oracle.md"

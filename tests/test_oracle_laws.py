@@ -19,12 +19,12 @@ from typing import Any
 
 import pytest
 
-from verify.checks import oracle
-from verify.checks.explain_impl import explain
-from verify.checks.grading import PASSING
-from verify.checks.hardcases import generate
 from verify.cli import main
-from verify.core.sequential import Sequential
+from verify.laws.sequential import Sequential
+from verify.oracle import reference as oracle
+from verify.oracle.explain import explain
+from verify.oracle.grading import PASSING
+from verify.oracle.hardcases import generate
 
 ROOT = Path(__file__).resolve().parents[1]
 GOLDEN = ROOT / "golden" / "cases.json"
@@ -57,7 +57,7 @@ def wrong(x: str) -> str:
 def momentum_kept(case: dict[str, Any], velocity: list[str]) -> list[str]:
     """The velocity moved along g^-1 dF_0 (what an impulse on constraint 0 does): every momentum that the
     impulses keep is kept, so only a comparison with the exact velocity can tell it is wrong."""
-    from verify.checks.properties.formulas import solve_linear
+    from verify.properties.formulas import solve_linear
 
     g = [[oracle.approx(x) for x in row] for row in case["mass_matrix"]]
     u = solve_linear(g, [oracle.approx(x) for x in case["normals"][0]])
@@ -231,7 +231,7 @@ def test_bookkeeping_beyond_residuals_is_not_tolerated(exact) -> None:
 
 
 def test_explain_names_the_settings_of_each_example() -> None:
-    from verify.checks.impl import run_implementation
+    from verify.oracle.impl import run_implementation
 
     cases = golden_cases()
     text = GOLDEN.read_text(encoding="utf-8")

@@ -12,11 +12,11 @@ from pathlib import Path
 import pytest
 from hypothesis import strategies as st
 
-from verify.checks.properties.own import family_verdicts
 from verify.cli import main
-from verify.core.rule import solve
-from verify.core.system import System
+from verify.dynamics.system import System
 from verify.errors import InvalidInput
+from verify.laws.rule import solve
+from verify.properties.own import family_verdicts
 from verify.records.results import load_cases
 
 EXAMPLE = Path(__file__).resolve().parents[1] / "examples" / "rod_on_floor.py"
@@ -121,8 +121,8 @@ def test_the_rod_example_maps_and_runs() -> None:
 def test_a_drawn_case_keeps_the_contacts_names() -> None:
     """A counterexample of a family whose system names its contacts carries the names (a case may name
     them: docs/records.md); a system without names gives a record without the field, as before."""
-    from verify.checks.properties.own import drawn_case
-    from verify.core.system import System
+    from verify.dynamics.system import System
+    from verify.properties.own import drawn_case
 
     named = System([[1, 0], [0, 1]], [[0, 1], [1, 0]], ["1/2", "1/2"], names=["floor", "wall"])
     assert drawn_case("rod", "general", named, ["-1", "-1"]).record["names"] == ["floor", "wall"]

@@ -1,5 +1,5 @@
 """Cones carried by a period of impact sets: certificates for any number of constraints
-(verify.core.cones.period), checked by the independent checker (tests/certificate_check.py)."""
+(verify.proofs.cones.period), checked by the independent checker (tests/certificate_check.py)."""
 
 from __future__ import annotations
 
@@ -11,11 +11,11 @@ import pytest
 
 from tests import certificate_check
 from tests.helpers import Poison
-from verify.core.backends.rational import RationalBackend
-from verify.core.cones.period import linear_step, member, period_certificate
-from verify.core.rule import Budget, solve
-from verify.core.system import System
+from verify.dynamics.system import System
+from verify.laws.rule import Budget, solve
 from verify.models.cradle import cradle_geometry
+from verify.numbers.backends.rational import RationalBackend
+from verify.proofs.cones.period import linear_step, member, period_certificate
 
 # cradles of four and five balls (rational masses, a COR per contact) that the general rule never
 # lets go; found by the termination census of `verify properties` (the last two were undecided before)
@@ -147,7 +147,7 @@ def test_polar_values_are_strict_when_their_three_vectors_are():
     """A value is strict only when its three vectors are (a weak vector's values need not be hit), and a strict
     vector whose own value is 0 (a plastic multiple impulse that leaves every rate at 0: rates (1, -1) along an
     eigenvector of G with beta = 2) is refused, by the search and by the checker alike."""
-    from verify.core.cones.polar import polar_values
+    from verify.proofs.cones.polar import polar_values
 
     system = System([[1, 0, 0], [0, 1, 0], [0, 0, 1]], [[-1, 1, 0], [0, -1, 1]], [0, 0])  # G = [[2, -1], [-1, 2]]
     K = system.backend
@@ -220,7 +220,7 @@ def test_a_direction_drawn_in_without_turning_is_proved_by_a_shaped_polytope_and
 
 
 def test_without_the_shaped_polytope_the_drawn_in_run_stays_at_its_budget(monkeypatch):
-    from verify.core.cones import period
+    from verify.proofs.cones import period
 
     monkeypatch.setattr(period, "shaped_seeds", lambda *args: [])
     assert _drawn_in_run().stop == "budget"
@@ -268,7 +268,7 @@ def test_four_rates_are_proved_by_boxes_carried_stage_by_stage_and_the_checker_a
 
 
 def test_without_the_boxes_the_four_rates_stay_at_their_budget(monkeypatch):
-    from verify.core.cones import period
+    from verify.proofs.cones import period
 
     monkeypatch.setattr(period, "product_cone", lambda *args, **kwargs: None)
     assert _four_run().stop == "budget"
@@ -313,7 +313,7 @@ def test_rates_by_a_face_are_proved_by_a_lifted_box_and_the_checker_agrees():
 
 
 def test_without_the_lift_the_face_run_stays_at_its_budget(monkeypatch):
-    from verify.core.cones import period
+    from verify.proofs.cones import period
 
     monkeypatch.setattr(period, "_lift", lambda *args: None)
     assert _face_run().stop == "budget"
@@ -337,8 +337,8 @@ SLOW = {
 
 
 def test_a_slow_transient_is_proved_past_1000_impulses_at_the_census_digits_and_the_checker_agrees():
-    from verify.checks.properties.catalogue import LONG_RUNS
-    from verify.checks.properties.verdicts import DECIDING_BUDGET, Runner
+    from verify.properties.catalogue import LONG_RUNS
+    from verify.properties.verdicts import DECIDING_BUDGET, Runner
 
     record = dict(SLOW, id="general-symmetric", max_iterations=LONG_RUNS)
     r = Runner()(record, "symmetric", decide=True)
@@ -392,7 +392,7 @@ def test_rates_tending_to_a_face_between_impact_sets_are_proved_by_a_face_cone_a
 
 
 def test_without_the_face_cone_the_plastic_cradle_is_still_impacting_at_its_cap(monkeypatch):
-    from verify.core.cones import period
+    from verify.proofs.cones import period
 
     monkeypatch.setattr(period, "face_cone", lambda *args, **kwargs: None)
     r = _plastic_run()
@@ -400,8 +400,8 @@ def test_without_the_face_cone_the_plastic_cradle_is_still_impacting_at_its_cap(
 
 
 def test_a_face_cone_holds_the_points_it_is_built_for_and_refuses_points_off_the_face():
-    from verify.core.cones.face import face_cone
-    from verify.core.cones.lp import feasible
+    from verify.proofs.cones.face import face_cone
+    from verify.proofs.cones.lp import feasible
 
     K = RationalBackend("python")
 
@@ -420,7 +420,7 @@ def test_a_face_cone_holds_the_points_it_is_built_for_and_refuses_points_off_the
 
 
 def test_a_face_cone_takes_no_float():
-    from verify.core.cones.face import face_cone
+    from verify.proofs.cones.face import face_cone
 
     K = RationalBackend("python")
     point = [K.convert(F(x)) for x in ("1/1000", -2, "-1/4000", "-1/2")]
@@ -461,7 +461,7 @@ def test_a_direction_drawn_in_slowly_along_a_real_eigenvector_is_proved_and_the_
 
 
 def test_with_the_bound_of_a_turning_pair_for_real_eigenvalues_the_slow_direction_is_not_proved(monkeypatch):
-    from verify.core.cones import shape
+    from verify.proofs.cones import shape
 
     monkeypatch.setattr(shape, "REAL_MODULUS", shape.MAX_MODULUS)
     assert _slow_real_run().stop != "non_terminating"

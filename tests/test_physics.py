@@ -1,4 +1,4 @@
-"""The engine adapters (``python -m verify.physics.ENGINE``): their frame, physical laws, settings, skips.
+"""The engine adapters (``python -m verify.engines.ENGINE``): their frame, physical laws, settings, skips.
 
 One table, :data:`ENGINES`, says what differs between the five adapters; the checks they all
 share are parametrized over it, each engine run skipped (``pytest.importorskip``) when the
@@ -27,11 +27,11 @@ from typing import Any
 
 import pytest
 
+from verify.engines.adapters.mujoco import damping_ratio
+from verify.engines.protocol import NOT_INSTALLED, Adapter
+from verify.engines.scene import Unsupported
 from verify.models.corner import corner_geometry
 from verify.models.cradle import cradle_geometry
-from verify.physics.mujoco import damping_ratio
-from verify.physics.protocol import NOT_INSTALLED, Adapter
-from verify.physics.scene import Unsupported
 from verify.records.results import case_record
 
 ROOT = Path(__file__).resolve().parents[1]
@@ -149,7 +149,7 @@ RUNS = [(name, "default") for name in ENGINES] + [
 
 def adapter_class(name: str) -> type[Adapter]:
     """The engine's adapter (importing the adapter module imports no engine)."""
-    main = importlib.import_module(f"verify.physics.{name}").main
+    main = importlib.import_module(f"verify.engines.adapters.{name}").main
     owner: type[Adapter] = main.__self__
     return owner
 
@@ -158,7 +158,7 @@ def adapter_class(name: str) -> type[Adapter]:
 def _output(name: str, mode: str) -> dict[str, Any]:
     args = ["--set", "per_contact=0"] if mode == "per_body" else []
     done = subprocess.run(
-        [sys.executable, "-m", f"verify.physics.{name}", *args],
+        [sys.executable, "-m", f"verify.engines.adapters.{name}", *args],
         input=_case_text(),
         capture_output=True,
         text=True,

@@ -17,12 +17,12 @@ from typing import Any
 
 import pytest
 
-from verify.core.rule import solve
-from verify.core.sequential import Sequential
+from verify.engines.common import cradle_closing
+from verify.engines.protocol import Adapter
+from verify.engines.scene import Cradle, Unsupported, scene_of
+from verify.laws.rule import solve
+from verify.laws.sequential import Sequential
 from verify.models.cradle import cradle_geometry
-from verify.physics.common import cradle_closing
-from verify.physics.protocol import Adapter
-from verify.physics.scene import Cradle, Unsupported, scene_of
 from verify.records.results import case_from_record, case_record
 
 ROOT = Path(__file__).resolve().parents[1]
@@ -86,7 +86,7 @@ def box2d(cases: list[dict[str, Any]]) -> dict[str, list[float]]:
     if importlib.util.find_spec("Box2D") is None:
         pytest.skip("Box2D is not installed")
     done = subprocess.run(
-        [sys.executable, "-m", "verify.physics.box2d"],
+        [sys.executable, "-m", "verify.engines.adapters.box2d"],
         input=json.dumps({"cases": cases}),
         capture_output=True,
         text=True,

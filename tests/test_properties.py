@@ -22,23 +22,23 @@ from typing import Any
 import pytest
 from hypothesis import example, given
 
-import verify.core.rule as rule_module
-from verify.checks.properties import formulas
-from verify.checks.properties.catalogue import (
+import verify.laws.rule as rule_module
+from verify import bounds
+from verify.cli import main
+from verify.dynamics.system import System
+from verify.laws.rule import Budget, solve
+from verify.properties import formulas
+from verify.properties.catalogue import (
     LONG_RUNS,
     PROPERTIES,
     SKIP,
     energy_does_not_increase,
     property_named,
 )
-from verify.checks.properties.strategies import Drawn, cases
-from verify.checks.properties.verdicts import CENSUS_BITS, CENSUS_DIGITS, Runner, Verdict, merge_chunks, search
-from verify.checks.tasks import decode, encode
-from verify.cli import main
-from verify.core import bounds
-from verify.core.rule import Budget, solve
-from verify.core.system import System
+from verify.properties.strategies import Drawn, cases
+from verify.properties.verdicts import CENSUS_BITS, CENSUS_DIGITS, Runner, Verdict, merge_chunks, search
 from verify.records.results import case_from_record
+from verify.runner.tasks import decode, encode
 
 #: Properties that are theorems of the rule (or of its implementation's contract): never refuted.
 THEOREMS = {p.name for p in PROPERTIES if "rule" in p.laws} - {
@@ -125,7 +125,7 @@ def test_refutations_reproduce_from_the_record_alone(table) -> None:
 
 
 def _independent_energy_rises(d: Drawn, impulses: int) -> tuple[bool, list]:
-    """Iterate eq. (8) as printed (:mod:`verify.checks.properties.formulas`) and watch the energy in the rest frame."""
+    """Iterate eq. (8) as printed (:mod:`verify.properties.formulas`) and watch the energy in the rest frame."""
     g, a, t, e = (d.values(k) for k in ("mass_matrix", "normals", "time_terms", "restitution"))
     if d.rule == "ideal":
         e = [Fraction(1)] * len(e)
@@ -657,8 +657,8 @@ def test_cli_profile_names_are_the_verdict_profiles() -> None:
     import subprocess
     import sys
 
-    from verify.checks.properties import profiles, verdicts
     from verify.cli import build_parser
+    from verify.properties import profiles, verdicts
 
     assert verdicts.PROFILES is profiles.PROFILES
     for command in ("properties", "report"):
@@ -674,8 +674,8 @@ def test_rows_sharing_runs_and_drawn_cases_give_the_verdicts_of_rows_searched_al
     """TableShare: rows of one table (here two properties on both families under the rule, rows that hold and
     rows refuted, several on one strategy) share their runs and the cases drawn for rows that held; each verdict,
     its counterexample and its census, is the one of the row searched alone, without a share."""
-    from verify.checks.properties.catalogue import property_named
-    from verify.checks.properties.verdicts import _run_row, row_tasks, share_for
+    from verify.properties.catalogue import property_named
+    from verify.properties.verdicts import _run_row, row_tasks, share_for
 
     names = ["the exit velocity is outgoing", "kinetic energy does not increase"]
     tasks = row_tasks("dev", properties=names, families=["cradle", "general"], laws=["rule"])

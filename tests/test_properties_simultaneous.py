@@ -1,10 +1,10 @@
-"""The property suite on the simultaneous law (:mod:`verify.core.simultaneous`).
+"""The property suite on the simultaneous law (:mod:`verify.laws.simultaneous`).
 
 - Its rows of the verdict table (``law`` ``simultaneous``, computed once per session with the
   rule's): the properties that are theorems of the law are never refuted; the energy rows are
   refuted or hold as the energy identity says.
 - An independent oracle: the complementarity problem solved by enumerating every active set
-  (plain Fractions, :mod:`verify.checks.properties.formulas`), against the engine's Murty
+  (plain Fractions, :mod:`verify.properties.formulas`), against the engine's Murty
   pivoting, with the counterexamples found kept as ``@example`` regressions.
 - Each of the law's properties catches a deliberately broken law (a mutant of the engine).
 - The command line: ``--law``, the law in the text table, and a refutation that ``verify solve
@@ -20,14 +20,14 @@ from fractions import Fraction
 import pytest
 from hypothesis import example, given
 
-import verify.core.simultaneous as law_module
-from verify.checks.properties import formulas
-from verify.checks.properties.catalogue import PROPERTIES, energy_does_not_increase, property_named
-from verify.checks.properties.proofs import prove, simultaneous_energy_terms
-from verify.checks.properties.strategies import Drawn, cases
-from verify.checks.properties.verdicts import Runner, search
+import verify.laws.simultaneous as law_module
 from verify.cli import main
-from verify.core.system import System
+from verify.dynamics.system import System
+from verify.properties import formulas
+from verify.properties.catalogue import PROPERTIES, energy_does_not_increase, property_named
+from verify.properties.proofs import prove, simultaneous_energy_terms
+from verify.properties.strategies import Drawn, cases
+from verify.properties.verdicts import Runner, search
 
 LAW = "simultaneous"
 #: the law's properties that are theorems of the law (or of its implementation's contract)

@@ -1,5 +1,5 @@
-"""The rule in rate coordinates (:mod:`verify.core.engines.rates`), shared geometry and
-:func:`verify.core.rule.solve_many` give the traced rule's own numbers, exactly.
+"""The rule in rate coordinates (:mod:`verify.dynamics.rates`), shared geometry and
+:func:`verify.laws.rule.solve_many` give the traced rule's own numbers, exactly.
 
 Nothing here is timed (``verify bench`` measures).
 """
@@ -11,13 +11,13 @@ from fractions import Fraction
 import pytest
 from hypothesis import given, settings
 
-import verify.core.rule as rule_module
-from verify.checks.properties.strategies import cases
-from verify.core.engines import rates
-from verify.core.engines.policy import Limits
-from verify.core.rule import Budget, solve, solve_many
-from verify.core.system import System
+import verify.laws.rule as rule_module
+from verify.dynamics import rates
+from verify.dynamics.policy import Limits
+from verify.dynamics.system import System
 from verify.errors import BadNumber, InvalidSystem
+from verify.laws.rule import Budget, solve, solve_many
+from verify.properties.strategies import cases
 
 
 def _system(record: dict, backend: object = "exact") -> System:

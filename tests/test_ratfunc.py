@@ -1,4 +1,4 @@
-"""The two arithmetics of rational functions of the parameter (verify.core.backends.ratfunc): flint's and
+"""The two arithmetics of rational functions of the parameter (verify.numbers.backends.ratfunc): flint's and
 SymPy's give the same functions, values and signs, and a map made on either is the same, byte for byte."""
 
 from __future__ import annotations
@@ -12,12 +12,12 @@ from hypothesis import given
 from hypothesis import strategies as st
 
 from tests.helpers import Poison
-from verify.core.algebraic import RealAlgebraic, poly_from_coeffs
-from verify.core.backends.ratfunc import EPS, FLINT, arithmetic, using
-from verify.core.backends.symbolic import Piece, Split, SymbolicBackend
 from verify.maps.cradle import cradle_map, map_json
 from verify.maps.general import eps_map, eps_map_json
 from verify.models.cradle import cradle_system
+from verify.numbers.algebraic import RealAlgebraic, poly_from_coeffs
+from verify.numbers.backends.ratfunc import EPS, FLINT, arithmetic, using
+from verify.numbers.backends.symbolic import Piece, Split, SymbolicBackend
 
 pytestmark = pytest.mark.skipif(not FLINT, reason="python-flint is not installed (the fast extra)")
 
@@ -118,7 +118,7 @@ def test_signs_and_splits_are_the_same_on_either(name) -> None:
 
 
 def test_the_flint_sign_of_an_algebraic_number_refines_as_the_sympy_one() -> None:
-    from verify.core import algebraic
+    from verify.numbers import algebraic
 
     def refined(use_flint):
         r = RealAlgebraic.roots_in(poly_from_coeffs([1, -8, 12, 8, -90, 8, 12, -8, 1]))[2]

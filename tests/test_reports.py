@@ -16,12 +16,12 @@ from pathlib import Path
 
 import pytest
 
-import verify.checks.paper.corner_map
-import verify.checks.properties.verdicts
+import verify.paper.corner_map
+import verify.properties.verdicts
 from tests.conftest import PROPERTY_PROFILE
 from tests.helpers import shared
 from verify.cli import main
-from verify.views.pages import PAGES
+from verify.report.pages import PAGES
 
 ROOT = Path(__file__).resolve().parent.parent
 REPORTS = ROOT / "reports"
@@ -52,8 +52,8 @@ def written(tmp_path_factory, request):
         verdicts, maps = request.getfixturevalue("property_verdicts"), request.getfixturevalue("paper_corner_maps")
         text = io.StringIO()
         with pytest.MonkeyPatch.context() as patch, contextlib.redirect_stdout(text):
-            patch.setattr(verify.checks.properties.verdicts, "verdicts", lambda profile, **kw: verdicts)
-            patch.setattr(verify.checks.paper.corner_map, "corner_maps", lambda: maps)
+            patch.setattr(verify.properties.verdicts, "verdicts", lambda profile, **kw: verdicts)
+            patch.setattr(verify.paper.corner_map, "corner_maps", lambda: maps)
             code = main(["all", "--out", str(out), "--workers", "2"])
         return out, code, text.getvalue()
 
@@ -94,11 +94,11 @@ def test_property_rows_started_early_give_their_verdicts_or_their_error(monkeypa
     """The rows run in a thread of their own while the pages are written (Findings.start_verdicts), when the
     runner's processes are started (one_pool, or a cluster): the page reads what they found, and an error of
     theirs is raised where the verdicts are asked for. Rows that would run in this process are not started."""
-    from verify.checks.tasks import TaskFailure, TaskRunner, TasksFailed
-    from verify.views.pages import Findings
+    from verify.report.findings import Findings
+    from verify.runner.tasks import TaskFailure, TaskRunner, TasksFailed
 
     calls = []
-    monkeypatch.setattr(verify.checks.properties.verdicts, "verdicts", lambda profile, **kw: calls.append(kw) or ["v"])
+    monkeypatch.setattr(verify.properties.verdicts, "verdicts", lambda profile, **kw: calls.append(kw) or ["v"])
     here = Findings("dev", TaskRunner(workers=2))
     here.start_verdicts()
     assert here._rows is None and here.verdicts == ["v"]
@@ -111,7 +111,7 @@ def test_property_rows_started_early_give_their_verdicts_or_their_error(monkeypa
         found.start_verdicts()
         found.start_verdicts()  # started once
         assert found._rows is not None and found.verdicts == ["v"] and len(calls) == 2
-        monkeypatch.setattr(verify.checks.properties.verdicts, "verdicts", failing)
+        monkeypatch.setattr(verify.properties.verdicts, "verdicts", failing)
         found = Findings("dev", runner)
         found.start_verdicts()
         with pytest.raises(TasksFailed):

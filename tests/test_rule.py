@@ -12,9 +12,9 @@ from hypothesis import given
 from hypothesis import strategies as st
 
 from tests.helpers import Poison, assert_exact, assert_exact_vector, exact_value
-from verify.core.rule import solve
-from verify.core.system import System
+from verify.dynamics.system import System
 from verify.errors import InvalidSystem, NoConvergence
+from verify.laws.rule import solve
 from verify.models.paper import aeev_halt
 
 I3 = [[1, 0, 0], [0, 1, 0], [0, 0, 1]]
@@ -206,7 +206,7 @@ def test_interval_raises_precision_when_a_sign_is_undecided():
 def test_interval_gives_up_with_a_clear_error_on_an_undecidable_zero():
     # exactly 0, but tan(3/10) is not algebraic: no exact check exists, and the zero is no
     # structural one (no impulse made it), so intervals cannot decide it: say why, not "bad input"
-    from verify.core.backends import IntervalBackend
+    from verify.numbers.backends import IntervalBackend
 
     s = System([[1, 0], [0, 1]], [[1, -1]], [1], backend=IntervalBackend(20, max_dps=80))
     with pytest.raises(NoConvergence, match=r"tan\(3/10\) is not algebraic.*limit of the interval backend"):
@@ -217,7 +217,7 @@ def test_interval_gives_up_with_a_clear_error_on_an_undecidable_zero():
 
 
 def _interval(dps=20):
-    from verify.core.backends import IntervalBackend
+    from verify.numbers.backends import IntervalBackend
 
     return IntervalBackend(dps, max_dps=4 * dps)
 
@@ -337,7 +337,7 @@ def test_wrong_velocity_length():
 
 
 def test_a_run_past_the_size_budget_is_decided_on_intervals() -> None:
-    from verify.core.rule import Budget
+    from verify.laws.rule import Budget
 
     s = System([[1, 0, 0], [0, 1, 0], [0, 0, 1]], [[-1, 1, 0], [0, -1, 1]], ["1/3", "1/7"])
     exact = solve(s, ["100", "0", "0"])
@@ -351,7 +351,7 @@ def test_a_run_past_the_size_budget_is_decided_on_intervals() -> None:
 
 
 def test_a_run_past_the_size_budget_proved_never_to_exit_on_intervals() -> None:
-    from verify.core.rule import Budget
+    from verify.laws.rule import Budget
     from verify.models.cradle import cradle_system
 
     s = cradle_system("1/20")

@@ -13,10 +13,10 @@ from hypothesis import assume, given, settings
 from hypothesis import strategies as st
 
 from tests.helpers import Poison, cradle_case, exact_value
-from verify.core.rule import solve
-from verify.core.sequential import Sequential
-from verify.core.system import System
+from verify.dynamics.system import System
 from verify.errors import InvalidSystem
+from verify.laws.rule import solve
+from verify.laws.sequential import Sequential
 
 ROOT = Path(__file__).resolve().parents[1]
 small = st.fractions(min_value=-3, max_value=3, max_denominator=3)

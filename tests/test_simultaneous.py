@@ -15,10 +15,10 @@ from hypothesis import given, settings
 from hypothesis import strategies as st
 
 from tests.helpers import Poison, assert_exact_vector, cradle_case, exact_value
-from verify.core.rule import solve
-from verify.core.simultaneous import complementarity, lcp_vector
-from verify.core.system import System
+from verify.dynamics.system import System
 from verify.errors import InvalidSystem
+from verify.laws.rule import solve
+from verify.laws.simultaneous import complementarity, lcp_vector
 from verify.models.corner import run_corner
 from verify.models.cradle import cradle_system, run_cradle
 

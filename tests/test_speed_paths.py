@@ -12,17 +12,17 @@ import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
-import verify.core.rule as rule_module
+import verify.laws.rule as rule_module
 from tests.helpers import bench_measured_once
-from verify.checks.bench import batch
-from verify.checks.properties.strategies import cases
+from verify.bench.throughput import batch
 from verify.cli import main
-from verify.core.engines import integer as fraction_free
-from verify.core.engines.floats import solve_batch, systems_batch
-from verify.core.engines.policy import Limits
-from verify.core.rule import Budget, solve
-from verify.core.system import System
+from verify.dynamics.policy import Limits
+from verify.dynamics.system import System
+from verify.laws.loops import integer as fraction_free
+from verify.laws.loops.floats import solve_batch, systems_batch
+from verify.laws.rule import Budget, solve
 from verify.models.corner import corner_batch, paper_run, zones_of
+from verify.properties.strategies import cases
 
 
 def _system(record: dict) -> System:

@@ -7,10 +7,10 @@ from fractions import Fraction
 import pytest
 from hypothesis import HealthCheck, Phase, find, given, settings
 
-from verify.checks.properties import formulas
-from verify.checks.properties.strategies import FAMILIES, RULES, cases, rates
-from verify.core.backends import RationalBackend
-from verify.core.linalg import ldl
+from verify.numbers.backends import RationalBackend
+from verify.numbers.linalg import ldl
+from verify.properties import formulas
+from verify.properties.strategies import FAMILIES, RULES, cases, rates
 from verify.records.results import case_from_record
 
 Q = RationalBackend("python")

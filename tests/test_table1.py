@@ -6,8 +6,6 @@ from fractions import Fraction as F
 
 import pytest
 
-from verify.checks.paper.table1 import check_entry, load_table1, parse_printed_iterations, round_to, table1
-from verify.core.backends import IntervalBackend, get_backend
 from verify.models.cradle import run_cradle
 from verify.models.paper import (
     MAX_PAIR_READING,
@@ -16,6 +14,8 @@ from verify.models.paper import (
     PAPER_SIGMA_RELATIVE,
     PAPER_SIGMA_STATED,
 )
+from verify.numbers.backends import IntervalBackend, get_backend
+from verify.paper.table1 import check_entry, load_table1, parse_printed_iterations, round_to, table1
 
 DATA = load_table1()
 ROWS = DATA["rows"]
@@ -145,7 +145,7 @@ def test_the_window_ends(table, reading):
     for (what, expected), sq in zip(reproduces.items(), squares, strict=True):
         assert (_labels(aeev=reading, sigma_squared=sq) == PRINTED) == expected, what
         assert w.contains_squared(sq) == expected, what
-    from verify.checks.paper.table1 import sqrt_decimal
+    from verify.paper.table1 import sqrt_decimal
 
     for c in (F(sqrt_decimal(lo, 12)), F(sqrt_decimal(hi, 12, up=True))):  # rational c just outside
         assert _labels(aeev=reading, sigma_relative=c) != PRINTED
@@ -201,7 +201,7 @@ def test_the_reading_on_the_command_line(capsys):
 
 from decimal import ROUND_DOWN, ROUND_HALF_EVEN, ROUND_HALF_UP, Context, Decimal  # noqa: E402
 
-from verify.checks.paper.table1 import (  # noqa: E402
+from verify.paper.table1 import (  # noqa: E402
     ARITHMETICS,
     PARI_PREC,
     READINGS,

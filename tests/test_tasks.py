@@ -1,4 +1,4 @@
-"""The task layer (verify/checks/tasks.py) and ``verify properties`` on it: results in task order whatever
+"""The task layer (verify/runner/tasks.py) and ``verify properties`` on it: results in task order whatever
 runs them (one process, a local pool, a Dask LocalCluster, one of whose workers is killed), one retry,
 failures reported while the other tasks finish, and checkpoints that resume a stopped run to the same output.
 """
@@ -15,11 +15,11 @@ from pathlib import Path
 
 import pytest
 
-import verify.checks.properties.verdicts as verdicts_module
+import verify.properties.verdicts as verdicts_module
 from tests.helpers import shared
-from verify.checks.properties.verdicts import Verdict, run_verdicts
-from verify.checks.tasks import Checkpoint, Task, TaskRunner, decode, encode, run_tasks
 from verify.cli import main
+from verify.properties.verdicts import Verdict, run_verdicts
+from verify.runner.tasks import Checkpoint, Task, TaskRunner, decode, encode, run_tasks
 
 #: a small slice of the suite (a few seconds in one process) for the checkpoint tests
 SMALL = ["properties", "--profile", "dev", "--property", "kinetic energy", "--family", "cradle"]
@@ -287,7 +287,7 @@ def test_a_split_refuted_row_gives_a_reproducible_counterexample_and_a_whole_cen
     """The termination row of the symmetric cradle is refuted (eps small enough never exits): split in
     chunks, the first refuting chunk gives the counterexample, which fails the property when checked
     again, and the census counts the runs of every chunk."""
-    from verify.checks.properties.verdicts import CENSUS_CASES, run_record
+    from verify.properties.verdicts import CENSUS_CASES, run_record
 
     chosen = {"properties": ["the rule exits"], "families": ["cradle"], "rules": ["symmetric"], "laws": ["rule"]}
     (row,) = run_verdicts("dev", workers=1, chunk=10, **chosen).results
@@ -312,7 +312,7 @@ def _without_time(text: str) -> dict:
 def test_a_stopped_sweep_resumes_to_the_same_output(
     tmp_path: Path, capsys: pytest.CaptureFixture[str], monkeypatch: pytest.MonkeyPatch
 ) -> None:
-    import verify.checks.sweep as sweep_module
+    import verify.paper.sweep as sweep_module
 
     whole = str(tmp_path / "whole.jsonl")
     code, expected, _ = run_cli(capsys, [*SWEEP, "--workers", "1", "--checkpoint", whole])
@@ -340,7 +340,7 @@ def test_a_stopped_sweep_resumes_to_the_same_output(
 def test_corner_claims_resume_from_a_checkpoint(
     tmp_path: Path, capsys: pytest.CaptureFixture[str], monkeypatch: pytest.MonkeyPatch
 ) -> None:
-    import verify.checks.sweep as sweep_module
+    import verify.paper.sweep as sweep_module
 
     argv = ["corner-claims", "--cases", "40", "--json", "--quiet", "--workers", "1"]
     cp = str(tmp_path / "claims.jsonl")
@@ -365,7 +365,7 @@ def test_a_sweep_on_a_local_cluster_equals_one_process(capsys: pytest.CaptureFix
 def test_a_sweep_chunk_that_fails_twice_is_one_line_naming_its_cases(
     tmp_path: Path, capsys: pytest.CaptureFixture[str], monkeypatch: pytest.MonkeyPatch
 ) -> None:
-    import verify.checks.sweep as sweep_module
+    import verify.paper.sweep as sweep_module
 
     real = sweep_module._run_chunk
 
@@ -393,7 +393,7 @@ def test_verify_all_gives_each_step_its_own_time(
     import types
 
     from verify.cli import reports
-    from verify.views import pages, text
+    from verify.report import pages, summary
 
     now = [1000.0]
     monkeypatch.setattr(reports, "_clock", lambda: now[0])
@@ -409,7 +409,7 @@ def test_verify_all_gives_each_step_its_own_time(
         )  # fmt: skip
 
     monkeypatch.setattr(pages, "write_reports", steps)
-    monkeypatch.setattr(text, "all_summary", lambda *a, **k: ("summary\n", False))
+    monkeypatch.setattr(summary, "all_summary", lambda *a, **k: ("summary\n", False))
     code, out, err = run_cli(capsys, ["all", "--out", str(tmp_path / "reports"), "--workers", "1"])
     assert code == 0, err
     assert out.splitlines()[1:] == [

@@ -11,10 +11,16 @@ velocities or CORs over one geometry).
 (3, 'exit', ['325/16', '375/16', '225/4'])
 """
 
-from verify.core.backends import BACKENDS, Backend, get_backend
-from verify.core.format import format_decimal, format_exact
-from verify.core.parse import parse_number
-from verify.core.rule import (
+from verify.dynamics.system import System
+from verify.errors import (
+    BadNumber,
+    InvalidInput,
+    InvalidSystem,
+    NoConvergence,
+    Undecided,
+    VerifyError,
+)
+from verify.laws.rule import (
     RULES,
     Result,
     Step,
@@ -26,30 +32,24 @@ from verify.core.rule import (
     solve,
     solve_many,
 )
-from verify.core.sequential import Sequential
-from verify.core.system import System
-from verify.errors import (
-    BadNumber,
-    InvalidInput,
-    InvalidSystem,
-    NoConvergence,
-    Undecided,
-    VerifyError,
-)
+from verify.laws.sequential import Sequential
 from verify.models.cradle import cradle_system, cradle_system_full, run_cradle
+from verify.numbers.backends import BACKENDS, Backend, get_backend
+from verify.numbers.format import format_decimal, format_exact
+from verify.numbers.parse import parse_number
 
 __version__ = "0.2.0"
 
 #: names imported when first used (they load SymPy and Hypothesis, which the command line's parser does not)
 _LAZY = {
     "eps_map": "verify.maps.general",
-    "family_verdicts": "verify.checks.properties.own",
+    "family_verdicts": "verify.properties.own",
 }
 
 
 def __getattr__(name: str) -> object:
     """:func:`~verify.maps.general.eps_map` (the map of any system's CORs as parameters) and
-    :func:`~verify.checks.properties.own.family_verdicts` (the property suite on a family of your own)."""
+    :func:`~verify.properties.own.family_verdicts` (the property suite on a family of your own)."""
     if name in _LAZY:
         import importlib
 

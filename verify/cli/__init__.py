@@ -23,11 +23,11 @@ import sys
 import traceback
 from collections.abc import Sequence
 
-from verify.checks.tasks import TasksFailed
 from verify.cli import checks, engines, maps, paper, reports, run
 from verify.cli.common import PROG, Parser, UsageError, command, formatter, one_line
 from verify.cli.signals import Terminated, finish, stop_on_signals
 from verify.errors import InvalidInput, Undecided
+from verify.runner.tasks import TasksFailed
 
 
 def build_parser() -> argparse.ArgumentParser:

@@ -8,12 +8,10 @@ import json
 import os
 import sys
 import time
-from collections.abc import Iterator
+from collections.abc import Iterator, Sequence
 from fractions import Fraction
 from typing import Any
 
-from verify.checks.impl import IMPL_NOTE
-from verify.checks.properties.profiles import PROFILES
 from verify.cli.common import (
     PROG,
     BoundedInt,
@@ -32,27 +30,31 @@ from verify.cli.common import (
     law_choice,
     law_options,
     one_line,
+    quiet_option,
+    renamed,
     run_budget,
     task_runner,
     write_output,
     writing,
 )
-from verify.core.format import plural
 from verify.errors import InvalidInput, Undecided
+from verify.numbers.format import plural
+from verify.oracle.impl import IMPL_NOTE
+from verify.properties.profiles import PROFILES
 from verify.records.files import STDIO, display_name, read_text
 from verify.records.versions import stamped
 
 
 class JunitAs:
     """``--junit-as CLASS=KIND,...``: how each class is reported in the JUnit XML
-    (:func:`verify.views.junit.parse_report_as`), checked when parsed.
+    (:func:`verify.oracle.junit.parse_report_as`), checked when parsed.
 
     >>> JunitAs()("gave_up=skipped")["gave_up"]
     'skipped'
     """
 
     def __call__(self, text: str) -> dict[str, str]:
-        from verify.views.junit import parse_report_as
+        from verify.oracle.junit import parse_report_as
 
         try:
             return parse_report_as(text)
@@ -65,7 +67,7 @@ class JunitAs:
 
 def properties_options(p: argparse.ArgumentParser) -> None:
     """The options of ``verify properties``."""
-    from verify.core.rule import RULES
+    from verify.laws.rule import RULES
 
     p.add_argument(
         "--profile",
@@ -94,21 +96,25 @@ def properties_options(p: argparse.ArgumentParser) -> None:
 
 
 def implementation_options(q: argparse.ArgumentParser) -> None:
-    """CASES.json and the other implementation's answers: RESULTS.json, or ``--impl COMMAND`` with ``--timeout``."""
+    """CASES.json and the other implementation's answers: RESULTS.json, or ``--impl COMMAND`` (with
+    ``--impl-time-limit``)."""
     q.add_argument("cases", metavar="CASES.json", help="the case file (- reads it from stdin)")
     q.add_argument("results", metavar="RESULTS.json", nargs="?",
                    help="the other implementation's result file (- reads it from stdin)")  # fmt: skip
     q.add_argument("--impl", metavar="COMMAND",
                    help="run COMMAND: case file on stdin, result file on stdout; " + IMPL_NOTE)  # fmt: skip
-    q.add_argument("--timeout", type=Seconds(), default=600.0, metavar="SECONDS",
-                   help="seconds allowed to --impl (default 600)")  # fmt: skip
+    renamed(q, "--impl-time-limit", "--timeout", type=Seconds(), default=600.0, metavar="SECONDS",
+            help="seconds allowed to --impl (default 600)")  # fmt: skip
 
 
 def oracle_options(p: argparse.ArgumentParser) -> None:
     """The options of ``verify oracle``."""
     oracle_sub = p.add_subparsers(dest="action", metavar="ACTION", parser_class=Parser, required=True)
     q = command(oracle_sub, "oracle export", cmd_oracle)
-    q.add_argument("folder", metavar="DIR", type=OutputDir(), help="the folder to write (created if needed)")
+    q.add_argument("folder", metavar="DIR", type=OutputDir(), nargs="?", default=None,
+                   help="the folder to write (created if needed), or --out DIR")  # fmt: skip
+    q.add_argument("--out", metavar="DIR", type=OutputDir(), default=None, help="the folder to write, as DIR")
+    quiet_option(q, "no progress on stderr (this command prints none; every subcommand takes --quiet)")
     q = command(oracle_sub, "oracle check", cmd_oracle)
     implementation_options(q)
     q.add_argument("--rtol", default="1e-8", type=NonNegativeRational(),
@@ -154,8 +160,9 @@ def oracle_options(p: argparse.ArgumentParser) -> None:
                    help="also the cases where this law branches: restitution thresholds, order ties and badly "
                         "scaled contacts (sequential), the active set's boundary (simultaneous); each sequential "
                         "case carries its own law_settings")  # fmt: skip
-    q.add_argument("--out", metavar="FILE", type=OutputFile(stdout=True), default=None,
-                   help="write the case file there (default, or -: stdout)")  # fmt: skip
+    renamed(q, "--save", "--out", metavar="FILE", type=OutputFile(stdout=True), default=None,
+            help="write the case file to FILE (default, or -: stdout)")  # fmt: skip
+    quiet_option(q, "no progress on stderr (this command prints none; every subcommand takes --quiet)")
     q = command(oracle_sub, "oracle table", cmd_oracle)
     q.add_argument("cases", metavar="CASES.json", help="the case file (- reads it from stdin)")
     q.add_argument("results", metavar="RESULTS.json", nargs="+",
@@ -164,6 +171,7 @@ def oracle_options(p: argparse.ArgumentParser) -> None:
     law_options(q, help="the law of the exact results (the sequential law with its settings below)")
     q.add_argument("--rtol", default="1e-8", type=NonNegativeRational(),
                    help="tolerance relative to the exact exit speed (default 1e-8)")  # fmt: skip
+    quiet_option(q, "no progress on stderr (this command prints none; every subcommand takes --quiet)")
     q.add_argument("--json", action="store_true", help="print the table as JSON")
 
 
@@ -173,9 +181,9 @@ def cmd_properties(args: argparse.Namespace) -> int:
     checkpointed and shown)."""
     import time
 
-    from verify.checks.properties.verdicts import checkpoint_options, report, rows, run_verdicts
+    from verify.properties.text import properties_text
+    from verify.properties.verdicts import checkpoint_options, report, rows, run_verdicts
     from verify.records.results import dumps
-    from verify.views.text import properties_text
 
     if args.list:
         list_properties(rows())
@@ -213,10 +221,10 @@ def cmd_properties(args: argparse.Namespace) -> int:
     return 1 if any(v.verdict == "refuted" for v in found) else 0
 
 
-def list_properties(table: list[tuple[Any, str, str, Any]]) -> None:
+def list_properties(table: Sequence[tuple[Any, str, str, Any]]) -> None:
     """``verify properties --list``: each property with the rules of each law, and its families.
 
-    >>> from verify.checks.properties.verdicts import rows
+    >>> from verify.properties.verdicts import rows
     >>> table = rows(["the exit velocity"], ["corner"], ["ideal", "asymmetric"])
     >>> list_properties(table)  # doctest: +NORMALIZE_WHITESPACE
     the exit velocity is outgoing  [rule: ideal, asymmetric; simultaneous: ideal; sequential: ideal;
@@ -245,16 +253,23 @@ def write_counterexamples(folder: str, found: list[Any]) -> None:
                      "--counterexamples")  # fmt: skip
 
 
+def export_folder(args: argparse.Namespace) -> str:
+    """The folder of ``verify oracle export``: DIR or ``--out DIR`` (one of them)."""
+    if (args.folder is None) == (args.out is None):
+        raise UsageError(f"{PROG} oracle export: give the folder once, as DIR or as --out DIR")
+    return str(args.folder if args.folder is not None else args.out)
+
+
 def cmd_oracle(args: argparse.Namespace) -> int:
     """``verify oracle export|check``."""
-    from verify.checks import oracle
+    from verify.oracle import reference as oracle
 
     if args.action == "generate":
-        from verify.checks.hardcases import generate_file_text
+        from verify.oracle.hardcases import generate_file_text
 
         text = generate_file_text(args.level, args.seed, args.law)
-        if args.out and args.out != STDIO:
-            write_output(args.out, text, "--out")
+        if args.save and args.save != STDIO:
+            write_output(args.save, text, "--save")
         else:
             sys.stdout.write(text)
         return 0
@@ -263,8 +278,9 @@ def cmd_oracle(args: argparse.Namespace) -> int:
     if args.action == "explain":
         return oracle_explain(args)
     if args.action == "export":
-        with writing(args.folder, "DIR"):
-            paths = oracle.export(args.folder)
+        folder = export_folder(args)
+        with writing(folder, "DIR"):
+            paths = oracle.export(folder)
         for path in paths:
             print(f"wrote {path}")
         return 0
@@ -281,18 +297,18 @@ def oracle_check(args: argparse.Namespace) -> int:
 
 
 def _oracle_check(args: argparse.Namespace, started: float) -> int:
-    from verify.checks import oracle
+    from verify.oracle import reference as oracle
+    from verify.oracle.text import oracle_text
     from verify.records.results import dumps
-    from verify.views.text import oracle_text
 
     budgets = None  # the options are read before the cases, so that a bad one is told at once
     if args.tolerances:
-        from verify.checks.grading import Budgets, Tolerance
+        from verify.oracle.grading import Budgets, Tolerance
 
         budgets = Budgets.load(args.tolerances, Tolerance(rtol=args.rtol, atol=args.atol, floor=args.floor))
     case_text, records, dataset = checked_cases(args, "oracle check")
-    if args.max_iterations is not None:  # the cases as if each had this cap: for the exact runs and --impl
-        records = [dict(r, max_iterations=args.max_iterations) for r in records]
+    if args.max_impulses is not None:  # the cases as if each had this cap: for the exact runs and --impl
+        records = [dict(r, max_iterations=args.max_impulses) for r in records]
         case_text = dumps(stamped({"cases": records}, dataset))
     status = StatusLine.for_args(args)
     got, skipped = oracle.load_result_file(*other_results(args, case_text, status), dataset)
@@ -321,14 +337,14 @@ def _oracle_check(args: argparse.Namespace, started: float) -> int:
         report.write(oracle_text(comparison, args.junit_as))
         if comparison.limited:
             print(f"note: {len(comparison.limited)} {plural(len(comparison.limited), 'case')} checked only on the "
-                  "impulses the exact run made before reaching --max-bits or --case-timeout: "
+                  "impulses the exact run made before reaching --max-bits or --case-time-limit: "
                   f"{', '.join(comparison.limited)}", file=report)  # fmt: skip
         other = other_law(got, args.law)
         if other:
             print(f"note: the results name the {other} law and were graded under the {args.law} (--law "
                   f"{args.law}); --law {other} grades them under their own", file=report)  # fmt: skip
     if args.junit:
-        from verify.views.junit import junit_xml
+        from verify.oracle.junit import junit_xml
 
         checks: dict[str, list[str]] = {}
         for m in sorted(comparison.mismatches, key=lambda m: not m.field.startswith("exit_velocity")):
@@ -387,7 +403,7 @@ def both_stdout(args: argparse.Namespace, command_name: str) -> None:
 @contextlib.contextmanager
 def junit_on_error(args: argparse.Namespace, suite: str, prefix: str = "oracle") -> Iterator[None]:
     """With ``--junit``, a run that ends without grades (bad input, an internal error, Ctrl-C, SIGTERM) writes a
-    JUnit file saying what went wrong (:func:`verify.views.junit.error_xml`) in place of the last run's."""
+    JUnit file saying what went wrong (:func:`verify.oracle.junit.error_xml`) in place of the last run's."""
     try:
         yield
     except BaseException as exc:
@@ -411,7 +427,7 @@ def _why(exc: BaseException) -> str:
 
 def _write_error_junit(path: str, suite: str, message: str, prefix: str, group: str) -> None:
     """Write the JUnit file of a run that could not grade; a failure to write it leaves the first error to tell."""
-    from verify.views.junit import error_xml
+    from verify.oracle.junit import error_xml
 
     with contextlib.suppress(Exception):
         write_output(path, error_xml(suite, message, prefix, group), "--junit")
@@ -449,10 +465,10 @@ def checked_cases(args: argparse.Namespace, command_name: str) -> tuple[str, lis
 def oracle_explain(args: argparse.Namespace) -> int:
     """``verify oracle explain``: which exact model explains each answer of another implementation; exit code 1
     when a case is explained by none."""
-    from verify.checks import oracle
-    from verify.checks.explain_impl import DEFAULT_SWEEPS, DEFAULT_THRESHOLDS, Grid, explain
+    from verify.oracle import reference as oracle
+    from verify.oracle.explain import DEFAULT_SWEEPS, DEFAULT_THRESHOLDS, Grid, explain
+    from verify.oracle.explanation import explanation_junit, explanation_text
     from verify.records.results import dumps
-    from verify.views.explanation import explanation_junit, explanation_text
 
     both_stdout(args, "oracle explain")
     with junit_on_error(args, f"verify oracle explain {args.cases}", "explain"):
@@ -476,10 +492,10 @@ def oracle_explain(args: argparse.Namespace) -> int:
 
 def oracle_table(args: argparse.Namespace) -> int:
     """``verify oracle table``: several implementations' result files graded side by side."""
-    from verify.checks import oracle
-    from verify.checks.grading import table_row
+    from verify.oracle import reference as oracle
+    from verify.oracle.grading import table_row
+    from verify.oracle.text import error_table_text
     from verify.records.results import dumps, load_cases
-    from verify.views.text import error_table_text
 
     if sum(x == STDIO or x.partition("=")[2] == STDIO for x in [args.cases, *args.results]) > 1:
         raise UsageError(f"{PROG} oracle table: only one of the files can be - (stdin)")
@@ -504,12 +520,12 @@ def oracle_table(args: argparse.Namespace) -> int:
 def other_results(args: argparse.Namespace, case_text: str, status: StatusLine) -> tuple[str, str]:
     """The other implementation's result file as text (the output of ``--impl``, or RESULTS.json), and
     its name for messages."""
-    from verify.checks import oracle
+    from verify.oracle import reference as oracle
 
     if args.impl is not None:
         status.show(f"verify oracle check: running {args.impl}", now=True)
         try:
-            return oracle.run_implementation(args.impl, case_text, args.timeout), f"the output of {args.impl!r}"
+            return oracle.run_implementation(args.impl, case_text, args.impl_time_limit), f"the output of {args.impl!r}"
         finally:
             status.close()
     return read_text(args.results), display_name(args.results)

@@ -17,8 +17,8 @@ from collections.abc import Callable, Iterator
 from fractions import Fraction
 from typing import Any
 
-from verify.core.format import counted
 from verify.errors import VerifyError
+from verify.numbers.format import counted
 
 PROG = "verify"
 
@@ -37,13 +37,71 @@ class Parser(argparse.ArgumentParser):
         found = re.match(r"argument (\S+): (.*)", message, re.DOTALL)
         if found:
             name, rest = found.groups()
+            name = name.split("/")[0]  # a renamed option: its new name (its 0.2 names are hidden)
             message = f"{name} {rest}" if rest.startswith("must ") else f"{name}: {rest}"
         raise UsageError(f"{self.prog}: {message}")
 
 
+class _Formatter(argparse.RawDescriptionHelpFormatter):
+    """Descriptions and epilogs as written; a renamed option shows only its new name."""
+
+    def _format_action_invocation(self, action: argparse.Action) -> str:
+        if isinstance(action, Renamed):
+            shown = [s for s in action.option_strings if s not in action.old]
+            return ", ".join(shown) + (
+                f" {self._format_args(action, action.dest.upper())}" if action.nargs != 0 else ""
+            )
+        return super()._format_action_invocation(action)
+
+
 def formatter(prog: str) -> argparse.HelpFormatter:
     """The help layout of every (sub)command: descriptions and epilogs as written."""
-    return argparse.RawDescriptionHelpFormatter(prog, max_help_position=32)
+    return _Formatter(prog, max_help_position=32)
+
+
+#: the version after which the 0.2 names of renamed options (:func:`renamed`) stop working
+OLD_NAMES_UNTIL = "0.3"
+
+
+class Renamed(argparse.Action):
+    """An option with a value whose 0.2 names (``old``) still work for one version: hidden from ``--help``,
+    with a one-line note on stderr when used (``docs/cli.md``, "One vocabulary")."""
+
+    def __init__(self, option_strings: list[str], dest: str, old: tuple[str, ...] = (), **kwargs: Any) -> None:
+        super().__init__(option_strings, dest, **kwargs)
+        self.old = old
+
+    def __call__(
+        self, parser: argparse.ArgumentParser, namespace: argparse.Namespace, values: Any, option_string: Any = None
+    ) -> None:
+        if option_string in self.old:
+            print(f"{PROG}: note: {option_string} is now {self.option_strings[0]} (the old name works in "
+                  f"{OLD_NAMES_UNTIL} only)", file=sys.stderr)  # fmt: skip
+        setattr(namespace, self.dest, values)
+
+
+def renamed(p: argparse.ArgumentParser | Any, new: str, *old: str, **kwargs: Any) -> argparse.Action:
+    """Declare the option ``new``, with its 0.2 names ``old`` kept as hidden aliases (:class:`Renamed`).
+
+    >>> p = Parser(prog="x")
+    >>> _ = renamed(p, "--max-impulses", "--max-iterations", type=int, default=None)
+    >>> p.parse_args(["--max-impulses", "3"]).max_impulses
+    3
+    """
+    return p.add_argument(new, *old, action=Renamed, old=old, **kwargs)
+
+
+def max_impulses_option(p: argparse.ArgumentParser, *, default: int | None, help: str, **kwargs: Any) -> None:
+    """``--max-impulses N``, the cap on impulses of every subcommand that runs the rule (0.2: ``--max-iterations``,
+    ``--exact-cap`` in ``table1``)."""
+    old = kwargs.pop("old", ("--max-iterations",))
+    kwargs.setdefault("type", COUNT)
+    renamed(p, "--max-impulses", *old, default=default, metavar="N", help=help, **kwargs)
+
+
+def quiet_option(p: argparse.ArgumentParser, help: str = "no status line on stderr") -> None:
+    """``--quiet``, on every subcommand: no progress or status lines on stderr."""
+    p.add_argument("--quiet", action="store_true", help=help)
 
 
 def split_option(text: str) -> list[str]:
@@ -52,7 +110,7 @@ def split_option(text: str) -> list[str]:
     >>> split_option("1/2, 1")
     ['1/2', '1']
     """
-    from verify.core.parse import split_list
+    from verify.numbers.parse import split_list
 
     parts = split_list(text)
     if any(p == "" for p in parts):
@@ -62,7 +120,7 @@ def split_option(text: str) -> list[str]:
 
 # -- option types: every numeric and output-path option is checked when it is parsed ----------------
 
-#: the library's lower limit on decimal digits (verify.core.backends) and a ceiling on absurd requests
+#: the library's lower limit on decimal digits (verify.numbers.backends) and a ceiling on absurd requests
 MIN_DPS, MAX_DPS = 5, 100_000
 MAX_COUNT = 10**9  # caps on impulses, bits
 MAX_SECONDS = 10**7  # about 16 weeks
@@ -205,7 +263,7 @@ class RationalList:
 
 
 class ExactNumber:
-    """A real number in the restricted syntax of :mod:`verify.core.parse` (``0.5``, ``pi/6``,
+    """A real number in the restricted syntax of :mod:`verify.numbers.parse` (``0.5``, ``pi/6``,
     ``3 - 2*sqrt(2)``), checked when parsed and returned as the text (the library reads it).
 
     >>> ExactNumber()("pi/6")
@@ -213,8 +271,8 @@ class ExactNumber:
     """
 
     def __call__(self, text: str) -> str:
-        from verify.core.parse import parse_number
         from verify.errors import InvalidInput
+        from verify.numbers.parse import parse_number
 
         try:
             parse_number(text)
@@ -228,8 +286,8 @@ class ExactNumber:
 
 def rational_value(text: str) -> Fraction | None:
     """``text`` as a Fraction through the restricted parser, or None if it is not a rational."""
-    from verify.core.parse import parse_number, to_number
     from verify.errors import InvalidInput
+    from verify.numbers.parse import parse_number, to_number
 
     try:
         value = to_number(parse_number(text))
@@ -405,16 +463,16 @@ class StatusLine:
 
 
 def run_budget(args: argparse.Namespace) -> Any:
-    """The per-case :class:`verify.core.rule.Budget` of ``--max-bits`` and ``--case-timeout`` (None if neither)."""
-    from verify.core.rule import Budget
+    """The per-case :class:`verify.laws.rule.Budget` of ``--max-bits`` and ``--case-time-limit`` (None if neither)."""
+    from verify.laws.rule import Budget
 
-    if args.max_bits is None and args.case_timeout is None:
+    if args.max_bits is None and args.case_time_limit is None:
         return None
-    return Budget(bits=args.max_bits, seconds=args.case_timeout)
+    return Budget(bits=args.max_bits, seconds=args.case_time_limit)
 
 
 def case_progress(status: StatusLine, label: str) -> Any:
-    """A ``progress`` callback for :func:`verify.core.rule.solve` that shows ``label``, the impulses so far
+    """A ``progress`` callback for :func:`verify.laws.rule.solve` that shows ``label``, the impulses so far
     and the time (None when the status line is off: no cost at all)."""
     if not status.enabled:
         return None
@@ -462,11 +520,9 @@ def command_texts() -> dict[str, Any]:
 
 
 def budget_options(p: argparse.ArgumentParser, scope: str) -> None:
-    p.add_argument(
-        "--max-iterations",
-        type=BoundedInt(0, MAX_COUNT),
+    max_impulses_option(
+        p,
         default=None,
-        metavar="N",
         help="cap on impulses, replacing each case's max_iterations (default: the case's own, else 10000)",
     )
     p.add_argument(
@@ -477,7 +533,9 @@ def budget_options(p: argparse.ArgumentParser, scope: str) -> None:
         help=f"stop a run (stop budget) once its exact numbers pass BITS bits, {scope}: numerator plus "
         "denominator of the largest velocity component; the same on every machine; exact backend only",
     )
-    p.add_argument(
+    renamed(
+        p,
+        "--case-time-limit",
         "--case-timeout",
         type=Seconds(),
         default=None,
@@ -488,7 +546,7 @@ def budget_options(p: argparse.ArgumentParser, scope: str) -> None:
 
 
 def backend_options(p: argparse.ArgumentParser) -> None:
-    from verify.core.backends import BACKENDS
+    from verify.numbers.backends import BACKENDS
 
     p.add_argument(
         "--backend",
@@ -623,7 +681,7 @@ def quiet_loggers(name: str, level: int = 40) -> Iterator[None]:
 
 @contextlib.contextmanager
 def task_runner(args: argparse.Namespace, options: dict[str, Any]) -> Iterator[Any]:
-    """The :class:`verify.checks.tasks.TaskRunner` of :func:`cluster_options`: ``--workers`` local processes
+    """The :class:`verify.runner.tasks.TaskRunner` of :func:`cluster_options`: ``--workers`` local processes
     or the cluster's executor, and the ``--checkpoint`` file for a run with ``options`` (those that change
     results: a checkpoint of other options is refused, exit code 2).
 
@@ -632,7 +690,7 @@ def task_runner(args: argparse.Namespace, options: dict[str, Any]) -> Iterator[A
     ...     runner.map("abs", abs, [-2])
     [2]
     """
-    from verify.checks.tasks import TaskRunner
+    from verify.runner.tasks import TaskRunner
 
     checkpoint = getattr(args, "checkpoint", None)
     with cluster_executor(args) as executor, contextlib.ExitStack() as stack:
@@ -678,9 +736,9 @@ SWEEP_OPTIONS = ("iterations", "order", "threshold")
 
 def law_options(p: argparse.ArgumentParser, *, append: bool = False, help: str | None = None) -> None:
     """``--law`` (the paper's rule by default; with ``append``, repeatable) and the sequential law's settings
-    ``--iterations``, ``--order``, ``--threshold`` (:class:`verify.core.sequential.Sequential`)."""
-    from verify.core.rule import LAWS
-    from verify.core.sequential import DEFAULT_ITERATIONS
+    ``--iterations``, ``--order``, ``--threshold`` (:class:`verify.laws.sequential.Sequential`)."""
+    from verify.laws.rule import LAWS
+    from verify.laws.sequential import DEFAULT_ITERATIONS
 
     what = help or (
         "rule: the paper's iterative rule (default); simultaneous: Newton's restitution with complementarity, all "
@@ -705,8 +763,8 @@ def law_options(p: argparse.ArgumentParser, *, append: bool = False, help: str |
 def law_choice(args: argparse.Namespace, command: str) -> Any:
     """The law of ``--law`` with the sequential law's settings (a ``Sequential``), checked; with a repeatable
     ``--law``, the list of laws (or None for all)."""
-    from verify.core.sequential import DEFAULT_ITERATIONS, Sequential
     from verify.errors import InvalidInput
+    from verify.laws.sequential import DEFAULT_ITERATIONS, Sequential
 
     given = [f"--{name}" for name in SWEEP_OPTIONS if getattr(args, name) is not None]
     laws = [args.law] if isinstance(args.law, str) else list(args.law or ())

@@ -10,7 +10,7 @@ from verify.cli.common import WORKERS, OutputDir, writing
 
 def engines_options(p: argparse.ArgumentParser) -> None:
     """The options of ``verify engines``."""
-    from verify.physics import ENGINES
+    from verify.engines import ENGINES
 
     p.add_argument("--engine", action="append", choices=tuple(ENGINES), default=None, metavar="NAME",
                    help=f"run only this engine (repeatable): {', '.join(ENGINES)}")  # fmt: skip
@@ -29,7 +29,7 @@ def _interpreter(text: str) -> tuple[str, str]:
     """``NAME=PYTHON``: a known engine and an executable file."""
     import os
 
-    from verify.physics import ENGINES
+    from verify.engines import ENGINES
 
     name, sep, path = text.partition("=")
     if not sep or name not in ENGINES:
@@ -41,7 +41,7 @@ def _interpreter(text: str) -> tuple[str, str]:
 
 def cmd_engines(args: argparse.Namespace) -> int:
     """``verify engines``: run every installed engine's adapter; print the findings (or the record)."""
-    from verify.checks.engines import engines_record, findings
+    from verify.engines.run import engines_record, findings
     from verify.records.results import dumps
 
     def progress(line: str) -> None:
@@ -67,9 +67,9 @@ def write_engines_report(out: str, record: dict) -> None:
     """``engines.json`` (the record), then the page and its figure, into ``out``."""
     from pathlib import Path
 
+    from verify.engines.pages import engines_page
     from verify.records.files import write_atomic
     from verify.records.results import dumps
-    from verify.views.pages import engines_page
 
     with writing(out, "--out"):
         folder = Path(out)

@@ -10,7 +10,6 @@ from verify.cli.common import (
     BALLS,
     BALLS_DEFAULT,
     CASES,
-    COUNT,
     MAX_APPROACH,
     MAX_BALLS,
     MAX_IMPULSES_MAP,
@@ -24,6 +23,7 @@ from verify.cli.common import (
     StatusLine,
     UsageError,
     cluster_options,
+    max_impulses_option,
     split_option,
     task_runner,
     writing,
@@ -55,7 +55,7 @@ def corner_claims_options(p: argparse.ArgumentParser) -> None:
 def sweep_options(p: argparse.ArgumentParser) -> None:
     """The options of ``verify sweep``."""
     batch_options(p, cases=10_000, what="number of cases", batch="batch")
-    p.add_argument("--max-iterations", type=COUNT, default=100, help="cap on impulses per case (default 100)")
+    max_impulses_option(p, default=100, help="cap on impulses per case (default 100)")
     p.add_argument("--json", action="store_true", help="print the results as JSON")
 
 
@@ -123,17 +123,17 @@ def cradle_map_options(p: argparse.ArgumentParser) -> None:
 
 def cmd_corner_claims(args: argparse.Namespace) -> int:
     """``verify corner-claims``: the paper's claims about the corner checked; exit code 1 if one is refuted."""
-    from verify.checks.paper.corner_claims import corner_findings
+    from verify.paper.corner_claims import corner_findings
+    from verify.paper.text import corner_claims_json, corner_claims_text
     from verify.records.results import dumps
-    from verify.views.text import corner_claims_json, corner_claims_text
 
     if args.figures:
         require("matplotlib", "--figures")  # before the claims are computed
     options = {"command": "corner-claims", "cases": args.cases, "seed": args.seed}
     with task_runner(args, options) as runner:
         data = corner_findings(args.cases, seed=args.seed, runner=runner, progress=bar_wanted(args))
-        claims = data[0]
-        sys.stdout.write(dumps(corner_claims_json(*data)) if args.json else corner_claims_text(*data))
+        claims = data.claims
+        sys.stdout.write(dumps(corner_claims_json(data)) if args.json else corner_claims_text(data))
         if args.figures:
             draw_corner_figures(args.figures, runner)
     return 1 if any(c.verdict == "refuted" for c in claims) else 0
@@ -143,7 +143,7 @@ def draw_corner_figures(folder: str, runner: Any) -> None:
     """``verify corner-claims --figures DIR``: the corner's four figures, their runs on ``runner``."""
     from pathlib import Path
 
-    from verify.views import figures
+    from verify.paper import figures
 
     out = Path(folder)
     for name, draw in (
@@ -159,13 +159,13 @@ def draw_corner_figures(folder: str, runner: Any) -> None:
 
 def cmd_sweep(args: argparse.Namespace) -> int:
     """``verify sweep``: random rational corner cases run exactly; the stops and the time."""
-    from verify.checks.sweep import random_sweep
+    from verify.paper.sweep import random_sweep
     from verify.records.results import dumps
 
-    options = {"command": "sweep", "cases": args.cases, "seed": args.seed, "max_iterations": args.max_iterations}
+    options = {"command": "sweep", "cases": args.cases, "seed": args.seed, "max_iterations": args.max_impulses}
     with task_runner(args, options) as runner:
         found = random_sweep(
-            args.cases, seed=args.seed, max_iterations=args.max_iterations, runner=runner, progress=bar_wanted(args)
+            args.cases, seed=args.seed, max_iterations=args.max_impulses, runner=runner, progress=bar_wanted(args)
         )
     if args.json:
         sys.stdout.write(dumps(dict(found, seconds=round(found["seconds"], 3))))
@@ -179,10 +179,10 @@ def cmd_sweep(args: argparse.Namespace) -> int:
 
 def cmd_cradle_map(args: argparse.Namespace) -> int:
     """``verify cradle-map``: the cradle for every eps of an interval (and its staircase figure)."""
-    from verify.checks.paper.cradle_map import map_report
     from verify.maps.cradle import cradle_map, map_json
+    from verify.maps.text import cradle_map_text
+    from verify.paper.cradle_map import map_report
     from verify.records.results import dumps
-    from verify.views.text import cradle_map_text
 
     if args.figure:
         require("matplotlib", "--figure")  # before the map is computed
@@ -204,7 +204,7 @@ def cmd_cradle_map(args: argparse.Namespace) -> int:
         report = map_report(cmap, approach=args.approach, paper=paper)
         sys.stdout.write(cradle_map_text(cmap, aeev_rows=report.aeev_rows, approach=report.approach, exact_in="--json"))
     if args.figure:
-        from verify.views.figures import cradle_staircase
+        from verify.maps.figures import cradle_staircase
 
         with writing(args.figure, "--figure"):
             cradle_staircase(cmap, args.figure)
@@ -256,8 +256,8 @@ def _parameters(args: argparse.Namespace) -> dict[str, list[str]]:
 def cmd_map(args: argparse.Namespace) -> int:
     """``verify map``: a case's CORs as parameters, mapped exactly (one interval, or a grid of lines)."""
     from verify.maps.general import case_map, eps_map_json
+    from verify.maps.text import eps_map_text
     from verify.records.results import dumps
-    from verify.views.text import eps_map_text
 
     if args.cell_cones and not args.cells:
         raise UsageError(f"{PROG} map: --cell-cones is for a map of cells: give --cells too")
@@ -272,7 +272,7 @@ def cmd_map(args: argparse.Namespace) -> int:
         status.close()
     sys.stdout.write(dumps(eps_map_json(m)) if args.json else eps_map_text(m, exact_in="--json"))
     if args.figure:
-        from verify.views.figures import eps_map_figure, plane_figure
+        from verify.maps.figures import eps_map_figure, plane_figure
 
         with writing(args.figure, "--figure"):
             (plane_figure if m.plane is not None else eps_map_figure)(m, args.figure)

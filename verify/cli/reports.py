@@ -10,8 +10,17 @@ import time
 from collections.abc import Callable
 from typing import Any
 
-from verify.checks.properties.profiles import PROFILES
-from verify.cli.common import CASES, OutputDir, OutputFile, cluster_options, task_runner, write_output, writing
+from verify.cli.common import (
+    CASES,
+    OutputDir,
+    OutputFile,
+    cluster_options,
+    quiet_option,
+    task_runner,
+    write_output,
+    writing,
+)
+from verify.properties.profiles import PROFILES
 
 
 def report_options(p: argparse.ArgumentParser) -> None:
@@ -19,6 +28,7 @@ def report_options(p: argparse.ArgumentParser) -> None:
     p.add_argument("--out", default="reports", type=OutputDir(), help="the folder to write (default reports)")
     p.add_argument("--profile", default="ci", choices=tuple(PROFILES), help="property profile (default ci)")
     cluster_options(p, "local processes (default: every core)")
+    quiet_option(p, "no progress lines on stderr")
 
 
 def bench_options(p: argparse.ArgumentParser) -> None:
@@ -27,26 +37,29 @@ def bench_options(p: argparse.ArgumentParser) -> None:
     p.add_argument("--quick", action="store_true", help="a smoke run: small batches, one round, no Table 1 or GP")
     p.add_argument("--size", type=CASES, default=None, help="cases in the corner batch (default 10000)")
     p.add_argument("--save", default=None, metavar="FILE", type=OutputFile(), help="also write the JSON record to FILE")
+    quiet_option(p, "no progress lines on stderr")
 
 
 def bounds_options(p: argparse.ArgumentParser) -> None:
     """The options of ``verify bounds``."""
     p.add_argument("logs", nargs="*", metavar="FILE", help="files written under VERIFY_BOUNDS=FILE by earlier commands")
+    quiet_option(p, "no progress on stderr (this command prints none; every subcommand takes --quiet)")
 
 
 def all_options(p: argparse.ArgumentParser) -> None:
     """The options of ``verify all``."""
     p.add_argument("--out", default="reports", type=OutputDir(), help="the folder for the reports (default reports)")
     cluster_options(p, "local processes (default: every core)")
+    quiet_option(p, "no progress lines, only the summary")
 
 
 def cmd_report(args: argparse.Namespace) -> int:
     """``verify report``: write the reports."""
-    from verify.views.pages import write_reports
+    from verify.report.pages import write_reports
 
     with task_runner(args, {"command": "report", "profile": args.profile}) as runner, writing(args.out, "--out"):
-        write_reports(args.out, profile=args.profile, runner=runner,
-                      progress=lambda line: print(line, file=sys.stderr, flush=True))  # fmt: skip
+        progress = None if args.quiet else lambda line: print(line, file=sys.stderr, flush=True)
+        write_reports(args.out, profile=args.profile, runner=runner, progress=progress)
     print(f"reports written to {args.out}/")
     return 0
 
@@ -98,17 +111,17 @@ class StepClock:
 def cmd_all(args: argparse.Namespace) -> int:
     """``verify all``: write the reports (ci profile), then summarise; exit code 1 if the program contradicts itself."""
     from verify.errors import require
-    from verify.views.pages import write_reports
-    from verify.views.text import all_summary
+    from verify.report.pages import write_reports
+    from verify.report.summary import all_summary
 
     require("matplotlib", "the reports' figures")  # before anything is printed or computed
-    progress = StepClock(lambda line: print(line, flush=True))
+    progress = StepClock((lambda line: None) if args.quiet else (lambda line: print(line, flush=True)))
     print("verify all: reproducing Pasquero (2021), then writing the reports", flush=True)
     refresh_engines(args.out, progress)
     with task_runner(args, {"command": "all", "profile": "ci"}) as runner, writing(args.out, "--out"):
         found = write_reports(args.out, profile="ci", runner=runner, progress=progress)
     progress.finish()
-    summary, failed = all_summary(found.table1, found.cradle_map.cmap, found.corner_example, found.corner[0],
+    summary, failed = all_summary(found.table1, found.cradle_map.cmap, found.corner_example, found.corner.claims,
                                   profile=found.profile, found=found.verdicts,
                                   oracle_ok=found.oracle.self_check.ok)  # fmt: skip
     sys.stdout.write(summary)
@@ -119,8 +132,8 @@ def cmd_all(args: argparse.Namespace) -> int:
 def refresh_engines(out: str, progress: Any) -> None:
     """Run the physics engines again into ``out/engines.json`` when every one is installed (the
     ``engines`` extra); otherwise the engines page is rendered from the record as it is."""
-    from verify.checks.engines import engines_record, installed
-    from verify.physics import ENGINES
+    from verify.engines import ENGINES
+    from verify.engines.run import engines_record, installed
     from verify.records.files import write_atomic
     from verify.records.results import dumps
 
@@ -137,13 +150,13 @@ def refresh_engines(out: str, progress: Any) -> None:
 
 def cmd_bench(args: argparse.Namespace) -> int:
     """``verify bench``: time the engines against their baselines; print (and ``--save``) the record."""
-    from verify.checks.bench import QUICK, bench, bench_json, bench_text
+    from verify.bench.throughput import QUICK, bench, bench_json, bench_text
     from verify.records.results import dumps
 
     options: dict[str, Any] = dict(QUICK) if args.quick else {}
     if args.size is not None:
         options["size"] = args.size
-    figures = bench(**options, progress=lambda line: print(line, file=sys.stderr, flush=True))
+    figures = bench(**options, progress=None if args.quiet else lambda line: print(line, file=sys.stderr, flush=True))
     record = bench_json(figures, quick=args.quick)
     if args.save:
         write_output(args.save, dumps(record), "--save")
@@ -153,8 +166,8 @@ def cmd_bench(args: argparse.Namespace) -> int:
 
 def cmd_bounds(args: argparse.Namespace) -> int:
     """``verify bounds``: the bounds of the algorithms, and what the commands run under VERIFY_BOUNDS used."""
+    from verify.bounds import summary, table
     from verify.cli.common import UsageError
-    from verify.core.bounds import summary, table
 
     if not args.logs:
         print(table())

@@ -9,7 +9,6 @@ from typing import Any
 from verify.cli.common import (
     BALLS,
     BALLS_DEFAULT,
-    COUNT,
     MAX_BALLS,
     NUMBER,
     PROG,
@@ -21,7 +20,9 @@ from verify.cli.common import (
     case_progress,
     law_choice,
     law_options,
+    max_impulses_option,
     one_line,
+    quiet_option,
     run_budget,
     split_option,
 )
@@ -49,15 +50,16 @@ def cradle_options(p: argparse.ArgumentParser) -> None:
         "(default l2_pair/v/before; the earlier one: max_pair/v0/before; verify table1 lists all)",
     )
     law_options(p)
-    p.add_argument("--max-iterations", type=COUNT, default=None, help="cap on impulses (default 10000)")
+    max_impulses_option(p, default=None, help="cap on impulses (default 10000)")
     p.add_argument("--trace", action="store_true", help="print every impulse, however many")
     p.add_argument("--json", action="store_true", help="print the result record (JSON)")
+    quiet_option(p, "no progress on stderr (this command prints none; every subcommand takes --quiet)")
     backend_options(p)
 
 
 def solve_options(p: argparse.ArgumentParser) -> None:
     """The options of ``verify solve``."""
-    from verify.core.rule import RULES
+    from verify.laws.rule import RULES
 
     p.add_argument("cases", metavar="CASES.json", help='a case file {"cases": [...]}')
     p.add_argument(
@@ -68,7 +70,7 @@ def solve_options(p: argparse.ArgumentParser) -> None:
     )
     law_options(p)
     budget_options(p, "per case")
-    p.add_argument("--quiet", action="store_true", help="no status line on stderr")
+    quiet_option(p)
     p.add_argument("--json", action="store_true", help='print {"results": [...]}')
     p.add_argument("--trace", action="store_true",
                    help="also print every impulse (every sweep under the sequential law) of each case")  # fmt: skip
@@ -85,8 +87,9 @@ def corner_options(p: argparse.ArgumentParser) -> None:
     p.add_argument("--eps2", required=True, type=NUMBER, help="COR of wall S2 (kx + y = 0), in [0, 1]")
     p.add_argument("--v0", default="100", type=NUMBER, help="speed of the entrance velocity (default 100)")
     law_options(p)
-    p.add_argument("--max-iterations", type=COUNT, default=10_000, help="cap on impulses (default 10000)")
+    max_impulses_option(p, default=10_000, help="cap on impulses (default 10000)")
     p.add_argument("--json", action="store_true", help="print the result record with the zones (JSON)")
+    quiet_option(p, "no progress on stderr (this command prints none; every subcommand takes --quiet)")
     backend_options(p)
 
 
@@ -95,7 +98,7 @@ def cmd_cradle(args: argparse.Namespace) -> int:
     from verify.models.cradle import cradle_balls, run_cradle
     from verify.models.paper import default_sigma
     from verify.records.results import dumps, result_record
-    from verify.views.text import cradle_text
+    from verify.records.text import cradle_text
 
     eps = split_option(args.eps)
     masses, velocity = (split_option(x) if x else None for x in (args.masses, args.velocity))
@@ -116,7 +119,7 @@ def cmd_cradle(args: argparse.Namespace) -> int:
         velocity=velocity,
         mode=args.mode,
         law=law,
-        max_iterations=args.max_iterations,
+        max_iterations=args.max_impulses,
         **backend_choice(args),
     )
     if args.json:
@@ -143,10 +146,10 @@ def _aeev_reading(args: argparse.Namespace) -> Any:
 
 def cmd_solve(args: argparse.Namespace) -> int:
     """``verify solve``: run every case of a case file, in order, and print one result per case."""
-    from verify.core.rule import solve
-    from verify.core.sequential import law_for_case
+    from verify.laws.rule import solve
+    from verify.laws.sequential import law_for_case
     from verify.records.results import dumps, load_cases, result_record
-    from verify.views.text import solve_text
+    from verify.records.text import solve_text
 
     law = law_choice(args, "solve")
     cases = load_cases(args.cases, **backend_choice(args))  # every case validated first
@@ -155,7 +158,7 @@ def cmd_solve(args: argparse.Namespace) -> int:
     results = []
     try:
         for k, c in enumerate(cases, 1):
-            cap = c.max_iterations if args.max_iterations is None else args.max_iterations
+            cap = c.max_iterations if args.max_impulses is None else args.max_impulses
             progress = case_progress(status, f"verify solve: case {k}/{len(cases)} {c.id}")
             try:
                 case_law = law_for_case(law, c.law_settings, c.system.r)
@@ -177,7 +180,7 @@ def cmd_corner(args: argparse.Namespace) -> int:
     """``verify corner``: run the disk in a corner, print the run (or its record with the zones)."""
     from verify.models.corner import run_corner
     from verify.records.results import corner_record, dumps
-    from verify.views.text import corner_text
+    from verify.records.text import corner_text
 
     law = law_choice(args, "corner")
     run = run_corner(
@@ -188,7 +191,7 @@ def cmd_corner(args: argparse.Namespace) -> int:
         eps2=args.eps2,
         v0=args.v0,
         law=law,
-        max_iterations=args.max_iterations,
+        max_iterations=args.max_impulses,
         **backend_choice(args),
     )
     if args.json:

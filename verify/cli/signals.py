@@ -63,7 +63,7 @@ def _hard_exit(stop: Terminated) -> None:
     import multiprocessing
     import sys
 
-    from verify.checks.impl import kill_running
+    from verify.oracle.impl import kill_running
 
     kill_running()
     for child in multiprocessing.active_children():

@@ -2,7 +2,7 @@
 
 Below a boundary the runs of a map settle into a pattern: the same p impact sets forever, each one
 single or of mutually orthogonal constraints, so that each impulse is a linear map of the rates
-(beta = 1, :func:`~verify.core.cones.period.linear_step`) and a period is one matrix M(eps) of rational
+(beta = 1, :func:`~verify.proofs.cones.period.linear_step`) and a period is one matrix M(eps) of rational
 functions (:func:`pattern_map`). Write its characteristic polynomial over Q(eps); where a quadratic
 factor q has the largest roots and its discriminant changes sign, the two largest eigenvalues meet and
 turn non-real: that root of the discriminant, eps*, is the boundary (:func:`collisions`). For three balls
@@ -21,7 +21,7 @@ into itself, up to and at eps*. The other eigenvalues (the factors of the charac
 besides q, each linear) are no larger in modulus there, so a slab of half-width delta around the
 sector along their eigenvectors z_i closes it in the full space. The generators are the rates b, their
 mirror 2 b_W - b across W, and v_mid +- delta z_i; the cone is checked as every cone of a period is
-(:func:`~verify.core.cones.period.close`, exact signs on the whole piece, cut where a sign changes), and
+(:func:`~verify.proofs.cones.period.close`, exact signs on the whole piece, cut where a sign changes), and
 at eps* itself on the number field of eps*. The certificate is an ordinary "invariant cone of a
 period": ``tests/certificate_check.py`` checks it without this module.
 
@@ -49,14 +49,15 @@ from typing import Any
 
 import sympy as sp
 
-from verify.core.algebraic import RealAlgebraic, X
-from verify.core.backends.symbolic import EPS, Piece, RootCache, Split, SymbolicBackend
-from verify.core.cones.period import linear_step
-from verify.core.numeric import certified_sign
-from verify.core.rule import solve
-from verify.core.system import System
-from verify.core.termination import MAX_PERIOD
+from verify.dynamics.system import System
+from verify.laws.rule import solve
 from verify.maps.widen import at_point, closed_cone
+from verify.numbers.algebraic import RealAlgebraic, X
+from verify.numbers.backends.base import Backend
+from verify.numbers.backends.symbolic import EPS, Piece, RootCache, Split, SymbolicBackend
+from verify.numbers.numeric import certified_sign
+from verify.proofs.cones.period import linear_step
+from verify.proofs.termination import MAX_PERIOD
 
 LAM = sp.Symbol("lam")
 #: the slab's half-width, as a share of the most that keeps v_mid +- delta z in the pattern's signs
@@ -109,7 +110,7 @@ def pattern_of(impact_sets: Sequence[Sequence[int]], repeats: int = 3) -> Patter
     return None
 
 
-def sympified(K: Any, x: Any) -> Any:
+def sympified(K: Backend, x: Any) -> Any:
     """An element of the backend K as a SymPy expression (in eps on the symbolic backend).
 
     >>> sympified(SymbolicBackend(Piece.closed(0, 1)), SymbolicBackend(Piece.closed(0, 1)).parameter / 2)

@@ -12,12 +12,12 @@ never exits, on all of it; the certificate is an ordinary "invariant cone of a p
 parameters. Only the rates' start is taken from the run: the generators are of low degree, so the curves the
 check adds stay few (a cone found at a sample point, of generators built from the rates after many impulses,
 would ask signs of the degree of those rates). For the same reason each carried vector's combination of the
-generators is found at the cell's rational sample (:meth:`~verify.core.backends.plane.PlaneBackend.at_sample`), and
+generators is found at the cell's rational sample (:meth:`~verify.maps.backends.plane.PlaneBackend.at_sample`), and
 only the signs of its coefficients are asked on the cell, not those of every pivot of the search.
 
 >>> from fractions import Fraction
->>> from verify.core.backends.plane import polys
->>> from verify.core.system import System
+>>> from verify.maps.backends.plane import polys
+>>> from verify.dynamics.system import System
 >>> masses = [["2", "0", "0", "0"], ["0", "1", "0", "0"], ["0", "0", "1", "0"], ["0", "0", "0", "2"]]
 >>> normals = [["-1", "1", "0", "0"], ["0", "-1", "1", "0"], ["0", "0", "-1", "1"]]
 >>> K = PlaneBackend(polys(), (Fraction(1, 10), Fraction(1, 10)), set(), ("e_out", "e_mid"), point=True)
@@ -40,11 +40,9 @@ from typing import Any
 
 import sympy as sp
 
-from verify.core.backends.plane import NewCurves, PlaneBackend
-from verify.core.backends.ratfunc import as_fraction
-from verify.core.parse import to_sympy
-from verify.core.rule import solve
-from verify.core.system import System
+from verify.dynamics.system import System
+from verify.laws.rule import solve
+from verify.maps.backends.plane import NewCurves, PlaneBackend
 from verify.maps.boundary import (
     LAM,
     SLABS,
@@ -62,6 +60,8 @@ from verify.maps.boundary import (
     sympified,
 )
 from verify.maps.widen import at_values, closed_cone
+from verify.numbers.backends.ratfunc import as_fraction
+from verify.numbers.parse import to_sympy
 
 
 @dataclass
@@ -139,7 +139,7 @@ class CellCones:
         slab are chosen.
         The starts and slabs are tried on the exact numbers of ``at`` first (no curve asked); the first that closes
         there is run again with every sign read at the cell's sample and recorded: when one of their curves is not
-        known to keep one sign on the cell, :class:`~verify.core.backends.plane.NewCurves` cuts the cell by all of
+        known to keep one sign on the cell, :class:`~verify.maps.backends.plane.NewCurves` cuts the cell by all of
         them at once (as a sign of the rule does); else that run is the check of the whole cell. A check run on
         another cell, for the same choice and rates, is the check of this one too where every sign it read is the
         same here: the cells cut from one cell mostly need no new run."""

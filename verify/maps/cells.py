@@ -18,7 +18,7 @@ edges or the k-th root in (c, d) of a polynomial, counted from below, or between
 point (a rational x, and a rational or real algebraic y), and bounds of its area (exact rationals; 0 for
 points and arcs). The cells are disjoint and their union is the box.
 
->>> from verify.core.backends.plane import polys, X, Y
+>>> from verify.maps.backends.plane import polys, X, Y
 >>> P = polys()
 >>> cells = decompose(P, [P.from_expr(X - Y)], (Fraction(0), Fraction(1), Fraction(0), Fraction(1)))
 >>> sorted(c.dim for c in cells)
@@ -38,19 +38,19 @@ from typing import Any
 
 import sympy as sp
 
-from verify.core.algebraic import RealAlgebraic, X
-from verify.core.backends.eliminate import Stop
-from verify.core.backends.plane import Polys
-from verify.core.backends.ratfunc import FLINT, flint
-from verify.core.backends.symbolic import RootCache
-from verify.core.format import format_decimal
+from verify.maps.backends.eliminate import Stop
+from verify.maps.backends.plane import Polys
+from verify.numbers.algebraic import RealAlgebraic, X
+from verify.numbers.backends.ratfunc import FLINT, flint
+from verify.numbers.backends.symbolic import RootCache
+from verify.numbers.format import format_decimal
 
 
 class Roots(RootCache):
     """The real roots of univariate polynomials, computed once each: with python-flint, each irreducible factor's
     real roots come from FLINT's certified root isolation (``arb_fmpz_poly_complex_roots``: each ball holds
     exactly one root, real roots with an imaginary part of exactly 0), its ball's exact ends as the isolating
-    interval; else SymPy's, as :class:`~verify.core.backends.symbolic.RootCache` does.
+    interval; else SymPy's, as :class:`~verify.numbers.backends.symbolic.RootCache` does.
 
     >>> [str(r) for r in Roots().roots_of((Fraction(-2), Fraction(0), Fraction(1)))]
     ['-sqrt(2)', 'sqrt(2)']
@@ -284,7 +284,7 @@ def refine(
     and its own sides keep theirs (a point, or a cell of irrational x, comes back whole). The parts' areas
     are not set (:func:`set_areas`: once the cells are final). ``stop`` as for :func:`critical_x`.
 
-    >>> from verify.core.backends.plane import polys, X, Y
+    >>> from verify.maps.backends.plane import polys, X, Y
     >>> P = polys()
     >>> box = (Fraction(0), Fraction(1), Fraction(0), Fraction(1))
     >>> square = next(c for c in decompose(P, [], box) if c.dim == 2)
@@ -340,7 +340,7 @@ def meets(P: Polys, cell: Cell, poly: Any, box: Box, cache: RootCache | None = N
     at an irrational x is not, and a curve may touch the cell there). A curve that does not meet a cell keeps one
     sign on it, and need not cut it.
 
-    >>> from verify.core.backends.plane import polys, X, Y
+    >>> from verify.maps.backends.plane import polys, X, Y
     >>> P = polys()
     >>> box = (Fraction(0), Fraction(1), Fraction(0), Fraction(1))
     >>> square = next(c for c in decompose(P, [], box) if c.dim == 2)

@@ -1,13 +1,13 @@
 """The exact eps-map of Newton's cradle: every eps in an interval at once.
 
-The cradle is run once on the symbolic backend (:mod:`verify.core.backends.symbolic`) with eps a
+The cradle is run once on the symbolic backend (:mod:`verify.numbers.backends.symbolic`) with eps a
 symbol ranging over [lower, upper] (default [0, 1]); whenever the rule asks a sign that
 changes inside the current range, the range is cut at the real roots of that polynomial
 (exact algebraic numbers) and each part is run again. Every part ends
 
 - with an exit after k impulses: a *piece*, on which the impact sequence is fixed and the
   exit velocity is a rational function of eps;
-- with a proof that the rule never exits (:mod:`verify.core.termination`): a *non-terminating*
+- with a proof that the rule never exits (:mod:`verify.proofs.termination`): a *non-terminating*
   interval with its certificate, whose conditions hold for every eps of the interval;
 - at the bound on impulses: an *unexplored* interval, with the reason (for two contacts,
   whether every eps there is known to exit after more impulses).
@@ -27,14 +27,14 @@ from dataclasses import dataclass, field
 from fractions import Fraction
 from typing import Any
 
-from verify.core.algebraic import RealAlgebraic
-from verify.core.backends.symbolic import EPS, Piece, RootCache, Split, SymbolicBackend
-from verify.core.format import counted, format_exact
-from verify.core.parse import to_number
 from verify.errors import InvalidInput, InvalidSystem
 from verify.maps import DEFAULT_WIDEN
 from verify.maps.line import Part, Watch, line_parts, parts_json, piece_json, undecided_length
 from verify.models.cradle import cradle_system, cradle_velocity
+from verify.numbers.algebraic import RealAlgebraic
+from verify.numbers.backends.symbolic import EPS, Piece, RootCache, Split, SymbolicBackend
+from verify.numbers.format import counted, format_exact
+from verify.numbers.parse import to_number
 
 DEFAULT_MAX_IMPULSES = 40
 
@@ -216,9 +216,9 @@ def approach_counts(
     >>> approach_counts(termination_boundaries(m)[0], [3], m, max_impulses=10)
     [(Fraction(567281, 10000000), '> 10 (budget)')]
     """
-    from verify.core.backends import get_backend
     from verify.errors import NoConvergence
     from verify.models.cradle import run_cradle
+    from verify.numbers.backends import get_backend
 
     if not isinstance(max_impulses, int) or max_impulses < 0:
         raise InvalidInput(f"max_impulses must be a non-negative integer, got {max_impulses!r}")

@@ -1,7 +1,7 @@
 """The map of any system: its CORs as expressions in parameters, every value of the parameters at once.
 
 :func:`eps_map` takes a system (built by hand, from a case file, or with
-:meth:`~verify.core.system.System.from_functions`), an entrance velocity, and one COR per contact
+:meth:`~verify.dynamics.system.System.from_functions`), an entrance velocity, and one COR per contact
 as an expression in named parameters (``"e1"``, ``"e2"``, or one shared ``"eps"``). The rule is
 run on the symbolic backend and cut exactly where a sign changes (:mod:`verify.maps.line`).
 
@@ -16,9 +16,9 @@ run on the symbolic backend and cut exactly where a sign changes (:mod:`verify.m
   point of it is mapped.
 
 The system's numbers and the velocity are rationals, or algebraic numbers (``sqrt(3)/3``): a map along
-lines then runs over the real number field they generate (:mod:`verify.core.backends.fieldfunc`), with the
+lines then runs over the real number field they generate (:mod:`verify.numbers.backends.fieldfunc`), with the
 same outputs; its ends are still real algebraic numbers, roots of polynomials with rational coefficients.
-A map of cells of such a system runs over the same field (:mod:`verify.core.backends.tower`).
+A map of cells of such a system runs over the same field (:mod:`verify.maps.backends.tower`).
 
 >>> from verify.models.corner import corner_system
 >>> m = eps_map(corner_system("1/2", "1", "1"), ["1", "-1/10", "0"], ["e1", "e2"], lines=3)
@@ -40,16 +40,17 @@ from typing import Any
 
 import sympy as sp
 
-from verify.core.algebraic import RealAlgebraic
-from verify.core.backends import NumberFieldBackend, exact_for
-from verify.core.backends.symbolic import EPS, Piece, RootCache, Split, SymbolicBackend
-from verify.core.format import counted, format_exact
-from verify.core.parse import CONSTANTS, FUNCTIONS, Number, parse_number, to_number
-from verify.core.system import System, is_algebraic
+from verify.dynamics.system import System, is_algebraic
 from verify.errors import BadNumber, InvalidInput, InvalidSystem
 from verify.maps import DEFAULT_LINES, DEFAULT_WIDEN, MAX_LINES
+from verify.maps.backends.plane import PlaneBackend
 from verify.maps.line import Part, Watch, line_parts, parts_json, piece_json
 from verify.maps.plane import PlaneMap, plane_json, plane_parts
+from verify.numbers.algebraic import RealAlgebraic
+from verify.numbers.backends import NumberFieldBackend, exact_for
+from verify.numbers.backends.symbolic import EPS, Piece, RootCache, Split, SymbolicBackend
+from verify.numbers.format import counted, format_exact
+from verify.numbers.parse import CONSTANTS, FUNCTIONS, Number, parse_number, to_number
 
 _NAME = re.compile(r"[A-Za-z_][A-Za-z_0-9]*")
 
@@ -90,6 +91,13 @@ class EpsMap:
     lines: list[Line] = field(default_factory=list)
     stopped: str = ""  #: why the map stopped before it was complete (a budget, Ctrl-C), else ""
     plane: PlaneMap | None = None  #: two parameters mapped as cells (``cells=True``), else None
+
+    @property
+    def cells(self) -> PlaneMap:
+        """The cells of a map of two parameters made with ``cells=True`` (ValueError on another map)."""
+        if self.plane is None:
+            raise ValueError(f"a map laid out as {self.layout}, not as cells")
+        return self.plane
 
     @property
     def layout(self) -> str:
@@ -263,7 +271,7 @@ def _plane(
     src = m.system.source
     first, second = names
 
-    def build(K: Any) -> System:
+    def build(K: PlaneBackend) -> System:
         try:
             system = System(src["mass_matrix"], src["normals"], m.restitution, src["time_terms"], backend=K,
                             names=m.system.names, coordinates=m.system.coordinates)  # fmt: skip

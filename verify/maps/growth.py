@@ -19,7 +19,7 @@ function of eps over Q(sqrt(d)) on the piece, decided exactly (:func:`signs_on`:
 norm, each part's sign read off those of a, b and a^2 - d b^2 for a + sqrt(d) b), up to and at eps* itself, where
 t = 2 (a double eigenvalue: f(k) then falls linearly).
 
->>> from verify.core.backends.symbolic import EPS
+>>> from verify.numbers.backends.symbolic import EPS
 >>> from verify.models.cradle import cradle_system
 >>> build = lambda K: cradle_system(EPS, 5, backend=K)
 >>> cache = RootCache()
@@ -38,12 +38,12 @@ from typing import Any
 import sympy as sp
 from sympy.polys.matrices import DomainMatrix
 
-from verify.core.algebraic import RealAlgebraic, X
-from verify.core.backends.symbolic import Piece, RootCache, Split, SymbolicBackend
-from verify.core.rule import solve
+from verify.laws.rule import solve
 from verify.maps.boundary import Build, Decided, Pattern, pattern_map, sympified
 from verify.maps.leaving import kept_form
 from verify.maps.turning import extension, field_collisions, nearest_above, turning_frame
+from verify.numbers.algebraic import RealAlgebraic, X
+from verify.numbers.backends.symbolic import Piece, RootCache, Split, SymbolicBackend
 
 STATEMENT = (
     "From this state on the run follows the period forever: after k periods the rates are s^k (A_W^k w + A_U^k u) "
@@ -59,7 +59,7 @@ def signs_on(x: Any, piece: Piece) -> list[tuple[Piece, int]] | None:
     sqrt(d). Exact: each polynomial is a + sqrt(d) b (a, b over Q), whose sign at a real algebraic x is read off
     the signs of a, b and a^2 - d b^2 there.
 
-    >>> from verify.core.backends.symbolic import EPS
+    >>> from verify.numbers.backends.symbolic import EPS
     >>> D = sp.QQ.algebraic_field(sp.sqrt(2)).frac_field(EPS)
     >>> [(str(part), sign) for part, sign in signs_on(D.from_sympy((EPS - sp.sqrt(2)) / EPS), Piece.closed(1, 2))]
     [('[1, sqrt(2))', -1), ('{sqrt(2)}', 0), ('(sqrt(2), 2]', 1)]
@@ -84,7 +84,7 @@ def signs_on(x: Any, piece: Piece) -> list[tuple[Piece, int]] | None:
 def _halves(p: Any) -> tuple[sp.Poly, sp.Poly, sp.Poly] | None:
     """(a, b, a^2 - d b^2) for a polynomial p = a + sqrt(d) b of eps over Q(sqrt(d)) (a PolyElement whose
     coefficients are written in the generator sqrt(d)), a and b over Q in the variable
-    :data:`~verify.core.algebraic.X`; None when the field's generator is not a square root."""
+    :data:`~verify.numbers.algebraic.X`; None when the field's generator is not a square root."""
     halves: list[dict[int, Any]] = [{}, {}]
     d = None
     for (k,), c in p.terms():

@@ -45,14 +45,14 @@ from typing import Any
 
 import sympy as sp
 
-from verify.core.algebraic import RealAlgebraic
-from verify.core.backends.symbolic import EPS, Piece, RootCache, Split, SymbolicBackend
-from verify.core.format import format_exact
-from verify.core.rule import solve
-from verify.core.system import System
+from verify.dynamics.system import System
+from verify.laws.rule import solve
 from verify.maps.boundary import LAM, Pattern, characteristic, frame, pattern_map, sympified
 from verify.maps.plane import plane_parts
 from verify.maps.watch import Watch
+from verify.numbers.algebraic import RealAlgebraic
+from verify.numbers.backends.symbolic import EPS, Piece, RootCache, Split, SymbolicBackend
+from verify.numbers.format import format_exact
 
 #: the largest length left undecided between the boundary and the interval the argument covers
 GAP = Fraction(1, 10**9)

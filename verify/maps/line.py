@@ -1,20 +1,20 @@
 """One parameter over an interval: the rule run once for every value, cut where a sign changes.
 
-The system is built on the symbolic backend (:mod:`verify.core.backends.symbolic`), whose
-parameter ``eps`` ranges over a :class:`~verify.core.backends.symbolic.Piece`. Whenever the rule
+The system is built on the symbolic backend (:mod:`verify.numbers.backends.symbolic`), whose
+parameter ``eps`` ranges over a :class:`~verify.numbers.backends.symbolic.Piece`. Whenever the rule
 asks a sign that changes inside the current piece, the piece is cut at the real roots of that
 polynomial (exact algebraic numbers) and each part is run again. Every part ends
 
 - with an exit after k impulses: on it the impact sequence is fixed and the exit velocity is a
   rational function of the parameter;
-- with a proof that the rule never exits (:mod:`verify.core.termination`), whose certificate
+- with a proof that the rule never exits (:mod:`verify.proofs.termination`), whose certificate
   holds for every value of the part;
 - at the bound on impulses: unexplored.
 
 Neighbouring parts that behave the same are merged, so each endpoint belongs to exactly one
 part, decided exactly; the union is the whole piece.
 
->>> from verify.core.backends.symbolic import EPS
+>>> from verify.numbers.backends.symbolic import EPS
 >>> from verify.models.corner import corner_system
 >>> def corner(K):  # a corner of slope 1/2, eps1 the parameter and eps2 = 1/2
 ...     return corner_system("1/2", EPS, "1/2", backend=K)
@@ -32,12 +32,8 @@ from typing import Any
 
 import sympy as sp
 
-from verify.core.algebraic import RealAlgebraic
-from verify.core.backends.symbolic import EPS, Piece, RootCache, Split, SymbolicBackend
-from verify.core.format import counted, format_decimal, format_exact
-from verify.core.rule import solve
-from verify.core.system import System
-from verify.core.termination import MAX_PERIOD
+from verify.dynamics.system import System
+from verify.laws.rule import solve
 from verify.maps import DEFAULT_HALVINGS, DEFAULT_WIDEN
 from verify.maps.boundary import Decided, Pattern, closed_below, pattern_of
 from verify.maps.growth import grown_below
@@ -48,6 +44,10 @@ from verify.maps.torus import Cells, exits_on_cells
 from verify.maps.turning import closed_below_turning
 from verify.maps.watch import Watch
 from verify.maps.widen import around_point, point_run, without
+from verify.numbers.algebraic import RealAlgebraic
+from verify.numbers.backends.symbolic import EPS, Piece, RootCache, Split, SymbolicBackend
+from verify.numbers.format import counted, format_decimal, format_exact
+from verify.proofs.termination import MAX_PERIOD
 
 
 @dataclass
@@ -94,16 +94,16 @@ def line_parts(
     leaving: bool = False,
 ) -> list[Part]:
     """The parts of ``domain``, in order: ``build(K)`` is the system on the symbolic backend ``K`` (its
-    parameter, :data:`~verify.core.backends.symbolic.EPS`, ranging over one piece), ``velocity`` the
+    parameter, :data:`~verify.numbers.backends.symbolic.EPS`, ranging over one piece), ``velocity`` the
     exact entrance velocity. Each part's exit velocity is written in the parameter's own name,
     ``parameter`` (see the module's example). A point part the parametric run leaves at the bound is
-    run again as :func:`~verify.core.rule.solve` runs it at that value (:func:`~verify.maps.widen.point_run`),
+    run again as :func:`~verify.laws.rule.solve` runs it at that value (:func:`~verify.maps.widen.point_run`),
     and an interval it leaves there is tried at up to ``widen`` rational points of it, each run's cone widened
     to the largest interval around its point on which it holds (:func:`widened`). With ``leaving``, an interval
     whose runs repeat a period of eigenvalues all of modulus eps is proved to exit there
     (:mod:`verify.maps.leaving`; minutes where it applies).
 
-    >>> from verify.core.system import System
+    >>> from verify.dynamics.system import System
     >>> one = lambda K: System([[1, 0], [0, 1]], [[-1, 1]], [EPS], backend=K)
     >>> [str(x) for x in line_parts(one, ["1", "0"], Piece.closed(0, 1), 5, parameter="e_out")[0].exit_velocity]
     ['1/2 - e_out/2', 'e_out/2 + 1/2']
@@ -434,7 +434,7 @@ def widened(
 def uncovered(domain: Piece, pieces: Sequence[Piece]) -> list[Piece]:
     """The parts of ``domain`` that none of ``pieces`` (disjoint, in order, inside it) holds.
 
-    >>> from verify.core.algebraic import RealAlgebraic
+    >>> from verify.numbers.algebraic import RealAlgebraic
     >>> half = Piece(RealAlgebraic.rational(Fraction(0)), RealAlgebraic.rational(Fraction(1, 2)), True, False)
     >>> [str(p) for p in uncovered(Piece.closed(0, 1), [half])]
     ['[1/2, 1]']

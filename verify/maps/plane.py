@@ -1,9 +1,9 @@
 """Two parameters over a box: the rule run once for every point of the plane, as exact cells.
 
-The system is built on the plane backend (:mod:`verify.core.backends.plane`), whose two parameters are
+The system is built on the plane backend (:mod:`verify.maps.backends.plane`), whose two parameters are
 read on one cell of a decomposition of the box (:mod:`verify.maps.cells`). Whenever the rule asks a sign
 of a rational function whose factors are not yet known to keep one sign on the cell, the run stops
-(:class:`~verify.core.backends.plane.NewCurves`), that cell alone is cut by the new curves
+(:class:`~verify.maps.backends.plane.NewCurves`), that cell alone is cut by the new curves
 (:func:`~verify.maps.cells.refine`: a cylindrical decomposition of the cell) and each part runs again,
 until no run asks for a new curve. Then on each cell every sign the rule asked is the same at every point,
 so the run at its sample point is the run of the whole cell: the same impact sets and stop, and an exit
@@ -31,17 +31,17 @@ from typing import Any
 
 import sympy as sp
 
-from verify.core.backends.plane import Frac, NewCurves, OutOfTime, PlaneBackend, Polys, polys
-from verify.core.backends.tower import Tower
-from verify.core.format import counted, format_decimal, format_exact
-from verify.core.rule import solve
-from verify.core.system import System
-from verify.core.termination import cone_halt
+from verify.dynamics.system import System
 from verify.errors import InvalidInput
+from verify.laws.rule import solve
+from verify.maps.backends.plane import Frac, NewCurves, OutOfTime, PlaneBackend, Polys, polys
+from verify.maps.backends.tower import Tower
 from verify.maps.cell_cones import CellCones
 from verify.maps.cells import Box, Cell, Roots, decompose, meets, refine, set_areas
 from verify.maps.watch import Watch
 from verify.maps.widen import at_values, run_at
+from verify.numbers.format import counted, format_decimal, format_exact
+from verify.proofs.termination import cone_halt
 
 
 @dataclass
@@ -129,13 +129,13 @@ def plane_parts(
     (:class:`~verify.maps.line.Watch`) gives a wall-clock and a size budget (cells run) and the progress; when
     the map stops early (a budget, or Ctrl-C with a watch), the cells not run are unexplored, with the reason,
     and ``stopped`` says why. ``number_field`` is the number field of the system's numbers when they are not all
-    rational (a :class:`~verify.core.backends.field.NumberFieldBackend`). ``velocities=False`` leaves out each cell's
+    rational (a :class:`~verify.numbers.backends.field.NumberFieldBackend`). ``velocities=False`` leaves out each cell's
     exit velocity as a SymPy expression (``exit_velocity``; ``velocity`` is kept), for a map read only for its
     impact sets and stops. With ``certify`` (the default) a cell of a system of two constraints still impacting at
     ``max_impulses`` is tried for a proof of never-exits: its rates there in an alternating invariant cone
-    (:mod:`verify.core.termination`). The cone's conditions are signs on the cell like the rule's, so a cell proved
+    (:mod:`verify.proofs.termination`). The cone's conditions are signs on the cell like the rule's, so a cell proved
     never to exit (stop ``non_terminating``) is proved on all of it, and carries the certificate. A cell that is a
-    rational point is decided as :func:`~verify.core.rule.solve` decides it there
+    rational point is decided as :func:`~verify.laws.rule.solve` decides it there
     (:func:`~verify.maps.widen.run_at`). ``cell_cones`` (slow: off by default) tries the other cells of three or more
     constraints for a boundary cone of their period (:mod:`verify.maps.cell_cones`), proved on the whole cell too."""
     P = polys(arithmetic)
@@ -224,12 +224,13 @@ def _run_cell(
     r = solve(system, velocity, max_iterations=max_impulses, trace=False, certify=False)
     stop, certificate = r.stop, None
     if certify and stop == "max_iterations" and system.r == 2:
-        # the rates at the cap in an invariant cone (verify.core.termination): its conditions are signs asked on the
+        # the rates at the cap in an invariant cone (verify.proofs.termination): its conditions are signs asked on the
         # cell like the rule's, so the proof holds on all of it; at the cap only, since a cone is invariant (rates
         # that enter it earlier are in it at the cap), and each condition asked earlier would be one more curve
-        found = cone_halt(system)(system, list(r.exit_velocity))
-        if found:
-            stop, certificate = found
+        test = cone_halt(system)
+        found = test(system, list(r.exit_velocity)) if test is not None else None
+        if found is not None:
+            stop, certificate = found.stop, found.certificate
     proved = r
     x, y = cell.sample
     if certify and stop == "max_iterations" and cell.dim == 0 and isinstance(y, Fraction):
@@ -239,10 +240,10 @@ def _run_cell(
             stop, certificate, proved = at.stop, at.certificate, at
     if certify and stop == "max_iterations" and system.r > 2 and cones is not None and tower is None:
         near = y if isinstance(y, Fraction) else y.narrowed(Fraction(1, 10**6))[0]
-        found = cones.prove(system, velocity, r.impact_sets, r.iterations, (x, near))
-        if found is not None:
-            stop, certificate = "non_terminating", found[1]
-            proved = solve(system, velocity, max_iterations=found[0], trace=False, certify=False)
+        on_cell = cones.prove(system, velocity, r.impact_sets, r.iterations, (x, near))
+        if on_cell is not None:
+            stop, certificate = "non_terminating", on_cell[1]
+            proved = solve(system, velocity, max_iterations=on_cell[0], trace=False, certify=False)
     v = [proved.backend.to_number(x) for x in proved.exit_velocity] if velocities else []
     reason = {"max_iterations": f"still impacting after {counted(r.iterations, 'impulse')}",
               "non_terminating": f"never exits: {(certificate or {}).get('kind', 'proved')}, on the whole cell, "

@@ -17,7 +17,7 @@ certified signs:
 - **Numbers of a cell.** Every quantity is a :class:`~verify.maps.meanvalue.MeanValue`: its value at the cell's
   midpoint and its derivative in eps on the whole cell, so its enclosure is as wide as it truly spreads over the
   cell (to first order), however many operations made it.
-- **The rule, with every branch.** The impulses are the rule's (:func:`verify.core.engines.rates.coefficients`;
+- **The rule, with every branch.** The impulses are the rule's (:func:`verify.dynamics.rates.coefficients`;
   a multiple impact whose Gram block is diagonal is its single impacts, beta = 1 exactly). A sign that the cell
   does not decide is followed both ways: an eps of the cell follows one of the branches, so when every branch
   exits, every eps of the cell exits. A branch knows what it chose: a rate it took as negative is positive after
@@ -48,16 +48,16 @@ from typing import Any, cast
 
 import sympy as sp
 
-from verify.core import bounds
-from verify.core.backends.symbolic import EPS, Piece, RootCache, SymbolicBackend
-from verify.core.engines.rates import coefficients
-from verify.core.format import format_decimal
-from verify.core.system import System
+from verify import bounds
+from verify.dynamics.rates import coefficients
+from verify.dynamics.system import System
 from verify.errors import InvalidInput
 from verify.maps.boundary import LAM, Pattern, characteristic, pattern_map, sympified
 from verify.maps.meanvalue import MeanValue, ball, cell, working_precision
 from verify.maps.turning import extension, field_factors
 from verify.maps.watch import Watch
+from verify.numbers.backends.symbolic import EPS, Piece, RootCache, SymbolicBackend
+from verify.numbers.format import format_decimal
 
 #: impulses a branch may take after it leaves the period before the cell is given up
 TAIL = 60
@@ -199,7 +199,7 @@ def _compiled(period: TorusPeriod) -> _Evaluators:
 
 
 class _RuleOnCell:
-    """The system as :func:`~verify.core.engines.rates.coefficients` reads it, in numbers of the cell."""
+    """The system as :func:`~verify.dynamics.rates.coefficients` reads it, in numbers of the cell."""
 
     def __init__(self, gram: list[list[Fraction]], restitution: list[MeanValue]):
         e0 = restitution[0]

@@ -45,15 +45,15 @@ from typing import Any
 import sympy as sp
 from sympy.polys.matrices import DomainMatrix
 
-from verify.core import bounds
-from verify.core.algebraic import RealAlgebraic, X
-from verify.core.backends.field import NumberFieldBackend
-from verify.core.backends.symbolic import EPS, Piece, RootCache, Split, SymbolicBackend
-from verify.core.rule import solve
+from verify import bounds
+from verify.laws.rule import solve
 from verify.maps import DEFAULT_HALVINGS
 from verify.maps.boundary import LAM, Build, Decided, Pattern, characteristic, pattern_map, quadratics, sympified
 from verify.maps.cells import Roots
 from verify.maps.widen import closed_cone, short_point
+from verify.numbers.algebraic import RealAlgebraic, X
+from verify.numbers.backends.field import NumberFieldBackend
+from verify.numbers.backends.symbolic import EPS, Piece, RootCache, Split, SymbolicBackend
 
 Y = sp.Symbol("y")
 #: digits of the rational that stands for sqrt(d) in the generators

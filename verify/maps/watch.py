@@ -8,8 +8,8 @@ from dataclasses import dataclass, field
 from fractions import Fraction
 from typing import Any
 
-from verify.core.format import format_decimal
 from verify.maps import DEFAULT_HALVINGS
+from verify.numbers.format import format_decimal
 
 
 @dataclass

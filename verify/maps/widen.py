@@ -2,10 +2,10 @@
 
 Where the one-parameter map (:mod:`verify.maps.line`) leaves an interval at its bound on impulses, the
 rule is run at a rational point inside it (the one of least denominator in its middle third) as
-:func:`~verify.core.rule.solve` runs it there (:func:`point_run`). When that run is proved never to exit
+:func:`~verify.laws.rule.solve` runs it there (:func:`point_run`). When that run is proved never to exit
 by a cone that a period of p impulses maps into itself, cones around the direction its rates tend to
 are built at the point, of a radius from 1/4 of the rates down
-(:func:`~verify.core.cones.period.limit_cone`), and each is checked for the whole interval on the
+(:func:`~verify.proofs.cones.period.limit_cone`), and each is checked for the whole interval on the
 symbolic backend with the parametric rates after as many impulses (rational functions of the
 parameter) as the first one inside it, and one period more (:func:`around_point`). Where a condition
 of the check changes sign inside the interval, the interval is cut at the roots of that condition
@@ -17,7 +17,7 @@ a number of points (``--widen``).
 >>> from verify.models.cradle import cradle_system
 >>> build = lambda K: cradle_system(EPS, 4, backend=K)
 >>> piece, run, certificate = around_point(build, ["1", "0", "0", "0"], Piece.closed("0.161", "0.168"), 16, RootCache())
->>> from verify.core.format import format_decimal
+>>> from verify.numbers.format import format_decimal
 >>> format_decimal(piece.lower, 6), format_decimal(piece.upper, 6), run.iterations, certificate["impulses"]
 ('0.163636', '0.164506', 16, 2)
 """
@@ -30,13 +30,13 @@ from typing import Any
 
 import sympy as sp
 
-from verify.core.algebraic import RealAlgebraic
-from verify.core.backends.symbolic import EPS, Piece, RootCache, Split, SymbolicBackend
-from verify.core.cones.lp import pivot_budget
-from verify.core.cones.period import MAX_PIVOTS, certificate_of, close, limit_cone, member, rates_after
-from verify.core.rule import solve
-from verify.core.system import System
+from verify.dynamics.system import System
 from verify.errors import InvalidInput, Undecided
+from verify.laws.rule import solve
+from verify.numbers.algebraic import RealAlgebraic
+from verify.numbers.backends.symbolic import EPS, Piece, RootCache, Split, SymbolicBackend
+from verify.proofs.cones.lp import pivot_budget
+from verify.proofs.cones.period import MAX_PIVOTS, certificate_of, close, limit_cone, member, rates_after
 
 #: the radii (2^-bits of the rates) of the cones tried around the direction the rates tend to at a point
 RADII = (2, 4, 6, 8, 10, 12)
@@ -75,7 +75,7 @@ def at_values(system: System, values: Mapping[sp.Symbol, Any]) -> System | None:
 
 
 def point_run(system: System, velocity: Sequence[Any], point: RealAlgebraic, max_impulses: int) -> Any:
-    """The run at one value of the parameter as :func:`~verify.core.rule.solve` makes it on the exact
+    """The run at one value of the parameter as :func:`~verify.laws.rule.solve` makes it on the exact
     numbers of that value (:func:`at_point`, :func:`run_at`): its result when it decides what the parametric
     run left undecided, else None."""
     r = run_at(at_point(system, point), velocity, max_impulses)
@@ -84,7 +84,7 @@ def point_run(system: System, velocity: Sequence[Any], point: RealAlgebraic, max
 
 def run_at(exact: System | None, velocity: Sequence[Any], max_impulses: int) -> Any:
     """The run on a system of exact numbers (a map's system at one point: :func:`at_point`, :func:`at_values`) as
-    :func:`~verify.core.rule.solve` makes it, with every proof of non-termination it has (repeating directions
+    :func:`~verify.laws.rule.solve` makes it, with every proof of non-termination it has (repeating directions
     and cones of periods, which a parametric run does not look for), or None (no system, or a run that fails).
 
     >>> from verify.models.cradle import cradle_system
@@ -147,7 +147,7 @@ def around_point(
 
     The run at the point must be proved never to exit by a cone of a period (:func:`point_run`). Its cone
     hugs the direction the rates tend to at the point, so cones around that direction of a larger radius
-    (:func:`~verify.core.cones.period.limit_cone`, from 1/4 of the rates down to what the run found) are tried
+    (:func:`~verify.proofs.cones.period.limit_cone`, from 1/4 of the rates down to what the run found) are tried
     first: a wider cone holds over a wider interval."""
     q = short_point(piece)
     at = RealAlgebraic.rational(q)

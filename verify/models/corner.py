@@ -16,8 +16,8 @@ instead, and the result says so.
 
 :func:`paper_run` is an independent implementation of eq. (10), with the paper's closed
 forms for V_1, V_2 and beta, in whatever numbers it is given: the tests check the general
-engine against it on Fractions, the float check (:mod:`verify.checks.paper.float_check`)
-and the benchmark (:mod:`verify.checks.bench`) run it on floats. :func:`corner_geometry` is
+engine against it on Fractions, the float check (:mod:`verify.paper.float_check`)
+and the benchmark (:mod:`verify.bench.throughput`) run it on floats. :func:`corner_geometry` is
 the one description of the corner's mass matrix and walls.
 
 >>> r = run_corner(alpha="pi/6", phi="pi/12", eps1="0.999", eps2="0.001")
@@ -31,13 +31,13 @@ from dataclasses import dataclass, field
 from fractions import Fraction
 from typing import Any
 
-from verify.core.backends import Backend, get_backend
-from verify.core.numeric import certified_sign
-from verify.core.parse import Number, to_number
-from verify.core.rule import DEFAULT_MAX_ITERATIONS, Result, solve
-from verify.core.sequential import Law
-from verify.core.system import System
+from verify.dynamics.system import System
 from verify.errors import InvalidInput, InvalidSystem
+from verify.laws.rule import DEFAULT_MAX_ITERATIONS, Result, solve
+from verify.laws.sequential import Law
+from verify.numbers.backends import Backend, get_backend
+from verify.numbers.numeric import certified_sign
+from verify.numbers.parse import Number, to_number
 
 _ONE, _ZERO, _MINUS_ONE = Fraction(1), Fraction(0), Fraction(-1)
 ZONES = {(False, False): "Z0", (True, False): "Z1", (False, True): "Z2", (True, True): "Z12"}
@@ -154,7 +154,7 @@ def zone(system: System, v: Any) -> str:
 
 def zones_of(result: Any) -> list[str]:
     """The zones visited: one per impulse, then the zone of the exit velocity (of a
-    :class:`~verify.core.outcome.Result`, or anything with its ``impact_sets`` and ``stop``)."""
+    :class:`~verify.laws.outcome.Result`, or anything with its ``impact_sets`` and ``stop``)."""
     out = [ZONES[(0 in J, 1 in J)] for J in result.impact_sets]
     if result.stop == "exit":
         out.append("Z0")
@@ -165,7 +165,7 @@ def _backend_for(inputs: list[Number], backend: str | Backend, dps: int | None, 
     """Exact when every input is algebraic; certified intervals otherwise (and say so)."""
     if backend != "exact":
         return backend
-    from verify.core.backends import algebraic_generators
+    from verify.numbers.backends import algebraic_generators
 
     if algebraic_generators(inputs) is None:
         bad = next(v for v in inputs if not isinstance(v, Fraction) and v.is_algebraic is not True)
@@ -192,7 +192,7 @@ def run_corner(
     certify: bool = True,
 ) -> CornerRun:
     """Run the disk in the corner. Give ``alpha`` or ``slope``, and ``phi`` or ``velocity``;
-    ``law`` is ``"rule"`` (the paper's) or ``"simultaneous"`` (:mod:`verify.core.simultaneous`).
+    ``law`` is ``"rule"`` (the paper's) or ``"simultaneous"`` (:mod:`verify.laws.simultaneous`).
 
     >>> r = run_corner(alpha="pi/6", phi="pi/12", eps1="0.999", eps2="0.001", law="simultaneous")
     >>> r.zones, [r.result.backend.to_decimal(x, 6) for x in r.result.exit_velocity[:2]]
@@ -268,10 +268,10 @@ def paper_run(k: Any, xd: Any, yd: Any, e1: Any, e2: Any, *, max_iterations: int
 
 
 def corner_batch(slopes: list[Any], velocities: list[Any], cors: list[Any]) -> Any:
-    """A float batch (:func:`verify.core.engines.floats.systems_batch`) of disks in corners: per
+    """A float batch (:func:`verify.laws.loops.floats.systems_batch`) of disks in corners: per
     case the slope k, the velocity (xd, yd) and the CORs (eps1, eps2), exact rationals.
 
-    >>> from verify.core.engines.floats import solve_batch
+    >>> from verify.laws.loops.floats import solve_batch
     >>> F = Fraction
     >>> out = solve_batch(corner_batch([F(1, 2), F(1)], [[2, 0], [1, F(1, 2)]], [[0, 1], [F(1, 2), 0]]))
     >>> out.impact_sets(0), out.stop[0], out.fallback.tolist()
@@ -280,7 +280,7 @@ def corner_batch(slopes: list[Any], velocities: list[Any], cors: list[Any]) -> A
     from verify.errors import require
 
     require("numpy", "the float path")
-    from verify.core.engines.floats import systems_batch
+    from verify.laws.loops.floats import systems_batch
 
     systems = [corner_system(k, e[0], e[1]) for k, e in zip(slopes, cors)]
     return systems_batch(systems, [[v[0], v[1], 0] for v in velocities])

@@ -22,13 +22,13 @@ from collections.abc import Sequence
 from fractions import Fraction
 from typing import Any
 
-from verify.core.backends import Backend
-from verify.core.parse import to_number
-from verify.core.rule import DEFAULT_MAX_ITERATIONS, Result, solve_many
-from verify.core.sequential import Law
-from verify.core.system import System
+from verify.dynamics.system import System
 from verify.errors import InvalidSystem
+from verify.laws.rule import DEFAULT_MAX_ITERATIONS, Result, solve_many
+from verify.laws.sequential import Law
 from verify.models.paper import PAPER_MAX_ITERATIONS, PAPER_READING, Reading, aeev_halt
+from verify.numbers.backends import Backend
+from verify.numbers.parse import to_number
 
 MODES = ("exact", "paper")
 
@@ -49,7 +49,7 @@ def _masses(masses: Sequence[Any] | None, balls: int) -> list[Any]:
     if len(masses) != balls:
         raise InvalidSystem(f"masses: expected {balls} masses, got {len(masses)}")
     parsed = [to_number(m, where=f"masses[{i}]") for i, m in enumerate(masses)]
-    from verify.core.numeric import certified_sign
+    from verify.numbers.numeric import certified_sign
 
     for i, m in enumerate(parsed):
         if certified_sign(m) <= 0:
@@ -218,10 +218,10 @@ def run_cradle(
     (default :func:`verify.models.paper.default_sigma`; see :mod:`verify.models.paper`), or
     with ``sigma_squared`` its square.
     ``mode="exact"`` stops when the velocity exits, when the run is proved never to exit
-    (stop ``"non_terminating"`` with a certificate, :mod:`verify.core.termination`), or at
+    (stop ``"non_terminating"`` with a certificate, :mod:`verify.proofs.termination`), or at
     ``max_iterations``. ``certify=False`` turns the proofs off (to follow a run that
     never exits for as long as ``max_iterations``). ``law="simultaneous"`` applies the
-    simultaneous law instead (:mod:`verify.core.simultaneous`; exact mode only).
+    simultaneous law instead (:mod:`verify.laws.simultaneous`; exact mode only).
 
     >>> [str(x) for x in run_cradle("1", law="simultaneous").exit_velocity]
     ['-100/3', '200/3', '200/3']
@@ -252,7 +252,7 @@ def run_cradle_many(
     law: Law = "rule",
 ) -> list[Result]:
     """:func:`run_cradle` for each of ``eps_values`` (the other options as there): the cradle is
-    built once and every COR shares its geometry (:func:`verify.core.rule.solve_many`).
+    built once and every COR shares its geometry (:func:`verify.laws.rule.solve_many`).
 
     >>> [r.iterations for r in run_cradle_many(["1", "0.5", "0"], mode="paper", trace=False)]
     [2, 3, 32]

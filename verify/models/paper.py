@@ -22,7 +22,7 @@ The stop fires when ``measure < sigma``, strictly, with ``sigma = sigma_relative
 (:func:`aeev_halt`; ``strict=False`` uses ``<=``). It is evaluated exactly, on squares, so
 no square root and no float is involved.
 
-:mod:`verify.checks.paper.readings` computes, for every reading of the family, the exact
+:mod:`verify.paper.readings` computes, for every reading of the family, the exact
 window of ``sigma_relative`` that reproduces every printed count of Table 1, and the counts
 the printed 10^-9 gives (``verify table1`` prints both). Under the readings tried (the 7
 measures x 4 norms x 2 moments above), 10^-9 reproduces every printed count under exactly
@@ -43,6 +43,8 @@ from collections.abc import Sequence
 from dataclasses import dataclass
 from fractions import Fraction
 from typing import Any
+
+from verify.dynamics.policy import Halted
 
 PAPER_MAX_ITERATIONS = 10_000
 PAPER_SIGMA_STATED = Fraction(1, 10**9)  #: sigma / norm as printed in Sect. 4.1
@@ -167,7 +169,7 @@ def ratio_squared(v: Sequence[Fraction], v0: Sequence[Fraction], reading: Readin
 
 
 class AeevHalt:
-    """The stop of :func:`aeev_halt` (a ``halt`` for :func:`verify.core.rule.solve`)."""
+    """The stop of :func:`aeev_halt` (a ``halt`` for :func:`verify.laws.rule.solve`)."""
 
     def __init__(self, initial_velocity: Sequence[Fraction], sigma_squared: Fraction, reading: Reading,
                  strict: bool) -> None:  # fmt: skip
@@ -178,7 +180,7 @@ class AeevHalt:
         self.sigma_squared = Fraction(sigma_squared)
         self.cache: dict[int, tuple[Any, Any, Any]] = {}
 
-    def __call__(self, system: Any, v: Sequence[Any]) -> str | None:
+    def __call__(self, system: Any, v: Sequence[Any], /) -> Halted | None:
         K = system.backend
         key = id(K)
         if key not in self.cache:
@@ -193,7 +195,7 @@ class AeevHalt:
             s = K.sign(t - bound)
             if s > 0 or (s == 0 and self.strict):
                 return None
-        return "aeev"
+        return Halted("aeev")
 
 
 def aeev_halt(
@@ -204,9 +206,9 @@ def aeev_halt(
     strict: bool = True,
     sigma_squared: Fraction | None = None,
 ) -> AeevHalt:
-    """The paper's almost-equal-exit-velocities stop, as a ``halt`` for :func:`verify.core.rule.solve`.
+    """The paper's almost-equal-exit-velocities stop, as a ``halt`` for :func:`verify.laws.rule.solve`.
 
-    Fires (returns ``"aeev"``) when the ``reading``'s measure of the differences of the
+    Fires (returns ``Halted("aeev")``) when the ``reading``'s measure of the differences of the
     velocities is strictly below ``sigma = sigma_relative * norm`` (``strict=False``: ``<=``),
     tested before each impulse once an impact remains, or right after each impulse
     (``reading.when``). ``sigma_relative`` defaults to :func:`default_sigma`;
@@ -218,7 +220,7 @@ def aeev_halt(
     >>> halt(s, s.velocity(["100", "0", "0"])) is None
     True
     >>> halt(s, s.velocity(["1/3", "1/3", "1/3"]))
-    'aeev'
+    Halted(stop='aeev', certificate=None)
     """
     if sigma_squared is None:
         sigma = default_sigma(reading) if sigma_relative is None else Fraction(sigma_relative)

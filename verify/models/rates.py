@@ -10,8 +10,8 @@ from __future__ import annotations
 from fractions import Fraction
 from typing import Any
 
-from verify.core.backends import RationalBackend
-from verify.core.linalg import dot, ldl, solve_spd
+from verify.numbers.backends import RationalBackend
+from verify.numbers.linalg import dot, ldl, solve_spd
 
 #: the fastest installed rationals, for the linear algebra (results are given back as Fractions: the same numbers)
 _F = RationalBackend("auto")

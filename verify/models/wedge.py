@@ -1,7 +1,7 @@
 """Termination in the wedge: when does the disk leave the corner?
 
 A case is decided by running it exactly: it exits, or it is proved never to exit by the
-invariant cones of :mod:`verify.core.termination` (two walls alternately, forever), with a
+invariant cones of :mod:`verify.proofs.termination` (two walls alternately, forever), with a
 certificate. For the symmetric corner (one COR eps) the cones exist exactly when the
 alternating two-step map has real eigenvalues, ``c^2 >= 4 eps`` with
 ``c = (1 + eps)(1 - k^2)/(1 + k^2)`` and ``k = tan(alpha) < 1``; :func:`symmetric_boundary`
@@ -20,7 +20,7 @@ from __future__ import annotations
 from fractions import Fraction
 from typing import Any
 
-from verify.core.format import format_exact
+from verify.numbers.format import format_exact
 
 
 def symmetric_boundary() -> tuple[Any, Any]:

@@ -23,8 +23,9 @@ from dataclasses import dataclass
 from fractions import Fraction
 from typing import Any
 
-from verify.core.rule import DEFAULT_MAX_ITERATIONS, Result
 from verify.errors import InvalidInput
+from verify.laws.rule import DEFAULT_MAX_ITERATIONS, Result
+from verify.numbers.backends.base import Backend
 
 DECIMAL_DIGITS = 30
 
@@ -42,7 +43,7 @@ class Case:
     law_settings: dict | None = None
 
 
-def value_string(K: Any, x: Any, digits: int = DECIMAL_DIGITS) -> str:
+def value_string(K: Backend, x: Any, digits: int = DECIMAL_DIGITS) -> str:
     """The exact string of ``x`` on exact backends, its decimal string otherwise."""
     return K.to_exact(x) if K.is_exact else K.to_decimal(x, digits)
 
@@ -77,9 +78,9 @@ def read_number(text: str, where: str | None = None) -> Fraction:
     ...
     verify.errors.BadNumber: v[0]: 'nan' is not a finite number (NaN or an infinity)
     """
-    from verify.core.format import format_decimal, str_to_int
-    from verify.core.parse import parse_number, to_number
     from verify.errors import BadNumber
+    from verify.numbers.format import format_decimal, str_to_int
+    from verify.numbers.parse import parse_number, to_number
 
     prefix = f"{where}: " if where else ""
     if _RATIONAL.fullmatch(text):
@@ -177,7 +178,7 @@ def case_record(
     >>> case_record("b", [[1]], [[1]], [1], [-1], names=["floor"])["names"]
     ['floor']
     """
-    from verify.core.format import format_exact
+    from verify.numbers.format import format_exact
 
     named = {"names": list(names)} if names is not None else {}
     return {
@@ -205,14 +206,14 @@ _PLAIN_DECIMAL = re.compile(r"-?(?:\d+(?:\.\d*)?|\.\d+)(?:[eE][-+]?\d+)?")
 def exact_decimal(text: str, digits: int = CASE_DECIMAL_DIGITS, where: str | None = None) -> str:
     """The value of the exact number string ``text``, correctly rounded (half to even) to ``digits``
     significant digits, from the exact value (rationals in integer arithmetic, closed forms from
-    certified enclosures: :func:`verify.core.format.format_decimal`); trailing zeros dropped, an
+    certified enclosures: :func:`verify.numbers.format.format_decimal`); trailing zeros dropped, an
     exponent outside [1e-7, 1e30). ``strtod`` reads it.
 
     >>> exact_decimal("1/3"), exact_decimal("-25*sqrt(2) + 25*sqrt(6)", 20), exact_decimal("1/2")
     ('0.3333333333333333333333333333333333333333', '25.881904510252076235', '0.5')
     """
-    from verify.core.format import format_decimal
-    from verify.core.parse import parse_number
+    from verify.numbers.format import format_decimal
+    from verify.numbers.parse import parse_number
 
     return format_decimal(parse_number(text, where=where), digits)
 
@@ -309,7 +310,7 @@ def case_from_record(record: Any, where: str = "case", *, backend: Any = "exact"
     >>> c.id, c.max_iterations
     ('a', 10000)
     """
-    from verify.core.system import System
+    from verify.dynamics.system import System
 
     if not isinstance(record, dict):
         raise InvalidInput(f"{where}: expected an object, got {type(record).__name__}")
@@ -339,7 +340,7 @@ def case_from_record(record: Any, where: str = "case", *, backend: Any = "exact"
             names=record.get("names"),
         )
         if system.backend.widens_to_inputs:  # a velocity outside the field of the system widens it
-            from verify.core.system import exact_backend_for_velocity
+            from verify.dynamics.system import exact_backend_for_velocity
 
             system, velocity = exact_backend_for_velocity(system, record["velocity"])
         else:
@@ -350,7 +351,7 @@ def case_from_record(record: Any, where: str = "case", *, backend: Any = "exact"
         check_decimals(record, where)
     settings = record.get("law_settings")
     if settings is not None:
-        from verify.core.sequential import case_settings
+        from verify.laws.sequential import case_settings
 
         try:
             case_settings(settings, system.r)

@@ -1,1 +1,3 @@
-"""Views: text and JSON for the command line, the report pages, the figures."""
+"""The views toolkit that every feature renders with: the page frame (:mod:`~verify.views.pages`) and the
+figure style (:mod:`~verify.views.figures`: matplotlib loaded on demand, deterministic PNGs written whole).
+Each feature owns its own text, pages and figures (``verify.FEATURE.text``, ``.pages``, ``.figures``)."""

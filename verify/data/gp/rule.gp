@@ -2,7 +2,7 @@
 \\
 \\ Written the way a GP user would write it, for any n coordinates and r constraints; the
 \\ numbers are whatever the inputs are: t_INT/t_FRAC give exact rational arithmetic, t_REAL
-\\ the floating point of the current realprecision. verify/checks/gp.py drives it (it times
+\\ the floating point of the current realprecision. verify/bench/gp.py drives it (it times
 \\ the loop inside GP and compares the impact sets with the exact engine's).
 \\
 \\   S = rule_system(g, A, e)   the system: mass matrix g (n x n), normals A (r x n, row i =
@@ -73,7 +73,7 @@ rule_time(f, repeats, minms = 200) =
   [best / 1000 / n, n, out];
 }
 
-\\ The report read by verify/checks/gp.py: a header line, then one line per run:
+\\ The report read by verify/bench/gp.py: a header line, then one line per run:
 \\ stop|impact sets (indices joined by ",", sets by ";")|exit velocity (joined by ";").
 rule_join(v, sep) = my(s = ""); for (i = 1, #v, s = Str(s, if (i > 1, sep, ""), v[i])); s;
 rule_report(timed) =

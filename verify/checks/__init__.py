@@ -1,1 +1,0 @@
-"""The checks: the property suite, the paper's claims, the reference oracle, the benchmarks."""

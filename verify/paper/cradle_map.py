@@ -1,0 +1,62 @@
+"""The paper's side of the cradle map: the AEEV rows of Table 1 read off the exact map, and what the
+map's text view shows beside it (:func:`map_report`). The map itself is :mod:`verify.maps.cradle`.
+
+>>> from verify.maps.cradle import cradle_map
+>>> [row["stop"] for row in aeev_rows_explained(cradle_map(max_impulses=4))]
+['max_iterations', 'non_terminating', 'non_terminating']
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+from fractions import Fraction
+from typing import Any
+
+from verify.maps.cradle import CradleMap, approach_counts, termination_boundaries, verdict
+from verify.numbers.algebraic import RealAlgebraic
+from verify.numbers.parse import to_number
+
+
+def aeev_rows_explained(cmap: CradleMap) -> list[dict[str, Any]]:
+    """The paper's AEEV rows of Table 1 read off the map: do they exit by themselves?"""
+    from verify.paper.table1 import load_table1, parse_printed_iterations
+
+    out = []
+    for eps, *_, printed in load_table1()["rows"]:
+        if parse_printed_iterations(printed)[0] != "aeev":
+            continue
+        part = cmap.locate(RealAlgebraic.rational(to_number(eps)))
+        out.append(
+            {
+                "eps": eps,
+                "printed": printed,
+                "stop": part.stop,
+                "iterations": part.iterations,
+                "verdict": verdict(cmap, eps),
+            }
+        )
+    return out
+
+
+@dataclass
+class MapReport:
+    """A map with what its text view shows beside it (``verify cradle-map``, the report's page)."""
+
+    cmap: CradleMap
+    aeev_rows: list[dict[str, Any]] = field(default_factory=list)
+    approach: list[tuple[Fraction, int | str]] = field(default_factory=list)
+
+
+def map_report(cmap: CradleMap, *, approach: int = 0, paper: bool = False) -> MapReport:
+    """What the text view shows beside ``cmap``: when ``paper`` (the map of the paper's cradle: three balls,
+    masses and velocity not given, eps in [0, 1]) the paper's AEEV rows read off it, and the
+    :func:`approach_counts` at eps = boundary + 10^-k for k = 2..``approach`` (none below 2).
+
+    >>> from verify.maps.cradle import cradle_map
+    >>> report = map_report(cradle_map(max_impulses=4), approach=2, paper=True)
+    >>> [row["eps"] for row in report.aeev_rows], [n for _, n in report.approach]
+    (['0.0743', '0.01', '0'], [9])
+    """
+    bounds = termination_boundaries(cmap)
+    counts = approach_counts(bounds[0], range(2, approach + 1), cmap) if bounds and approach >= 2 else []
+    return MapReport(cmap, aeev_rows_explained(cmap) if paper else [], counts)

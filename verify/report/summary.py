@@ -1,0 +1,62 @@
+"""The summary that ``verify all`` prints: what was reproduced, what disagrees with the paper, what was refuted."""
+
+from __future__ import annotations
+
+from typing import TYPE_CHECKING
+
+from verify.numbers.format import counted
+from verify.paper.table1 import (
+    Table1,
+)
+
+if TYPE_CHECKING:
+    from collections.abc import Sequence
+
+    from verify.maps.cradle import CradleMap
+    from verify.models.corner import CornerRun
+    from verify.paper.corner_claims import Claim
+    from verify.properties.verdicts import Verdict
+
+
+def all_summary(
+    table: Table1,
+    cmap: CradleMap,
+    example: CornerRun,
+    claims: Sequence[Claim],
+    *,
+    profile: str,
+    found: Sequence[Verdict],
+    oracle_ok: bool,
+) -> tuple[str, bool]:
+    """The closing summary of ``verify all`` (Table 1, the cradle map, the corner example and claims,
+    the property verdicts of ``profile``, the oracle's self-check), and whether the program
+    contradicted itself."""
+    from verify.maps.cradle import termination_boundaries
+
+    lines = ["", "Summary", "======="]
+    bad = [(row.eps, c.column) for row in table.rows for c in row.checks if not c.agrees]
+    lines.append(f"Table 1: {counted(len(table.rows), 'row')} recomputed; {counted(len(bad), 'printed entry')} "
+                 f"{'disagrees' if len(bad) == 1 else 'disagree'} "
+                 f"({', '.join(f'eps {e} {c}' for e, c in bad)}); see reports/table1.md")  # fmt: skip
+    bounds = termination_boundaries(cmap)
+    three = next((p for p in cmap.parts if p.stop == "exit" and p.iterations == 3), None)
+    lines.append(f"Cradle: threshold 3 -> 4 impulses at eps = {three.piece.lower if three else '?'} (derived); "
+                 f"never exits for eps <= {bounds[0] if bounds else '?'}; see reports/cradle-map.md")  # fmt: skip
+    impulses = counted(example.result.iterations, "impulse")
+    lines.append(f"Corner example: {impulses}, stop {example.result.stop}; claims: "
+                 + ", ".join(f"{c.verdict}" for c in claims))  # fmt: skip
+    refuted = [v for v in found if v.verdict == "refuted"]
+    lines.append(f"Properties ({profile}): {sum(v.verdict == 'proved' for v in found)} proved, "
+                 f"{sum(v.verdict == 'holds' for v in found)} hold, {len(refuted)} refuted:")  # fmt: skip
+    for name in dict.fromkeys(v.property for v in refuted):
+        rows = [f"{v.rule}/{v.family}" + ("" if v.law == "rule" else f" ({v.law} law)") for v in refuted
+                if v.property == name]  # fmt: skip
+        lines.append(f"  - {name}: {', '.join(rows)}")
+    contradictions = [v for v in refuted if v.note.startswith("contradicts the proof")]
+    lines.append("Oracle self-check: " + ("passed" if oracle_ok else "FAILED"))
+    failed = bool(contradictions) or not oracle_ok
+    if contradictions:
+        wrong = counted(len(contradictions), "row")
+        lines.append(f"PROGRAM ERROR: {wrong} {'contradicts' if len(contradictions) == 1 else 'contradict'} a SymPy "
+                     "proof (see reports/properties.md)")  # fmt: skip
+    return "\n".join(lines) + "\n", failed
