@@ -258,12 +258,8 @@ def test_corner_figures(tmp_path):
     pytest.importorskip("matplotlib")
     from verify.paper import figures
 
-    for draw, kwargs in (
-        (figures.corner_multiple_impacts_map, {"n": 4}),
-        (figures.wedge_boundary, {"n": 5}),
-        (figures.corner_iterations_map, {"n": 3}),
-    ):
-        path = draw(tmp_path / f"{draw.__name__}.png", workers=1, **kwargs)
+    for figure, n in ((figures.MULTIPLE_IMPACTS, 4), (figures.WEDGE, 5), (figures.ITERATIONS, 3)):
+        path = figure.make(tmp_path / figure.file, workers=1, n=n)
         assert path.read_bytes()[:4] == b"\x89PNG"
 
 

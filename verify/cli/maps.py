@@ -143,18 +143,13 @@ def draw_corner_figures(folder: str, runner: Any) -> None:
     """``verify corner-claims --figures DIR``: the corner's four figures, their runs on ``runner``."""
     from pathlib import Path
 
-    from verify.paper import figures
+    from verify.paper.figures import CLAIMS_FIGURES
 
     out = Path(folder)
-    for name, draw in (
-        ("corner-exit-vs-entrance.png", figures.corner_exit_vs_entrance),
-        ("corner-iterations.png", figures.corner_iterations_map),
-        ("corner-multiple-impacts.png", figures.corner_multiple_impacts_map),
-        ("wedge-boundary.png", figures.wedge_boundary),
-    ):
+    for figure in CLAIMS_FIGURES:
         with writing(folder, "--figures"):
-            draw(out / name, runner=runner)
-        print(f"figure written to {out / name}", file=sys.stderr)
+            figure.make(out / figure.file, runner=runner)
+        print(f"figure written to {out / figure.file}", file=sys.stderr)
 
 
 def cmd_sweep(args: argparse.Namespace) -> int:

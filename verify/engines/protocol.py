@@ -28,12 +28,15 @@ from __future__ import annotations
 
 import argparse
 import contextlib
+import functools
 import importlib
 import json
 import math
 import os
 import sys
+import tomllib
 from collections.abc import Iterator, Sequence
+from importlib import resources
 from typing import Any, ClassVar
 
 from verify.engines.scene import Corner, Cradle, Scene, Unsupported, scene_of
@@ -80,15 +83,92 @@ def import_engine(module: str) -> Any:
         raise NotInstalled(str(exc)) from None
 
 
+def stepping(max_time: float) -> dict[str, float]:
+    """The settings every stepping adapter has, last among its settings: the bodies' initial ``overlap``, the
+    order they are made in (``reverse_order``) and the most simulated time of a case (``max_time``).
+
+    >>> stepping(0.2)
+    {'overlap': 0.0, 'reverse_order': 0, 'max_time': 0.2}
+    """
+    return {"overlap": 0.0, "reverse_order": 0, "max_time": max_time}
+
+
+def whole(value: float, least: int = 1) -> bool:
+    """Whether a setting is a whole number of at least ``least`` (iterations, steps).
+
+    >>> whole(3.0), whole(2.5), whole(0)
+    (True, False, False)
+    """
+    return value >= least and value == int(value)
+
+
+def solver_model(
+    kind: str, iterations: str, threshold: float | str, precision: str, source: str, **more: Any
+) -> dict[str, Any]:
+    """An :attr:`Adapter.solver` (see there): its kind, the setting of its sweeps, its restitution threshold,
+    its precision and where the engine documents it; ``more``: ``threshold_of``, ``cor_floor``."""
+    return {"kind": kind, "iterations": iterations, "threshold": threshold, "precision": precision, "source": source,
+            **more}  # fmt: skip
+
+
+#: the ranges of the settings that several adapters share (each checked where the adapter has it)
+SHARED_RANGES: dict[str, Any] = {
+    "time_step": lambda v: v > 0,
+    "timestep": lambda v: v > 0,
+    "reverse_order": lambda v: v in (0, 1),
+    "per_contact": lambda v: v in (0, 1),
+    "max_time": lambda v: v > 0,
+    "max_steps": whole,
+    "radius": lambda v: v > 0,
+}
+
+
+#: the class attributes of :class:`Adapter` that ``engines.toml`` gives each engine
+DESCRIBED = ("package", "module", "install", "combine_rule", "cor_setting", "walls", "alternate", "settings", "solver")
+
+
+@functools.cache
+def descriptions() -> dict[str, dict[str, Any]]:
+    """``verify/engines/engines.toml``: each engine's table, by name (docs/engines.md, "Adapters")."""
+    text = resources.files("verify.engines").joinpath("engines.toml").read_text(encoding="utf-8")
+    return tomllib.loads(text)
+
+
+def description(name: str) -> dict[str, Any]:
+    """An engine's table of ``engines.toml`` (empty for a name it does not hold).
+
+    >>> description("pybullet")["alternate"], description("pybullet")["settings"]["solver_iterations"]
+    (['solver_iterations', 1], 50)
+    """
+    return descriptions().get(name, {})
+
+
 class Adapter:
     """One engine. Subclasses set the class attributes and implement the two scenes; they may
-    check their settings' ranges (:meth:`checks`) and read the version otherwise (:meth:`version`)."""
+    check their settings' ranges (:meth:`checks`) and read the version otherwise (:meth:`version`).
+
+    ``package`` and ``module`` default to ``name``: an engine module sets them only where they differ."""
 
     name: ClassVar[str] = "?"  #: the engine's name in reports ("box2d")
     package: ClassVar[str] = "?"  #: the pip package that installs it ("box2d")
     #: how to install it, when ``pip install PACKAGE`` is not enough ("" for that)
     install: ClassVar[str] = ""
     module: ClassVar[str] = "?"  #: the Python module it is imported as ("Box2D")
+    #: the bodies' radius, which a setting ``overlap`` stays below (None: the setting ``radius``)
+    radius: ClassVar[float | None] = None
+
+    def __init_subclass__(cls, **kwargs: Any) -> None:
+        """An engine's adapter takes what it is (package, combine rule, settings, solver...) from its table of
+        ``verify/engines/engines.toml``; what the table leaves out it inherits, and ``package`` and ``module``
+        default to its name."""
+        super().__init_subclass__(**kwargs)
+        for key, value in description(cls.name).items():
+            if key in DESCRIBED:
+                setattr(cls, key, tuple(value) if key == "alternate" else value)
+        for attribute in ("package", "module"):
+            if attribute not in vars(cls):  # neither the table nor the class names it: the engine's own name
+                setattr(cls, attribute, cls.name)
+
     #: how the engine combines the restitutions of the two bodies of a contact
     combine_rule: ClassVar[str] = "?"
     #: how this adapter gives each contact (constraint) its own COR
@@ -129,8 +209,14 @@ class Adapter:
 
     # -- to implement (the scenes) or to override ---------------------------------------
     def checks(self) -> dict[str, bool]:
-        """Whether each setting of :attr:`config` is in its range (``--set`` takes any number)."""
-        return {}
+        """Whether each setting of :attr:`config` is in its range (``--set`` takes any number): here the
+        settings of :data:`SHARED_RANGES` and ``overlap`` (below the radius); an adapter adds its own."""
+        c = self.config
+        found = {name: bool(ok(c[name])) for name, ok in SHARED_RANGES.items() if name in c}
+        if "overlap" in c:
+            radius = self.radius if self.radius is not None else c["radius"]
+            found["overlap"] = 0 <= c["overlap"] < radius
+        return found
 
     def engine(self) -> Any:
         """The engine's module (raises :class:`NotInstalled` when it cannot be imported)."""

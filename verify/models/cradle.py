@@ -20,7 +20,7 @@ from __future__ import annotations
 
 from collections.abc import Sequence
 from fractions import Fraction
-from typing import Any
+from typing import Any, TypedDict, Unpack
 
 from verify.dynamics.system import System
 from verify.errors import InvalidSystem
@@ -191,25 +191,28 @@ def cradle_balls(balls: int | None, masses: Sequence[Any] | None, velocity: Sequ
     return balls
 
 
-def run_cradle(
-    eps: Any,
-    *,
-    v0: Any = "100",
-    balls: int = 3,
-    masses: Sequence[Any] | None = None,
-    velocity: Sequence[Any] | None = None,
-    mode: str = "exact",
-    backend: str | Backend = "exact",
-    dps: int | None = None,
-    max_iterations: int | None = None,
-    trace: bool = True,
-    sigma_relative: Fraction | None = None,
-    certify: bool = True,
-    aeev: Reading | str = PAPER_READING,
-    sigma_squared: Fraction | None = None,
-    law: Law = "rule",
-) -> Result:
-    """Run the cradle (reduced coordinates) in ``exact`` mode or in the paper's ``paper`` mode.
+class CradleOptions(TypedDict, total=False):
+    """The options of :func:`run_cradle` and :func:`run_cradle_many` besides eps (their defaults are there)."""
+
+    v0: Any
+    balls: int
+    masses: Sequence[Any] | None
+    velocity: Sequence[Any] | None
+    mode: str
+    backend: str | Backend
+    dps: int | None
+    max_iterations: int | None
+    trace: bool
+    sigma_relative: Fraction | None
+    certify: bool
+    aeev: Reading | str
+    sigma_squared: Fraction | None
+    law: Law
+
+
+def run_cradle(eps: Any, **options: Unpack[CradleOptions]) -> Result:
+    """Run the cradle (reduced coordinates) in ``exact`` mode or in the paper's ``paper`` mode; the options and
+    their defaults are :func:`run_cradle_many`'s.
 
     ``mode="paper"`` applies the paper's own termination (Sect. 4.1): at most 10^4
     impulses and the almost-equal-exit-velocities stop of :func:`verify.models.paper.aeev_halt`
@@ -228,9 +231,7 @@ def run_cradle(
     >>> run_cradle("0", mode="paper").stop, run_cradle("0", mode="paper").iterations
     ('aeev', 32)
     """
-    return run_cradle_many([eps], v0=v0, balls=balls, masses=masses, velocity=velocity, mode=mode, backend=backend,
-                           dps=dps, max_iterations=max_iterations, trace=trace, sigma_relative=sigma_relative,
-                           certify=certify, aeev=aeev, sigma_squared=sigma_squared, law=law)[0]  # fmt: skip
+    return run_cradle_many([eps], **options)[0]
 
 
 def run_cradle_many(

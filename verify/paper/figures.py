@@ -54,15 +54,6 @@ def exit_vs_entrance_cases() -> list[dict[str, Any]]:
     return _angle_cases("pi/6", phis, EXIT_PAIRS)
 
 
-def corner_exit_vs_entrance(
-    path: str | Path, *, executor: Executor | None = None, workers: int | None = None, runner: TaskRunner | None = None
-) -> Path:
-    """Exit velocity against entrance direction (alpha = pi/6, v0 = 100), as in the paper's appendix:
-    exit speed and exit direction for three pairs of CORs (certified interval runs)."""
-    cases = exit_vs_entrance_cases()
-    return draw_exit_vs_entrance(cases, _corner_runs(cases, executor, workers, runner), path)
-
-
 def draw_exit_vs_entrance(cases: list[dict[str, Any]], results: list[dict[str, Any]], path: str | Path) -> Path:
     """Draw the runs of :func:`exit_vs_entrance_cases` (``results``, in order) into ``path``."""
     import math
@@ -96,19 +87,10 @@ def draw_exit_vs_entrance(cases: list[dict[str, Any]], results: list[dict[str, A
     return save_figure(fig, path)
 
 
-def corner_iterations_map(
-    path: str | Path,
-    *,
-    executor: Executor | None = None,
-    workers: int | None = None,
-    runner: TaskRunner | None = None,
-    n: int = 30,
-) -> Path:
-    """Impulses until exit over (alpha, phi), for a symmetric and an asymmetric pair of CORs;
-    runs proved never to exit are marked. The grid's slopes and directions are rationals
-    (tan alpha and tan phi to 6 digits), so every run is exact and fast."""
-    plt = load_pyplot()  # first: without matplotlib (and its numpy), a clear message
-    import numpy as np
+def iterations_cases(n: int = 30) -> Cases:
+    """The corner cases of :func:`draw_iterations`: ``2n`` half angles by ``2n + 1`` directions, for a symmetric
+    and an asymmetric pair of CORs. The grid's slopes and directions are rationals (tan alpha and tan phi to 6
+    digits), so every run is exact and fast."""
     from mpmath import mp
 
     def rational_tan(degrees: float) -> str:  # grid construction only; the runs are exact on these rationals
@@ -116,8 +98,7 @@ def corner_iterations_map(
 
     alphas = [(i + 0.5) * 90 / (2 * n) for i in range(2 * n)]
     phis = [-89 + 178 * j / (2 * n) for j in range(2 * n + 1)]
-    pairs = [("1/2", "1/2"), ("0.999", "0.001")]
-    cases = [
+    return [
         {
             "id": f"{a}-{p}-{e1}",
             "slope": rational_tan(a),
@@ -126,11 +107,26 @@ def corner_iterations_map(
             "eps2": e2,
             "max_iterations": 500,
         }
-        for e1, e2 in pairs
+        for e1, e2 in ITERATION_PAIRS
         for a in alphas
         for p in phis
     ]
-    results = _corner_runs(cases, executor, workers, runner)
+
+
+#: the CORs of the two panels of :func:`draw_iterations`
+ITERATION_PAIRS = [("1/2", "1/2"), ("0.999", "0.001")]
+
+
+def draw_iterations(cases: Cases, results: Cases, path: str | Path) -> Path:
+    """Impulses until exit over (alpha, phi), for a symmetric and an asymmetric pair of CORs; runs proved never to
+    exit are marked (the runs of :func:`iterations_cases`)."""
+    import math
+
+    plt = load_pyplot()  # first: without matplotlib (and its numpy), a clear message
+    import numpy as np
+
+    m = (math.isqrt(1 + 2 * len(cases)) - 1) // 2  # 2n half angles: 2n (2n + 1) cases per pair
+    alphas, phis, pairs = range(m), range(m + 1), ITERATION_PAIRS
     fig, axes = plt.subplots(1, 2, figsize=(11, 4.2), constrained_layout=True)
     size = len(alphas) * len(phis)
     for ax, (e1, e2), part in zip(axes, pairs, (results[:size], results[size:])):
@@ -166,20 +162,6 @@ def _log_norm() -> Any:
     from matplotlib.colors import LogNorm
 
     return LogNorm(vmin=0.5, vmax=500)
-
-
-def corner_multiple_impacts_map(
-    path: str | Path,
-    *,
-    executor: Executor | None = None,
-    workers: int | None = None,
-    runner: TaskRunner | None = None,
-    n: int = 20,
-) -> Path:
-    """How many multiple impacts, over (eps1, eps2), for alpha = pi/6 and phi = pi/12 (the paper's
-    example): repeated multiple impacts need very different CORs (certified interval runs)."""
-    cases = multiple_impacts_cases(n)
-    return draw_multiple_impacts(cases, _corner_runs(cases, executor, workers, runner), path)
 
 
 def multiple_impacts_cases(n: int = 20) -> list[dict[str, Any]]:
@@ -230,20 +212,6 @@ def draw_multiple_impacts(cases: list[dict[str, Any]], results: list[dict[str, A
     bar = fig.colorbar(im, ax=ax, label="number of multiple impacts", ticks=[0, 1, 2, 3, 4])
     bar.ax.set_yticklabels(["0", "1", "2", "3", ">= 4"])
     return save_figure(fig, path)
-
-
-def wedge_boundary(
-    path: str | Path,
-    *,
-    executor: Executor | None = None,
-    workers: int | None = None,
-    runner: TaskRunner | None = None,
-    n: int = 30,
-) -> Path:
-    """The symmetric termination boundary alpha*(eps) = pi/4 - atan(sqrt(eps)) with exact runs
-    around it (entrance direction phi = alpha/2, as in the paper's example)."""
-    cases = wedge_cases(n)
-    return draw_wedge(cases, _corner_runs(cases, executor, workers, runner), path)
 
 
 def wedge_cases(n: int = 30) -> list[dict[str, Any]]:
@@ -367,22 +335,34 @@ Cases = list[dict[str, Any]]  #: corner case dictionaries (:func:`verify.paper.s
 
 @dataclass(frozen=True)
 class CornerFigure:
-    """A figure of the corner's report page: its file, its caption, the corner cases it runs, how it is drawn."""
+    """A figure of the corner: its file, its caption, the corner cases it runs (``cases(**size)``), how it is drawn.
+
+    :meth:`make` runs its cases and draws them; the report computes the runs first and draws them
+    (:func:`run_corner_figures`)."""
 
     file: str
     caption: str
-    cases: Callable[[], Cases]
+    cases: Callable[..., Cases]
     draw: Callable[[Cases, Cases, str | Path], Path]
 
+    def make(
+        self, path: str | Path, *, runner: TaskRunner | None = None, workers: int | None = None, **size: int
+    ) -> Path:
+        """Run the cases (on ``runner``, else ``workers`` local processes) and draw them into ``path``."""
+        cases = self.cases(**size)
+        return self.draw(cases, _corner_runs(cases, workers=workers, runner=runner), path)
 
-#: the figures of the corner's page, in order
-CORNER_FIGURES = (
-    CornerFigure("corner-exit-vs-entrance.png", "exit speed and direction against entrance", exit_vs_entrance_cases,
-                 draw_exit_vs_entrance),
-    CornerFigure("corner-multiple-impacts.png", "where repeated multiple impacts occur", multiple_impacts_cases,
-                 draw_multiple_impacts),
-    CornerFigure("wedge-boundary.png", "the symmetric termination boundary", wedge_cases, draw_wedge),
-)  # fmt: skip
+
+EXIT_VS_ENTRANCE = CornerFigure("corner-exit-vs-entrance.png", "exit speed and direction against entrance",
+                                exit_vs_entrance_cases, draw_exit_vs_entrance)  # fmt: skip
+ITERATIONS = CornerFigure("corner-iterations.png", "impulses until exit over the corner's angle and the entrance",
+                          iterations_cases, draw_iterations)  # fmt: skip
+MULTIPLE_IMPACTS = CornerFigure("corner-multiple-impacts.png", "where repeated multiple impacts occur",
+                                multiple_impacts_cases, draw_multiple_impacts)  # fmt: skip
+WEDGE = CornerFigure("wedge-boundary.png", "the symmetric termination boundary", wedge_cases, draw_wedge)
+#: the figures of the corner's report page, in order, and those of ``verify corner-claims --figures``
+CORNER_FIGURES = (EXIT_VS_ENTRANCE, MULTIPLE_IMPACTS, WEDGE)
+CLAIMS_FIGURES = (EXIT_VS_ENTRANCE, ITERATIONS, MULTIPLE_IMPACTS, WEDGE)
 
 
 @dataclass(frozen=True)

@@ -121,45 +121,9 @@ class Box2DAdapter(ContactAdapter):
     """Box2D (pybox2d): a cradle of circles, a circle between two static edges."""
 
     name: ClassVar[str] = "box2d"
-    package: ClassVar[str] = "box2d"
-    module: ClassVar[str] = "Box2D"
-    # Box2D 2.3 Box2D/Dynamics/Contacts/b2Contact.h, b2MixRestitution
-    combine_rule: ClassVar[str] = (
-        "max(r1, r2): b2MixRestitution in Box2D/Dynamics/Contacts/b2Contact.h (Box2D 2.3); "
-        "restitution is applied only to a contact approaching faster than b2_velocityThreshold = 1 m/s "
-        "at the start of a step (b2ContactSolver.cpp, a compile-time constant)"
-    )
-    cor_setting: ClassVar[str] = (
-        "per_contact=1: a b2ContactListener.PreSolve sets contact.restitution to the contact's COR every step "
-        "(fixtures at 0); per_contact=0: per-fixture restitutions solved through the max rule (skipped when "
-        "none exist). Either way Box2D ignores a COR while the contact approaches at <= 1 m/s"
-    )
-    settings: ClassVar[dict[str, float]] = {
-        "time_step": 1 / 60,
-        "velocity_iterations": 8,
-        "position_iterations": 3,
-        "warm_starting": 1,
-        "radius": 1.0,
-        "bullet": 1,
-        "overlap": 0.0,
-        "reverse_order": 0,
-        "per_contact": 1,
-        "max_time": 1.0,
-    }
-    # one velocity iteration: contacts solved once each, in order, per step (see the module docstring)
-    alternate: ClassVar[tuple[str, float]] = ("velocity_iterations", 1)
     rule: ClassVar[str] = "max"
     who: ClassVar[str] = "per-body restitutions combined by max (Box2D)"
-    solver: ClassVar[dict[str, Any]] = {
-        "kind": "sequential",
-        "iterations": "velocity_iterations",
-        "threshold": 1.0,
-        "precision": "float32",
-        "source": "Box2D 2.3 b2ContactSolver::InitializeVelocityConstraints (bias -e*vRel when vRel < "
-        "-b2_velocityThreshold, b2Settings.h: 1 m/s) and SolveVelocityConstraints (accumulated impulses clamped at 0)",
-    }
     tolerance: ClassVar[float] = 1e-6  # a float32 engine: impulses and velocities carry about 1e-7 relative
-    walls: ClassVar[bool] = True
 
     def checks(self) -> dict[str, bool]:
         c = self.config

@@ -66,7 +66,7 @@ from typing import Any, ClassVar
 
 from verify.engines.combine import check_range, product_rule_values
 from verify.engines.common import corner_closing, corner_inputs, cradle_closing, cradle_inputs, in_order, settle
-from verify.engines.protocol import Adapter, silenced
+from verify.engines.protocol import Adapter, silenced, whole
 from verify.engines.scene import Corner, Cradle
 
 RADIUS = 1.0  #: every ball and the disk
@@ -98,58 +98,15 @@ class DartAdapter(Adapter):
     """DART (dartpy): all contacts of a step in one boxed LCP, restitution combined as a product."""
 
     name: ClassVar[str] = "dartpy"
-    package: ClassVar[str] = "dartpy"
-    module: ClassVar[str] = "dartpy"
-    combine_rule: ClassVar[str] = (
-        "product e_A*e_B of the shapes' DynamicsAspect restitutions (each sanitised to [0, 1]); "
-        "bounce off when the product <= 1e-3 or e*approach <= 0.1, target capped at 100 "
-        "(dart/constraint/ContactSurface.cpp DefaultContactSurfaceHandler::createParams, ContactSurface.hpp, "
-        "ContactConstraint.cpp getInformation)"
-    )
-    cor_setting: ClassVar[str] = (
-        "per-body values solved through the product: corner disk 1, each wall its COR; cradle balls r_j in [0, 1] "
-        "with r_i*r_(i+1) = cors[i] (skipped when none exist); dartpy binds no per-contact hook"
-    )
-    settings: ClassVar[dict[str, float]] = {
-        "time_step": 0.001,
-        "lcp_solver": 0,
-        "pgs_iterations": 30,
-        "collision_detector": 0,
-        "overlap": 0.0,
-        "reverse_order": 0,
-        "max_steps": 1000,
-    }
-    # PGS (with itself as the fallback) instead of Dantzig pivoting: on 3 balls with cors (1, 1) it
-    # moves the first ball from about -33.331 to -33.299 (PGS stops on its relative tolerance), the
-    # largest change of any one setting (reverse_order: -33.323; time_step: none; pgs_iterations alone:
-    # none, Dantzig converges); with pgs_iterations=1 as well the answer becomes about (0, 50, 50).
-    alternate: ClassVar[tuple[str, float]] = ("lcp_solver", 1)
+    radius: ClassVar[float | None] = RADIUS
     #: whether a wall's restitution must lie in [0, 1] (DART replaces others by 0; nimblephysics takes them)
     bounded: ClassVar[bool] = True
-    walls: ClassVar[bool] = True
-    solver: ClassVar[dict[str, Any]] = {
-        "kind": "simultaneous",
-        "iterations": "pgs_iterations",
-        "threshold": 0.1,
-        "threshold_of": "cor_times_speed",
-        "cor_floor": 0.001,
-        "precision": "float64",
-        "source": "dart/constraint/BoxedLcpConstraintSolver.cpp (one boxed LCP per step, Dantzig, PGS fallback); "
-        "dart/constraint/ContactConstraint.cpp getInformation and ContactSurface.hpp (target e*approach from "
-        "before the solve; none when e <= 1e-3 or e*approach <= 0.1)",
-    }
 
     def checks(self) -> dict[str, bool]:
         c = self.config
-        return {
-            "time_step": c["time_step"] > 0,
-            "lcp_solver": c["lcp_solver"] in (0, 1),
-            "pgs_iterations": c["pgs_iterations"] >= 1 and c["pgs_iterations"] == int(c["pgs_iterations"]),
-            "collision_detector": c["collision_detector"] in range(len(DETECTORS)),
-            "overlap": 0 <= c["overlap"] < RADIUS,
-            "reverse_order": c["reverse_order"] in (0, 1),
-            "max_steps": c["max_steps"] >= 1 and c["max_steps"] == int(c["max_steps"]),
-        }
+        own = {"lcp_solver": c["lcp_solver"] in (0, 1), "pgs_iterations": whole(c["pgs_iterations"]),
+               "collision_detector": c["collision_detector"] in range(len(DETECTORS))}  # fmt: skip
+        return {**super().checks(), **own}
 
     def body_values(self, cors: list[float]) -> list[float]:
         """The cradle's per-ball restitutions (the product rule, in [0, 1]; Unsupported if none)."""
@@ -178,23 +135,32 @@ class DartAdapter(Adapter):
                 solver.setBoxedLcpSolver(pgs)
         return world
 
-    @staticmethod
-    def _shape(d: Any, body: Any, shape: Any, restitution: float) -> Any:
+    def _shape(self, d: Any, body: Any, shape: Any, restitution: float) -> Any:
         node = body.createShapeNode(shape)
         node.createCollisionAspect()
-        aspect = node.createDynamicsAspect()
-        aspect.setRestitutionCoeff(restitution)
-        aspect.setFrictionCoeff(0.0)
+        holder = self._material(node, body)
+        holder.setRestitutionCoeff(restitution)
+        holder.setFrictionCoeff(0.0)
         return node
+
+    @staticmethod
+    def _material(node: Any, body: Any) -> Any:
+        """What holds a shape's restitution and friction: the shape node's dynamics aspect in DART."""
+        return node.createDynamicsAspect()
+
+    @staticmethod
+    def _inertia(d: Any, mass: float, moment: float) -> Any:
+        """A body's inertia: ``mass`` and the same ``moment`` about every axis."""
+        inertia = d.dynamics.Inertia()
+        inertia.setMass(mass)
+        inertia.setMoment([[moment, 0.0, 0.0], [0.0, moment, 0.0], [0.0, 0.0, moment]])
+        return inertia
 
     def _free_sphere(self, d: Any, name: str, mass: float, moment: float, restitution: float) -> tuple[Any, Any]:
         skeleton = d.dynamics.Skeleton(name)
         joint, body = skeleton.createFreeJointAndBodyNodePair()
         self._shape(d, body, d.dynamics.SphereShape(RADIUS), restitution)
-        inertia = d.dynamics.Inertia()
-        inertia.setMass(mass)
-        inertia.setMoment([[moment, 0.0, 0.0], [0.0, moment, 0.0], [0.0, 0.0, moment]])
-        body.setInertia(inertia)
+        body.setInertia(self._inertia(d, mass, moment))
         return skeleton, joint
 
     def _settle(self, world: Any, read: Any, closing: Any) -> list[float]:

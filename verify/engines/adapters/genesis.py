@@ -84,17 +84,8 @@ import sys
 from collections.abc import Callable, Iterator, Sequence
 from typing import Any, ClassVar
 
-from verify.engines.common import (
-    corner_centre,
-    corner_closing,
-    corner_inputs,
-    cradle_closing,
-    cradle_inputs,
-    in_order,
-    settle,
-    wall_normals,
-)
-from verify.engines.protocol import Adapter, CannotRun, import_engine, silenced
+from verify.engines import common
+from verify.engines.protocol import Adapter, CannotRun, import_engine, silenced, whole
 from verify.engines.scene import Corner, Cradle, Unsupported
 
 RADIUS = math.sqrt(2.5)  #: 2/5 m R^2 = 1 for the unit-mass disk
@@ -154,55 +145,7 @@ class GenesisAdapter(Adapter):
     """Genesis's rigid solver on the CPU: soft contacts, restitution through per-geom sol_params."""
 
     name: ClassVar[str] = "genesis"
-    package: ClassVar[str] = "genesis-world"
-    install: ClassVar[str] = "pip install genesis-world torch (Genesis imports torch without requiring it)"
-    module: ClassVar[str] = "genesis"
-    walls: ClassVar[bool] = True
-    combine_rule: ClassVar[str] = (
-        "no restitution in the rigid solver (coup_restitution acts only in the coupler with particle "
-        "solvers); a contact's sol_params (MuJoCo's standard solref and solimp) are the element-wise mean "
-        "of its two geoms', timeconst floored at 2 dt (func_set_contact_data, engine/solvers/rigid/"
-        "collider/contact.py); friction the larger of the two, floored at 0.01"
-    )
-    cor_setting: ClassVar[str] = (
-        "per-geom sol_params: each contact's dampratio zeta = -ln e / sqrt(pi^2 + ln^2 e) (at least 1e-12: "
-        "Genesis rejects 0) and timeconst 1 / (sqrt(K) zeta), K = stiffness, so a spring-damper of natural "
-        "frequency sqrt(K) and COR e; per-geom values solved through the mean along the path of bodies, the "
-        "free first value in the middle of its positive range; no positive values or e outside [0, 1]: "
-        "unsupported"
-    )
-    settings: ClassVar[dict[str, float]] = {
-        "timestep": 1e-4,
-        "stiffness": 1e6,
-        "solimp_dmin": 0.9,
-        "solimp_dmax": 0.95,
-        "solimp_width": 0.001,
-        "solver": 1,
-        "iterations": 25,
-        "integrator": 2,
-        "friction": 0.0,
-        "overlap": 0.0,
-        "reverse_order": 0,
-        "max_time": 0.2,
-    }
-    # solimp_dmax = 0.5: a softer impedance, i.e. more regularisation shared between simultaneous
-    # contacts, as for MuJoCo; it moves the 3-ball e = 1/2 cradle from about (-4.04, 51.25, 52.79) to
-    # (1.81, 47.87, 50.32) and e = 0 from (23.78, 37.36, 38.86) to (26.86, 35.64, 37.49).
-    alternate: ClassVar[tuple[str, float]] = ("solimp_dmax", 0.5)
-    solver: ClassVar[dict[str, Any]] = {
-        "kind": "soft",
-        "iterations": "iterations",
-        "threshold": 0.0,
-        "threshold_of": "speed",
-        "cor_floor": 0.0,
-        "precision": "float64",  # gs.init(precision="64")
-        "source": (
-            "Genesis rigid solver: contacts are MuJoCo-style soft constraints, aref = -b v - k imp r "
-            "(imp_aref, genesis/utils/geom.py), solved by Newton or CG on a convex problem "
-            "(RigidOptions.constraint_solver, iterations; engine/solvers/rigid/constraint/solver.py); no "
-            "restitution coefficient and no threshold"
-        ),
-    }
+    radius: ClassVar[float | None] = RADIUS
 
     def __init__(self, overrides: dict[str, float] | None = None):
         super().__init__(overrides)
@@ -210,20 +153,12 @@ class GenesisAdapter(Adapter):
 
     def checks(self) -> dict[str, bool]:
         c = self.config
-        return {
-            "timestep": c["timestep"] > 0,
-            "stiffness": c["stiffness"] > 0,
-            "solimp_dmin": 0 < c["solimp_dmin"] < 1,
-            "solimp_dmax": 0 < c["solimp_dmax"] < 1,
-            "solimp_width": c["solimp_width"] >= 0,
-            "solver": c["solver"] in range(len(SOLVERS)),
-            "iterations": c["iterations"] >= 1 and c["iterations"] == int(c["iterations"]),
-            "integrator": c["integrator"] in range(len(INTEGRATORS)),
-            "friction": c["friction"] == 0 or FRICTION_FLOOR <= c["friction"] <= 5,
-            "overlap": 0 <= c["overlap"] < RADIUS,
-            "reverse_order": c["reverse_order"] in (0, 1),
-            "max_time": c["max_time"] > 0,
-        }
+        own = {"stiffness": c["stiffness"] > 0, "solimp_dmin": 0 < c["solimp_dmin"] < 1,
+               "solimp_dmax": 0 < c["solimp_dmax"] < 1,
+               "solimp_width": c["solimp_width"] >= 0, "solver": c["solver"] in range(len(SOLVERS)),
+               "iterations": whole(c["iterations"]), "integrator": c["integrator"] in range(len(INTEGRATORS)),
+               "friction": c["friction"] == 0 or FRICTION_FLOOR <= c["friction"] <= 5}  # fmt: skip
+        return {**super().checks(), **own}
 
     # -- the engine --------------------------------------------------------------------
     def engine(self) -> Any:
@@ -301,7 +236,7 @@ class GenesisAdapter(Adapter):
         with _quiet(), _rejected(self.engine()):
             scene.reset()
             setup()
-            v, over = settle(
+            v, over = common.settle(
                 scene.step,
                 read,
                 steps=max(1, math.ceil(c["max_time"] / c["timestep"] - 1e-9)),
@@ -315,7 +250,7 @@ class GenesisAdapter(Adapter):
 
     # -- the scenes --------------------------------------------------------------------
     def cradle(self, scene: Cradle) -> list[float]:
-        masses, cors, vel = cradle_inputs(scene)
+        masses, cors, vel = common.cradle_inputs(scene)
         params = self._sol_params(cors)  # the path of bodies: the balls, then the wall if any
         n, reverse = len(masses), self.config["reverse_order"]
         pitch = 2 * RADIUS - self.config["overlap"]
@@ -326,8 +261,8 @@ class GenesisAdapter(Adapter):
                 makers.append(
                     lambda: self._plane(gs, sc, (-1.0, 0.0, 0.0), (n - 1) * pitch + RADIUS - self.config["overlap"])
                 )
-            made = [make() for make in in_order(makers, reverse)]
-            return in_order(made, reverse)
+            made = [make() for make in common.in_order(makers, reverse)]
+            return common.in_order(made, reverse)
 
         sc, bodies = self._scene(("cradle", n, scene.wall), make)
         balls = bodies[:n]
@@ -342,25 +277,25 @@ class GenesisAdapter(Adapter):
         def read() -> list[float]:
             return [float(b.get_dofs_velocity()[0]) for b in balls]
 
-        return self._simulate(sc, setup, read, lambda v: cradle_closing(v, scene.wall))
+        return self._simulate(sc, setup, read, lambda v: common.cradle_closing(v, scene.wall))
 
     def corner(self, scene: Corner) -> list[float]:
-        k, cors, vel = corner_inputs(scene)
+        k, cors, vel = common.corner_inputs(scene)
         if self.config["friction"] < FRICTION_FLOOR:
             raise Unsupported(
                 "Genesis floors every contact's friction at 0.01 (func_set_contact_data, engine/solvers/rigid/"
                 "collider/contact.py): frictionless walls cannot be set (--set friction=0.01 runs it with friction)"
             )
         wall1, disk_params, wall2 = self._sol_params(cors)
-        centre = corner_centre(k, RADIUS - self.config["overlap"])
+        centre = common.corner_centre(k, RADIUS - self.config["overlap"])
 
         def make(gs: Any, sc: Any) -> list[Any]:
             makers: list[Callable[[], Any]] = [functools.partial(self._sphere, gs, sc, centre)]
-            for nx, ny in wall_normals(k):
+            for nx, ny in common.wall_normals(k):
                 norm = math.hypot(nx, ny)
                 makers.append(functools.partial(self._plane, gs, sc, (nx / norm, ny / norm, 0.0), 0.0))
-            made = [make() for make in in_order(makers, self.config["reverse_order"])]
-            return in_order(made, self.config["reverse_order"])  # disk, S1, S2
+            made = [make() for make in common.in_order(makers, self.config["reverse_order"])]
+            return common.in_order(made, self.config["reverse_order"])  # disk, S1, S2
 
         sc, (disk, s1, s2) = self._scene(("corner", k), make)
 
@@ -374,7 +309,7 @@ class GenesisAdapter(Adapter):
             v = disk.get_dofs_velocity()
             return [float(v[0]), float(v[1]), float(v[5])]
 
-        return self._simulate(sc, setup, read, lambda v: corner_closing(k, v))
+        return self._simulate(sc, setup, read, lambda v: common.corner_closing(k, v))
 
 
 @contextlib.contextmanager

@@ -60,17 +60,8 @@ import math
 from collections.abc import Callable
 from typing import Any, ClassVar
 
-from verify.engines.common import (
-    corner_centre,
-    corner_closing,
-    corner_inputs,
-    cradle_closing,
-    cradle_inputs,
-    in_order,
-    settle,
-    wall_normals,
-)
-from verify.engines.protocol import Adapter, silenced
+from verify.engines import common
+from verify.engines.protocol import Adapter, silenced, whole
 from verify.engines.scene import Corner, Cradle, Unsupported
 
 SOLVERS = ("PGS", "CG", "Newton")  #: MuJoCo's mjtSolver, by value
@@ -96,60 +87,15 @@ class MuJoCoAdapter(Adapter):
     """MuJoCo's soft contacts: one explicit contact pair per constraint, restitution through damping."""
 
     name: ClassVar[str] = "mujoco"
-    package: ClassVar[str] = "mujoco"
-    module: ClassVar[str] = "mujoco"
-    combine_rule: ClassVar[str] = (
-        "no restitution; geom-generated contacts mix solref (mj_contactParam, src/engine/"
-        "engine_collision_driver.c): higher priority wins, else standard solref solmix-weighted mean, "
-        "direct (negative) solref element-wise minimum; not used here (explicit pairs)"
-    )
-    cor_setting: ClassVar[str] = (
-        "one explicit <contact><pair> per constraint (geoms contype=conaffinity=0, condim=1) with direct "
-        "solref=(-K, -2 zeta sqrt(K)), K = stiffness, zeta = -ln e / sqrt(pi^2 + ln^2 e) from a linear "
-        "spring-damper's e = exp(-zeta pi / sqrt(1 - zeta^2)); e = 1 gives damping 0 (MuJoCo's documented "
-        "recipe), e = 0 maps to zeta = 1 (critical damping 2 sqrt(K)), which lets go at about COR "
-        "exp(-2) = 0.14 since a contact cannot pull; e > 1 or e < 0 unsupported"
-    )
-    settings: ClassVar[dict[str, float]] = {
-        "timestep": 1e-4,
-        "stiffness": 1e6,
-        "solimp_dmin": 0.9,
-        "solimp_dmax": 0.95,
-        "solimp_width": 0.001,
-        "solver": 2,
-        "iterations": 100,
-        "overlap": 0.0,
-        "reverse_order": 0,
-        "max_time": 0.2,
-    }
-    # solimp_dmax = 0.5: a softer impedance, i.e. more regularisation shared between simultaneous
-    # contacts (the single-contact COR is unchanged, as K and B are scaled by it); it moves the
-    # 3-ball e = 1 cradle from about (-33.6, 64.0, 69.6) to (-26.9, 40.4, 86.5).
-    alternate: ClassVar[tuple[str, float]] = ("solimp_dmax", 0.5)
-    walls: ClassVar[bool] = True
-    solver: ClassVar[dict[str, Any]] = {
-        "kind": "soft",
-        "iterations": "iterations",
-        "threshold": 0.0,
-        "precision": "float64",
-        "source": "MuJoCo modeling guide, 'Solver parameters' and 'Restitution': contacts are soft constraints "
-        "(a spring-damper set by solref), with no coefficient of restitution",
-    }
+    radius: ClassVar[float | None] = 1.0  # the spheres' radius is at least 1
 
     def checks(self) -> dict[str, bool]:
         c = self.config
-        return {
-            "timestep": c["timestep"] > 0,
-            "stiffness": c["stiffness"] > 0,
-            "solimp_dmin": 0 < c["solimp_dmin"] < 1,
-            "solimp_dmax": 0 < c["solimp_dmax"] < 1,
-            "solimp_width": c["solimp_width"] >= 0,
-            "solver": c["solver"] in range(len(SOLVERS)),  # 0 PGS, 1 CG, 2 Newton
-            "iterations": c["iterations"] >= 1 and c["iterations"] == int(c["iterations"]),
-            "overlap": 0 <= c["overlap"] < 1,  # the radius is at least 1
-            "reverse_order": c["reverse_order"] in (0, 1),
-            "max_time": c["max_time"] > 0,
-        }
+        own = {"stiffness": c["stiffness"] > 0, "solimp_dmin": 0 < c["solimp_dmin"] < 1,
+               "solimp_dmax": 0 < c["solimp_dmax"] < 1,
+               "solimp_width": c["solimp_width"] >= 0, "iterations": whole(c["iterations"]),
+               "solver": c["solver"] in range(len(SOLVERS))}  # 0 PGS, 1 CG, 2 Newton  # fmt: skip
+        return {**super().checks(), **own}
 
     # -- a model -----------------------------------------------------------------------
     def _solref(self, e: float) -> str:
@@ -167,7 +113,7 @@ class MuJoCoAdapter(Adapter):
 
     def _model(self, bodies: list[str], pairs: list[str]) -> str:
         c = self.config
-        bodies, pairs = in_order(bodies, c["reverse_order"]), in_order(pairs, c["reverse_order"])
+        bodies, pairs = common.in_order(bodies, c["reverse_order"]), common.in_order(pairs, c["reverse_order"])
         option = (
             f'<option timestep="{c["timestep"]!r}" gravity="0 0 0" solver="{SOLVERS[int(c["solver"])]}" '
             f'iterations="{int(c["iterations"])}"/>'
@@ -238,7 +184,7 @@ class MuJoCoAdapter(Adapter):
         self, mj: Any, xml: str, velocity: dict[Dof, float], read: list[Dof], closing: Callable[[list[float]], float]
     ) -> list[float]:
         m, d, out = self.model(mj, xml, velocity, read)
-        v, _ = settle(
+        v, _ = common.settle(
             lambda: mj.mj_step(m, d),
             lambda: [float(d.qvel[i]) for i in out],
             steps=max(1, math.ceil(self.config["max_time"] / self.config["timestep"])),
@@ -250,7 +196,7 @@ class MuJoCoAdapter(Adapter):
 
     # -- the scenes --------------------------------------------------------------------
     def cradle(self, scene: Cradle) -> list[float]:
-        masses, cors, vel = cradle_inputs(scene)
+        masses, cors, vel = common.cradle_inputs(scene)
         n = len(masses)
         names = [f"b{i}" for i in range(n)] + ["wall"] * scene.wall  # the path of bodies
         pairs = [self._pair(names[i], names[i + 1], e) for i, e in enumerate(cors)]
@@ -262,19 +208,21 @@ class MuJoCoAdapter(Adapter):
             bodies.append(self._plane("wall", (-1.0, 0.0), ((n - 1) * pitch + radius - self.config["overlap"], 0.0)))
         xs = [(f"b{i}", 0) for i in range(n)]
         model = self._model(bodies, pairs)
-        return self._simulate(model, dict(zip(xs, vel)), xs, lambda v: cradle_closing(v, scene.wall))
+        return self._simulate(model, dict(zip(xs, vel)), xs, lambda v: common.cradle_closing(v, scene.wall))
 
     def corner(self, scene: Corner) -> list[float]:
-        k, cors, vel = corner_inputs(scene)
+        k, cors, vel = common.corner_inputs(scene)
         radius = self._radius(math.hypot(vel[0], vel[1]))
-        centre = corner_centre(k, radius - self.config["overlap"])
+        centre = common.corner_centre(k, radius - self.config["overlap"])
         # towards the admissible side x <= -|y|/k
-        walls = [self._plane(f"s{j + 1}", (n[0], n[1])) for j, n in enumerate(wall_normals(k))]
+        walls = [self._plane(f"s{j + 1}", (n[0], n[1])) for j, n in enumerate(common.wall_normals(k))]
         bodies = [*walls, self._ball("disk", (centre, 0.0), 1.0, 1.0, radius)]
         pairs = [self._pair("disk", f"s{j + 1}", e) for j, e in enumerate(cors)]
         # a free joint's angular velocity is in the body frame; the disk turns about z only
         dofs = [("disk", 0), ("disk", 1), ("disk", 5)]
-        return self._simulate(self._model(bodies, pairs), dict(zip(dofs, vel)), dofs, lambda v: corner_closing(k, v))
+        return self._simulate(
+            self._model(bodies, pairs), dict(zip(dofs, vel)), dofs, lambda v: common.corner_closing(k, v)
+        )
 
 
 main = MuJoCoAdapter.main

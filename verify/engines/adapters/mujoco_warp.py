@@ -64,23 +64,6 @@ class MuJoCoWarpAdapter(MuJoCoAdapter):
     """MuJoCo Warp on Warp's CPU device: MuJoCo's model (explicit pairs, direct solref), Warp's step."""
 
     name: ClassVar[str] = "mujoco_warp"
-    package: ClassVar[str] = "mujoco-warp"
-    module: ClassVar[str] = "mujoco_warp"
-    combine_rule: ClassVar[str] = (
-        "no restitution; as MuJoCo (mj_contactParam mixes solref of geom-generated contacts); not used here "
-        "(explicit pairs); direct solref read by _contact_kbimp in mujoco_warp/_src/constraint.py"
-    )
-    solver: ClassVar[dict[str, Any]] = {
-        "kind": "soft",
-        "iterations": "iterations",
-        "threshold": 0.0,
-        "precision": "float32",
-        "source": (
-            "mujoco_warp/_src/constraint.py _contact_kbimp (direct solref: k = -solref[0]/dmax^2, "
-            "b = -solref[1]/dmax) and MuJoCo's modeling guide, 'Solver parameters' and 'Restitution'; "
-            "solvers CG and Newton only (mujoco_warp/_src/types.py SolverType)"
-        ),
-    }
 
     def checks(self) -> dict[str, bool]:
         # 1 CG, 2 Newton: MuJoCo Warp has no PGS

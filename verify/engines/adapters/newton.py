@@ -126,53 +126,13 @@ import sys
 from collections.abc import Callable, Sequence
 from typing import Any, ClassVar
 
-from verify.engines.common import (
-    corner_centre,
-    corner_closing,
-    corner_inputs,
-    cradle_closing,
-    cradle_inputs,
-    in_order,
-    settle,
-    wall_normals,
-    warp_on_cpu,
-)
-from verify.engines.protocol import Adapter, import_engine, silenced
+from verify.engines import common
+from verify.engines.protocol import Adapter, description, import_engine, silenced, whole
 from verify.engines.scene import Corner, Cradle, Unsupported
 
 SOLVERS = ("XPBD", "Steel")  #: the ``solver`` setting's values
 QUIET_STEPS = 5  #: steps without a change before the impact counts as over
 TOLERANCE = 1e-6  #: relative: float32 engine
-
-XPBD_SOLVER: dict[str, Any] = {
-    # position-based: no sequential or simultaneous impulse model fits (see the module docstring), so no
-    # sweeps count is named; the counts are the settings iterations and restitution_iterations
-    "kind": "position-based",
-    "iterations": "",
-    "threshold": 0.0,
-    "threshold_of": "speed",
-    "cor_floor": 0.0,
-    "precision": "float32",
-    "source": (
-        "newton/_src/solvers/xpbd/restitution_kernels.py (build_restitution_manifolds: target -e u from the "
-        "pre-solve velocity, impact_threshold = 2|g|dt = 0 with gravity off; solve_manifold_restitution: per body "
-        "pair 8 Gauss-Seidel sweeps, pairs averaged per body (Jacobi), rigid_contact_restitution_iterations outer "
-        "passes) after the XPBD position projection (solver_xpbd.py); no exact impulse model"
-    ),
-}
-STEEL_SOLVER: dict[str, Any] = {
-    "kind": "sequential",
-    "iterations": "steel_iterations",
-    "threshold": "restitution_threshold",
-    "threshold_of": "speed",
-    "cor_floor": 0.0,
-    "precision": "float32",
-    "source": (
-        "newton/_src/solvers/steel/kernels.py contact_restitution_target (target -e u_start from the step's start, "
-        "none when u_start >= -restitution_velocity_threshold) and SolverSteel.__init__ docstring "
-        "(restitution_velocity_threshold=0.5, iterations=12 projected Gauss-Seidel sweeps, serial)"
-    ),
-}
 
 
 def mean_rule_values(cors: Sequence[float], *, bounded: bool) -> list[float]:
@@ -213,62 +173,21 @@ class NewtonAdapter(Adapter):
     """Newton on Warp's CPU device: XPBD (solver=0) or Steel (solver=1); spheres and planes."""
 
     name: ClassVar[str] = "newton"
-    package: ClassVar[str] = "newton"
-    module: ClassVar[str] = "newton"
-    combine_rule: ClassVar[str] = (
-        "(e1 + e2) / 2 (arithmetic mean of the two shapes' restitution): XPBD build_restitution_manifolds in "
-        "newton/_src/solvers/xpbd/restitution_kernels.py (no clamp), Steel mixed_contact_restitution in "
-        "newton/_src/solvers/steel/kernels.py (each value clamped to [0, 1]); documented by "
-        "ModelBuilder.ShapeConfig.restitution"
-    )
-    cor_setting: ClassVar[str] = (
-        "per_contact=1: one coincident sphere shape per contact on each body, both shapes of a contact with its "
-        "COR (their mean is the COR), every other shape pair filtered (add_shape_collision_filter_pair); "
-        "per_contact=0: one shape per body, values solved through the mean rule (skipped when none exist)"
-    )
-    settings: ClassVar[dict[str, float]] = {
-        "solver": 0,
-        "time_step": 1e-3,
-        "iterations": 2,
-        "restitution_iterations": 2,
-        "contact_weighting": 1,
-        "steel_iterations": 12,
-        "restitution_threshold": 0.5,
-        "radius": 1.0,
-        "overlap": 0.0,
-        "rigid_gap": 0.1,
-        "reverse_order": 0,
-        "per_contact": 1,
-        "max_time": 1.0,
-    }
-    # Steel instead of XPBD: the simultaneous law on the 3-ball cradle (see the module docstring)
-    alternate: ClassVar[tuple[str, float]] = ("solver", 1)
-    solver: ClassVar[dict[str, Any]] = XPBD_SOLVER  # the default solver's; describe() gives the one in use
 
     def checks(self) -> dict[str, bool]:
         c = self.config
-        return {
-            "solver": c["solver"] in range(len(SOLVERS)),
-            "time_step": c["time_step"] > 0,
-            "iterations": c["iterations"] >= 1 and c["iterations"] == int(c["iterations"]),
-            "restitution_iterations": c["restitution_iterations"] >= 1
-            and c["restitution_iterations"] == int(c["restitution_iterations"]),
-            "contact_weighting": c["contact_weighting"] in (0, 1),
-            "steel_iterations": c["steel_iterations"] >= 1 and c["steel_iterations"] == int(c["steel_iterations"]),
-            "restitution_threshold": c["restitution_threshold"] >= 0,
-            "radius": c["radius"] > 0,
-            "overlap": 0 <= c["overlap"] < c["radius"],
-            "rigid_gap": c["rigid_gap"] >= 0,
-            "reverse_order": c["reverse_order"] in (0, 1),
-            "per_contact": c["per_contact"] in (0, 1),
-            "max_time": c["max_time"] > 0,
-        }
+        own = {"solver": c["solver"] in range(len(SOLVERS)), "iterations": whole(c["iterations"]),
+               "restitution_iterations": whole(c["restitution_iterations"]),
+               "contact_weighting": c["contact_weighting"] in (0, 1), "steel_iterations": whole(c["steel_iterations"]),
+               "restitution_threshold": c["restitution_threshold"] >= 0,
+               "rigid_gap": c["rigid_gap"] >= 0}  # fmt: skip
+        return {**super().checks(), **own}
 
     # -- the engine --------------------------------------------------------------------
     def engine(self) -> Any:
         """Newton, with Warp initialised on its CPU device (:class:`CannotRun` if Warp cannot run there)."""
         newton = import_engine(self.module)
-        warp_on_cpu("newton", newton.__version__)
+        common.warp_on_cpu("newton", newton.__version__)
         return newton
 
     def version(self) -> str:
@@ -277,7 +196,8 @@ class NewtonAdapter(Adapter):
 
     def describe(self) -> dict[str, Any]:
         out = super().describe()
-        out["solver"] = {**Adapter.solver, **(XPBD_SOLVER if self.config["solver"] == 0 else STEEL_SOLVER)}
+        steel = description(self.name)["steel_solver"]  # the solver in use: XPBD's (the default) or Steel's
+        out["solver"] = {**Adapter.solver, **(self.solver if self.config["solver"] == 0 else steel)}
         return out
 
     # -- a model -----------------------------------------------------------------------
@@ -357,7 +277,7 @@ class NewtonAdapter(Adapter):
                 states.reverse()
 
             tol = TOLERANCE * (speed or 1.0)
-            v, over = settle(
+            v, over = common.settle(
                 step,
                 lambda: read(states[0]),
                 steps=max(1, math.ceil(self.config["max_time"] / dt - 1e-9)),
@@ -374,7 +294,7 @@ class NewtonAdapter(Adapter):
 
     # -- the scenes --------------------------------------------------------------------
     def cradle(self, scene: Cradle) -> list[float]:
-        masses, cors, v0 = cradle_inputs(scene)
+        masses, cors, v0 = common.cradle_inputs(scene)
 
         def side_shapes(side: dict[int, int], ball: int) -> list[int]:
             return [side[ball]] if ball in side else []
@@ -389,7 +309,7 @@ class NewtonAdapter(Adapter):
 
             left: dict[int, int] = {}  # ball -> its shape facing ball - 1
             right: dict[int, int] = {}  # ball -> its shape facing ball + 1
-            for i in in_order(range(n), c["reverse_order"]):
+            for i in common.in_order(range(n), c["reverse_order"]):
                 m = masses[i]
                 inertia = 0.4 * m * r * r
                 body = b.add_body(
@@ -403,7 +323,7 @@ class NewtonAdapter(Adapter):
                     right[i] = left[i] = b.add_shape_sphere(body, radius=r, cfg=self._shape_cfg(newton, values[i]))
                     continue
                 sides = [("left", i - 1), ("right", i)]
-                for side, j in in_order(sides, c["reverse_order"]):
+                for side, j in common.in_order(sides, c["reverse_order"]):
                     if 0 <= j < n - 1:
                         shape = b.add_shape_sphere(body, radius=r, cfg=self._shape_cfg(newton, cors[j]))
                         (left if side == "left" else right)[i] = shape
@@ -420,10 +340,10 @@ class NewtonAdapter(Adapter):
             qd = state.body_qd.numpy()
             return [float(qd[bodies[i]][0]) for i in range(n)]
 
-        return self._simulate(build, read, cradle_closing, max(map(abs, v0)) or 1.0)
+        return self._simulate(build, read, common.cradle_closing, max(map(abs, v0)) or 1.0)
 
     def corner(self, scene: Corner) -> list[float]:
-        k, cors, (vx, vy, w) = corner_inputs(scene)
+        k, cors, (vx, vy, w) = common.corner_inputs(scene)
         values = self._values(cors)  # path: S1 (0), disk (1), S2 (2)
         c, r = self.config, self.config["radius"]
         disk_body: list[int] = []
@@ -433,10 +353,12 @@ class NewtonAdapter(Adapter):
 
             walls: dict[int, int] = {}
             disk_shapes: dict[int, int] = {}
-            for i in in_order(range(3), c["reverse_order"]):
+            for i in common.in_order(range(3), c["reverse_order"]):
                 if i == 1:
                     body = b.add_body(
-                        xform=wp.transform(wp.vec3(corner_centre(k, r - c["overlap"]), 0.0, 0.0), wp.quat_identity()),
+                        xform=wp.transform(
+                            wp.vec3(common.corner_centre(k, r - c["overlap"]), 0.0, 0.0), wp.quat_identity()
+                        ),
                         mass=1.0,
                         inertia=wp.mat33(1.0, 0.0, 0.0, 0.0, 1.0, 0.0, 0.0, 0.0, 1.0),
                         lock_inertia=True,
@@ -446,11 +368,11 @@ class NewtonAdapter(Adapter):
                         shape = b.add_shape_sphere(body, radius=r, cfg=self._shape_cfg(newton, values[1]))
                         disk_shapes[0] = disk_shapes[1] = shape
                     else:
-                        for j in in_order(range(2), c["reverse_order"]):
+                        for j in common.in_order(range(2), c["reverse_order"]):
                             disk_shapes[j] = b.add_shape_sphere(body, radius=r, cfg=self._shape_cfg(newton, cors[j]))
                 else:
                     j = 0 if i == 0 else 1
-                    nx, ny = wall_normals(k)[j]
+                    nx, ny = common.wall_normals(k)[j]
                     norm = math.hypot(nx, ny)
                     e = values[i] if values is not None else cors[j]
                     walls[j] = b.add_shape_plane(
@@ -465,7 +387,7 @@ class NewtonAdapter(Adapter):
             qd = state.body_qd.numpy()[disk_body[0]]
             return [float(qd[0]), float(qd[1]), float(qd[5])]
 
-        return self._simulate(build, read, lambda v: corner_closing(k, v), math.hypot(vx, vy) or 1.0)
+        return self._simulate(build, read, lambda v: common.corner_closing(k, v), math.hypot(vx, vy) or 1.0)
 
 
 main = NewtonAdapter.main

@@ -84,9 +84,9 @@ from __future__ import annotations
 
 from typing import Any, ClassVar
 
-from verify.engines.adapters.dartpy import RADIUS, WALL_BOX, DartAdapter, Wall, wall_frame
+from verify.engines.adapters.dartpy import WALL_BOX, DartAdapter, Wall, wall_frame
 from verify.engines.combine import product_rule_values
-from verify.engines.protocol import CannotRun, import_engine
+from verify.engines.protocol import Adapter, CannotRun, import_engine, whole
 
 #: the per-body values and their rule, in a skip's reason
 WHO = "per-body restitutions multiplied (nimblephysics BodyNode values; no per-contact setting)"
@@ -98,55 +98,13 @@ class NimbleAdapter(DartAdapter):
     bounded: ClassVar[bool] = False  # restitutions above 1 are taken (a two-ball COR of 2 from restitution 2)
 
     name: ClassVar[str] = "nimblephysics"
-    package: ClassVar[str] = "nimblephysics"
-    install: ClassVar[str] = (
-        "it needs numpy < 2: pip install '.[nimble]' in an environment of its own, then "
-        "verify engines --python nimblephysics=ENV/bin/python"
-    )
-    module: ClassVar[str] = "nimblephysics"
-    combine_rule: ClassVar[str] = (
-        "product e_A*e_B of the BodyNodes' restitutions (not sanitised; shape aspects are ignored); "
-        "bounce off when the product <= 1e-3 or e*approach <= 0.1, target capped at 100 "
-        "(keenon/nimblephysics dart/constraint/ContactConstraint.cpp, constructor and getInformation)"
-    )
-    cor_setting: ClassVar[str] = (
-        "per-body values (BodyNode.setRestitutionCoeff) solved through the product: corner disk 1, each wall "
-        "(its own BodyNode) its COR; cradle balls r_j >= 0 with r_i*r_(i+1) = cors[i] (skipped when none exist)"
-    )
-    settings: ClassVar[dict[str, float]] = {
-        "time_step": 0.001,
-        "lcp_solver": 0,
-        "pgs_iterations": 30,
-        "overlap": 1e-9,
-        "reverse_order": 0,
-        "max_steps": 1000,
-    }
-    alternate: ClassVar[tuple[str, float]] = ("lcp_solver", 1)
-    walls: ClassVar[bool] = True
-    solver: ClassVar[dict[str, Any]] = {
-        "kind": "simultaneous",
-        "iterations": "pgs_iterations",
-        "threshold": 0.1,
-        "threshold_of": "cor_times_speed",
-        "cor_floor": 0.001,
-        "precision": "float64",
-        "source": (
-            "keenon/nimblephysics dart/constraint/BoxedLcpConstraintSolver.cpp solveLcp (one boxed LCP per step, "
-            "Dantzig with cfm 0, PGS fallback with cfm 1e-4); dart/constraint/ContactConstraint.cpp getInformation "
-            "(target e*approach before the solve, none when e*approach <= 0.1: the threshold is on the product, "
-            "an incoming speed of 0.1/e; none when e <= 1e-3; capped at 100)"
-        ),
-    }
 
     def checks(self) -> dict[str, bool]:
         c = self.config
         return {
-            "time_step": c["time_step"] > 0,
+            **Adapter.checks(self),
             "lcp_solver": c["lcp_solver"] in (0, 1),
-            "pgs_iterations": c["pgs_iterations"] >= 1 and c["pgs_iterations"] == int(c["pgs_iterations"]),
-            "overlap": 0 <= c["overlap"] < RADIUS,
-            "reverse_order": c["reverse_order"] in (0, 1),
-            "max_steps": c["max_steps"] >= 1 and c["max_steps"] == int(c["max_steps"]),
+            "pgs_iterations": whole(c["pgs_iterations"]),
         }
 
     def engine(self) -> Any:
@@ -169,19 +127,13 @@ class NimbleAdapter(DartAdapter):
         return product_rule_values(cors, WHO, bounded=False)
 
     @staticmethod
-    def _shape(d: Any, body: Any, shape: Any, restitution: float) -> Any:
-        node = body.createShapeNode(shape)
-        node.createCollisionAspect()
-        body.setRestitutionCoeff(restitution)  # nimblephysics reads the BodyNode's value, not the shape's
-        body.setFrictionCoeff(0.0)
-        return node
+    def _material(node: Any, body: Any) -> Any:
+        """nimblephysics reads the BodyNode's restitution and friction, not the shape's."""
+        return body
 
-    def _free_sphere(self, d: Any, name: str, mass: float, moment: float, restitution: float) -> tuple[Any, Any]:
-        skeleton = d.dynamics.Skeleton(name)
-        joint, body = skeleton.createFreeJointAndBodyNodePair()
-        self._shape(d, body, d.dynamics.SphereShape(RADIUS), restitution)
-        body.setInertia(d.dynamics.Inertia(mass, [0.0, 0.0, 0.0], [[moment, 0, 0], [0, moment, 0], [0, 0, moment]]))
-        return skeleton, joint
+    @staticmethod
+    def _inertia(d: Any, mass: float, moment: float) -> Any:
+        return d.dynamics.Inertia(mass, [0.0, 0.0, 0.0], [[moment, 0, 0], [0, moment, 0], [0, 0, moment]])
 
     def _wall_skeleton(self, d: Any, walls: list[Wall]) -> Any:
         """One skeleton of BodyNodes welded to the world, a box each (restitution is a BodyNode's value)."""

@@ -49,18 +49,9 @@ import math
 from collections.abc import Callable
 from typing import Any, ClassVar
 
+from verify.engines import common
 from verify.engines.combine import check_range, product_rule_values
-from verify.engines.common import (
-    corner_centre,
-    corner_closing,
-    corner_inputs,
-    cradle_closing,
-    cradle_inputs,
-    in_order,
-    settle,
-    wall_normals,
-)
-from verify.engines.protocol import Adapter, silenced
+from verify.engines.protocol import Adapter, silenced, whole
 from verify.engines.scene import Corner, Cradle
 
 RADIUS = math.sqrt(2.5)  #: 2/5 m R^2 = 1 for the unit-mass disk
@@ -72,57 +63,14 @@ class PyBulletAdapter(Adapter):
     """Bullet's sequential-impulse solver (pybullet), one fresh DIRECT client per case."""
 
     name: ClassVar[str] = "pybullet"
-    package: ClassVar[str] = "pybullet"
-    module: ClassVar[str] = "pybullet"
-    combine_rule: ClassVar[str] = (
-        "product: btManifoldResult::calculateCombinedRestitution returns "
-        "body0.restitution * body1.restitution (bullet3 src/BulletCollision/CollisionDispatch/"
-        "btManifoldResult.cpp); 0 below restitutionVelocityThreshold (restitutionCurve)"
-    )
-    cor_setting: ClassVar[str] = (
-        "per-body restitutions (changeDynamics) solved through the product rule: corner disk 1, "
-        "walls their CORs; cradle r_(i+1) = e_i / r_i along each run of positive CORs, the first r "
-        "chosen to make the largest r smallest; a 0 between positive CORs or a negative COR is unsupported"
-    )
-    settings: ClassVar[dict[str, float]] = {
-        "time_step": 1 / 240,
-        "solver_iterations": 50,
-        "restitution_velocity_threshold": 0.2,
-        "contact_slop": 1e-5,
-        "maximal_coordinates": 1,
-        "overlap": 0.0,
-        "reverse_order": 0,
-        "max_time": 0.2,
-    }
-    # numSolverIterations = 1: one Gauss-Seidel sweep over the contacts, i.e. pairwise impulses in
-    # creation order; it turns the 3-ball cradle from the simultaneous answer into (0, 0, 100).
-    alternate: ClassVar[tuple[str, float]] = ("solver_iterations", 1)
-    walls: ClassVar[bool] = True
-    # pybullet's wheels are built with BT_USE_DOUBLE_PRECISION (bullet3 setup.py; measured: a velocity of 1/3
-    # reads back as the double 1/3); restitution needs |v_n| >= the threshold (the law's "> threshold" differs
-    # only at equality)
-    solver: ClassVar[dict[str, Any]] = {
-        "kind": "sequential",
-        "iterations": "solver_iterations",
-        "threshold": "restitution_velocity_threshold",
-        "precision": "float64",
-        "source": "bullet3 btSequentialImpulseConstraintSolver::setupContactConstraint and restitutionCurve "
-        "(target -e*v_n from the step's start, 0 when |v_n| < restitutionVelocityThreshold), "
-        "solveGroupCacheFriendlyIterations (numSolverIterations sweeps, accumulated impulses clamped at 0)",
-    }
+    radius: ClassVar[float | None] = RADIUS
 
     def checks(self) -> dict[str, bool]:
         c = self.config
-        return {
-            "time_step": c["time_step"] > 0,
-            "max_time": c["max_time"] > 0,
-            "solver_iterations": c["solver_iterations"] >= 1 and c["solver_iterations"] == int(c["solver_iterations"]),
-            "restitution_velocity_threshold": c["restitution_velocity_threshold"] >= 0,
-            "contact_slop": c["contact_slop"] >= 0,
-            "maximal_coordinates": c["maximal_coordinates"] in (0, 1),
-            "reverse_order": c["reverse_order"] in (0, 1),
-            "overlap": 0 <= c["overlap"] < RADIUS,
-        }
+        own = {"solver_iterations": whole(c["solver_iterations"]), "contact_slop": c["contact_slop"] >= 0,
+               "restitution_velocity_threshold": c["restitution_velocity_threshold"] >= 0,
+               "maximal_coordinates": c["maximal_coordinates"] in (0, 1)}  # fmt: skip
+        return {**super().checks(), **own}
 
     def version(self) -> str:
         self.engine()
@@ -182,7 +130,7 @@ class PyBulletAdapter(Adapter):
         self, p: Any, cid: int, read: Callable[[], list[float]], closing: Callable[[list[float]], float]
     ) -> list[float]:
         """Step until a step changes no velocity and no contact approaches (or ``max_time``)."""
-        v, _ = settle(
+        v, _ = common.settle(
             lambda: p.stepSimulation(physicsClientId=cid),
             read,
             steps=max(1, math.ceil(self.config["max_time"] / self.config["time_step"])),
@@ -193,7 +141,7 @@ class PyBulletAdapter(Adapter):
 
     # -- the scenes --------------------------------------------------------------------
     def cradle(self, scene: Cradle) -> list[float]:
-        masses, cors, vel = cradle_inputs(scene)
+        masses, cors, vel = common.cradle_inputs(scene)
         rest = self.body_values(cors)
         p = self.engine()
         cid = self._connect(p)
@@ -201,7 +149,7 @@ class PyBulletAdapter(Adapter):
             shape = p.createCollisionShape(p.GEOM_SPHERE, radius=RADIUS, physicsClientId=cid)
             n, pitch = len(masses), 2 * RADIUS - self.config["overlap"]
             ids: dict[int, int] = {}
-            for i in in_order(range(n + scene.wall), self.config["reverse_order"]):
+            for i in common.in_order(range(n + scene.wall), self.config["reverse_order"]):
                 if i == n:  # the wall: a plane facing -x, at RADIUS - overlap from the last ball's centre
                     face = (n - 1) * pitch + RADIUS - self.config["overlap"]
                     self._wall(p, cid, [-1.0, 0.0, 0.0], rest[n], [face, 0.0, 0.0])()
@@ -213,23 +161,23 @@ class PyBulletAdapter(Adapter):
             def read() -> list[float]:
                 return [float(p.getBaseVelocity(b, physicsClientId=cid)[0][0]) for b in balls]
 
-            return self._settle(p, cid, read, lambda v: cradle_closing(v, scene.wall))
+            return self._settle(p, cid, read, lambda v: common.cradle_closing(v, scene.wall))
         finally:
             p.disconnect(physicsClientId=cid)
 
     def corner(self, scene: Corner) -> list[float]:
-        k, cors, vel = corner_inputs(scene)
+        k, cors, vel = common.corner_inputs(scene)
         check_range(cors, WHO, bounded=False)  # the disk has restitution 1, each wall its COR
         p = self.engine()
         cid = self._connect(p)
         try:
-            centre = [corner_centre(k, RADIUS - self.config["overlap"]), 0.0, 0.0]
+            centre = [common.corner_centre(k, RADIUS - self.config["overlap"]), 0.0, 0.0]
             sphere = p.createCollisionShape(p.GEOM_SPHERE, radius=RADIUS, physicsClientId=cid)
             makers: list[Callable[[], int]] = [
                 lambda: self._body(p, cid, mass=1.0, shape=sphere, pos=centre, restitution=1.0),
-                *(self._wall(p, cid, [*n, 0.0], e) for n, e in zip(wall_normals(k), cors)),
+                *(self._wall(p, cid, [*n, 0.0], e) for n, e in zip(common.wall_normals(k), cors)),
             ]
-            made = [make() for make in in_order(makers, self.config["reverse_order"])]
+            made = [make() for make in common.in_order(makers, self.config["reverse_order"])]
             disk = made[-1] if self.config["reverse_order"] else made[0]
             p.resetBaseVelocity(disk, [vel[0], vel[1], 0.0], [0.0, 0.0, vel[2]], physicsClientId=cid)
 
@@ -237,7 +185,7 @@ class PyBulletAdapter(Adapter):
                 lin, ang = p.getBaseVelocity(disk, physicsClientId=cid)
                 return [float(lin[0]), float(lin[1]), float(ang[2])]
 
-            return self._settle(p, cid, read, lambda v: corner_closing(k, v))
+            return self._settle(p, cid, read, lambda v: common.corner_closing(k, v))
         finally:
             p.disconnect(physicsClientId=cid)
 

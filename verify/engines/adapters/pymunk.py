@@ -80,41 +80,9 @@ class PymunkAdapter(ContactAdapter):
     """Pymunk (Munk2D/Chipmunk2D): a cradle of circles, a circle between two static segments."""
 
     name: ClassVar[str] = "pymunk"
-    package: ClassVar[str] = "pymunk"
-    module: ClassVar[str] = "pymunk"
-    # Chipmunk2D src/cpArbiter.c cpArbiterUpdate: arb->e = a->e * b->e; Pymunk's Arbiter.restitution docstring
-    combine_rule: ClassVar[str] = (
-        "e1 * e2 (product of the shapes' elasticities): cpArbiterUpdate in Chipmunk2D src/cpArbiter.c "
-        "(arb->e = a->e * b->e), documented by pymunk.Arbiter.restitution"
-    )
-    cor_setting: ClassVar[str] = (
-        "per_contact=1: a pre_solve callback (Space.on_collision) sets arbiter.restitution to the contact's COR "
-        "every step (shapes at elasticity 0); per_contact=0: per-shape elasticities in [0, 1] solved through the "
-        "product rule (skipped when none exist)"
-    )
-    settings: ClassVar[dict[str, float]] = {
-        "time_step": 1 / 60,
-        "iterations": 10,
-        "radius": 10.0,
-        "overlap": 0.0,
-        "reverse_order": 0,
-        "per_contact": 1,
-        "max_time": 1.0,
-    }
-    # a tiny initial overlap: every contact of the row exists from the first step (see the module docstring)
-    alternate: ClassVar[tuple[str, float]] = ("overlap", 1e-6)
     rule: ClassVar[str] = "product"
     who: ClassVar[str] = "per-body elasticities multiplied (Chipmunk)"
-    solver: ClassVar[dict[str, Any]] = {
-        "kind": "sequential",
-        "iterations": "iterations",
-        "threshold": 0.0,
-        "precision": "float64",
-        "source": "Chipmunk2D src/cpArbiter.c cpArbiterPreStep (bounce = e*vn from the step's start, no threshold) "
-        "and cpArbiterApplyImpulse (accumulated jnAcc clamped at 0); cpSpace.iterations default 10",
-    }
     tolerance: ClassVar[float] = 1e-9  # double precision
-    walls: ClassVar[bool] = True
 
     def checks(self) -> dict[str, bool]:
         return {**super().checks(), "iterations": self.config["iterations"] >= 1}

@@ -72,17 +72,9 @@ import warnings
 from collections.abc import Callable, Sequence
 from typing import Any, ClassVar
 
+from verify.engines import common
 from verify.engines.combine import check_range
-from verify.engines.common import (
-    corner_centre,
-    corner_closing,
-    corner_inputs,
-    cradle_closing,
-    cradle_inputs,
-    in_order,
-    settle,
-)
-from verify.engines.protocol import Adapter, CannotRun, import_engine
+from verify.engines.protocol import Adapter, CannotRun, import_engine, whole
 from verify.engines.scene import Corner, Cradle, Unsupported
 
 RADIUS = 1.0  #: every ball and the disk
@@ -125,69 +117,29 @@ def average_rule_values(cors: Sequence[float], who: str, *, bounded: bool) -> li
     raise Unsupported(f"{who} cannot give the CORs {list(cors)!r} with every value in {span}")
 
 
+def _placed(sapien: Any, scene: Any, body: Any, shape: Any, pose: Any) -> Any:
+    """``body`` (a PhysX component) with its ``shape``, on an entity of its own at ``pose``, added to ``scene``."""
+    entity = sapien.Entity()
+    body.attach(shape)
+    entity.add_component(body)
+    entity.set_pose(pose)
+    scene.add_entity(entity)
+    return body
+
+
 class SapienAdapter(Adapter):
     """SAPIEN's PhysX 5 on the CPU: sequential (TGS or PGS) sweeps, restitution averaged per material."""
 
     name: ClassVar[str] = "sapien"
-    package: ClassVar[str] = "sapien"
-    module: ClassVar[str] = "sapien"
-    combine_rule: ClassVar[str] = (
-        "average 0.5*(r0 + r1) of the two materials' restitutions (PhysX default PxCombineMode::eAVERAGE; "
-        "PxsCombineRestitution in physx/source/lowlevel/software/include/PxsMaterialCombiner.h); no bounce "
-        "at an approach speed up to bounceThresholdVelocity (PxSceneDesc.h; SAPIEN's bounce_threshold 2.0)"
-    )
-    cor_setting: ClassVar[str] = (
-        "per-material restitutions solved through the average along the path of bodies (cradle balls; wall S1, "
-        "disk, wall S2): r_i + r_(i+1) = 2*cors[i], the free value in the middle of its range with values in "
-        "[0, 1], else (bounded=0) values >= 0, else skipped; SAPIEN binds no combine-mode setter"
-    )
-    settings: ClassVar[dict[str, float]] = {
-        "time_step": 0.01,
-        "position_iterations": 10,
-        "velocity_iterations": 1,
-        "bounce_threshold": 2.0,
-        "tgs": 1,
-        "contact_offset": 0.01,
-        "bounded": 0,
-        "overlap": 0.0,
-        "reverse_order": 0,
-        "max_time": 1.0,
-    }
-    # one position iteration: 3 balls, CORs (1, 1) go from about (-33.93, 65.76, 68.17) to (-7.0, 33.76, 73.24)
-    alternate: ClassVar[tuple[str, float]] = ("position_iterations", 1)
-    walls: ClassVar[bool] = True
-    solver: ClassVar[dict[str, Any]] = {
-        "kind": "sequential",
-        "iterations": "position_iterations",
-        "threshold": 2.0,
-        "precision": "float32",
-        "source": (
-            "PhysX 5 (bundled 5.3.1): PxSceneDesc::bounceThresholdVelocity, 'A contact with a relative velocity "
-            "below this will not bounce', default 0.2*PxTolerancesScale::speed = 2 (SAPIEN PhysxSceneConfig."
-            "bounce_threshold 2.0; measured: approach 2 sticks, 10 bounces); target -e*v_n from the velocities "
-            "before the solve, contacts swept one at a time (TGS by default, PGS with tgs=0) for "
-            "solver_position_iterations then solver_velocity_iterations sweeps"
-        ),
-    }
+    radius: ClassVar[float | None] = RADIUS
 
     def checks(self) -> dict[str, bool]:
         c = self.config
-
-        def count(name: str, least: int) -> bool:
-            return c[name] >= least and c[name] == int(c[name])
-
-        return {
-            "time_step": c["time_step"] > 0,
-            "position_iterations": count("position_iterations", 1),
-            "velocity_iterations": count("velocity_iterations", 0),
-            "bounce_threshold": c["bounce_threshold"] > 0,
-            "tgs": c["tgs"] in (0, 1),
-            "contact_offset": c["contact_offset"] > 0,
-            "bounded": c["bounded"] in (0, 1),
-            "overlap": 0 <= c["overlap"] < RADIUS,
-            "reverse_order": c["reverse_order"] in (0, 1),
-            "max_time": c["max_time"] > 0,
-        }
+        own = {"position_iterations": whole(c["position_iterations"]),
+               "velocity_iterations": whole(c["velocity_iterations"], 0),
+               "bounce_threshold": c["bounce_threshold"] > 0, "tgs": c["tgs"] in (0, 1),
+               "contact_offset": c["contact_offset"] > 0, "bounded": c["bounded"] in (0, 1)}  # fmt: skip
+        return {**super().checks(), **own}
 
     def engine(self) -> Any:
         with warnings.catch_warnings():  # "Failed to find system libvulkan" at import: no renderer is used
@@ -224,12 +176,8 @@ class SapienAdapter(Adapter):
         self, sapien: Any, scene: Any, *, mass: float, moment: float, restitution: float, pos: list[float]
     ) -> Any:
         px = sapien.physx
-        entity = sapien.Entity()
-        body = px.PhysxRigidDynamicComponent()
-        body.attach(px.PhysxCollisionShapeSphere(RADIUS, px.PhysxMaterial(0.0, 0.0, restitution)))
-        entity.add_component(body)
-        entity.set_pose(sapien.Pose(pos))
-        scene.add_entity(entity)
+        sphere = px.PhysxCollisionShapeSphere(RADIUS, px.PhysxMaterial(0.0, 0.0, restitution))
+        body = _placed(sapien, scene, px.PhysxRigidDynamicComponent(), sphere, sapien.Pose(pos))
         body.set_mass(mass)
         body.set_inertia([moment, moment, moment])
         body.set_linear_damping(0.0)
@@ -255,19 +203,15 @@ class SapienAdapter(Adapter):
     ) -> None:
         """A static actor with one box shape of these half sizes, at this pose (``quaternion``: w, x, y, z)."""
         px = sapien.physx
-        entity = sapien.Entity()
-        body = px.PhysxRigidStaticComponent()
-        body.attach(px.PhysxCollisionShapeBox(half, px.PhysxMaterial(0.0, 0.0, restitution)))
-        entity.add_component(body)
-        entity.set_pose(sapien.Pose(centre, quaternion))
-        scene.add_entity(entity)
+        box = px.PhysxCollisionShapeBox(half, px.PhysxMaterial(0.0, 0.0, restitution))
+        _placed(sapien, scene, px.PhysxRigidStaticComponent(), box, sapien.Pose(centre, quaternion))
 
     def _settle(
         self, scene: Any, read: Callable[[], list[float]], closing: Callable[[list[float]], float]
     ) -> list[float]:
         """Step until a step changes no velocity and no contact approaches (or ``max_time``)."""
         speed = max(1.0, *(abs(x) for x in read()))
-        v, _ = settle(
+        v, _ = common.settle(
             scene.step,
             read,
             steps=max(1, math.ceil(self.config["max_time"] / self.config["time_step"] - 1e-9)),
@@ -278,13 +222,13 @@ class SapienAdapter(Adapter):
 
     # -- the scenes --------------------------------------------------------------------
     def cradle(self, scene: Cradle) -> list[float]:
-        masses, cors, velocity = cradle_inputs(scene)
+        masses, cors, velocity = common.cradle_inputs(scene)
         rest = self.body_values(cors)
         sapien = self.engine()
         world = self._scene(sapien)
         n, pitch = len(masses), 2 * RADIUS - self.config["overlap"]
         balls: dict[int, Any] = {}
-        for j in in_order(range(n + scene.wall), self.config["reverse_order"]):
+        for j in common.in_order(range(n + scene.wall), self.config["reverse_order"]):
             if j == n:  # the wall: a box whose face is at RADIUS - overlap from the last ball's centre, facing -x
                 face = (n - 1) * pitch + RADIUS - self.config["overlap"]
                 half, centre = [WALL_THICKNESS / 2, WALL_HALF_LENGTH, 2 * RADIUS], [face + WALL_THICKNESS / 2, 0.0, 0.0]
@@ -301,21 +245,21 @@ class SapienAdapter(Adapter):
         def read() -> list[float]:
             return [float(b.get_linear_velocity()[0]) for b in ordered]
 
-        return self._settle(world, read, lambda v: cradle_closing(v, scene.wall))
+        return self._settle(world, read, lambda v: common.cradle_closing(v, scene.wall))
 
     def corner(self, scene: Corner) -> list[float]:
-        k, cors, (vx, vy, omega) = corner_inputs(scene)
+        k, cors, (vx, vy, omega) = common.corner_inputs(scene)
         s1, r_disk, s2 = self.body_values(cors)  # the path S1, disk, S2
         sapien = self.engine()
         world = self._scene(sapien)
-        centre = corner_centre(k, RADIUS - self.config["overlap"])
+        centre = common.corner_centre(k, RADIUS - self.config["overlap"])
         made: list[Any] = []
         makers: list[Callable[[], Any]] = [
             lambda: self._ball(sapien, world, mass=1.0, moment=1.0, restitution=r_disk, pos=[centre, 0.0, 0.0]),
             lambda: self._wall(sapien, world, k, 1.0, s1),
             lambda: self._wall(sapien, world, k, -1.0, s2),
         ]
-        for make in in_order(makers, self.config["reverse_order"]):
+        for make in common.in_order(makers, self.config["reverse_order"]):
             made.append(make())
         disk = made[-1] if self.config["reverse_order"] else made[0]
         disk.set_linear_velocity([vx, vy, 0.0])
@@ -325,7 +269,7 @@ class SapienAdapter(Adapter):
             lin, ang = disk.get_linear_velocity(), disk.get_angular_velocity()
             return [float(lin[0]), float(lin[1]), float(ang[2])]
 
-        return self._settle(world, read, lambda v: corner_closing(k, v))
+        return self._settle(world, read, lambda v: common.corner_closing(k, v))
 
 
 main = SapienAdapter.main
