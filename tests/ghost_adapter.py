@@ -1,4 +1,4 @@
-"""An engine adapter whose engine is never installed (for tests/test_engines.py)."""
+"""An engine adapter whose engine is never installed (for tests/engines/test_engines.py)."""
 
 from __future__ import annotations
 

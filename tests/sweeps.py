@@ -2,7 +2,7 @@
 
 ``cradle_map(balls=5, max_impulses=20, leaving=True)`` proves that every eps above eps* exits by sweeping the
 interval with cells of eps (``verify.maps.torus.exit_cells``): about 15,000 cells, three minutes of search. The
-slow tests of ``tests/test_map_torus.py`` prove the same fact without that search: they run the map with each
+slow tests of ``tests/maps/test_torus.py`` prove the same fact without that search: they run the map with each
 sweep replaced by its recorded cells (:func:`replayed`: a sweep of another interval or pattern is an error that
 says how to record them again), and ``tests/cells_check.py`` proves every recorded cell on its own. The sweep
 itself is tested where it runs, on intervals of the same map (the other tests of that file).

@@ -3,7 +3,7 @@ value when it is parsed, the checks of output paths, the status line, and one-li
 
 Each option type is an argparse ``type=``: a bad value ends the parse with one line naming the option
 and the value (``--dps must be an integer >= 5, got '0'``), before anything is computed or written.
-tests/test_cli_options.py walks the parser and feeds every option of these types bad values.
+tests/cli/test_cli_options.py walks the parser and feeds every option of these types bad values.
 """
 
 from __future__ import annotations

@@ -84,7 +84,7 @@ def stop_on_signals() -> Iterator[None]:
     >>> isinstance(stop, KeyboardInterrupt), stop.name, stop.exit_code
     (True, 'SIGHUP', 129)
 
-    (``tests/test_impl_runner.py`` sends each signal to a ``verify`` process.)
+    (``tests/oracle/test_impl_runner.py`` sends each signal to a ``verify`` process.)
     """
     if threading.current_thread() is not threading.main_thread():
         yield

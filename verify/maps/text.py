@@ -113,7 +113,7 @@ def cradle_map_text(
             how = f"a cone of {gens} generators that {impulses} impulses map into itself"
             if "boundary" in cert:
                 how += f" (built from the period of the repeating impacts {cert['boundary']['pattern']})"
-        checker = "tests/test_map_boundary.py" if "boundary" in cert else "tests/test_cradle_map.py"
+        checker = "tests/maps/test_boundary.py" if "boundary" in cert else "tests/maps/test_cradle_map.py"
         lines += [
             "",
             f"Never exits for eps in {part.piece}: proved by {how};",

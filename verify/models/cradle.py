@@ -9,7 +9,7 @@
   are computed by SymPy and only the pairs in contact are kept (step a of Sect. 3.5).
 
 Both give the same exit velocity in x; in the full model the y components stay zero and
-a spin stays unchanged (tested in ``tests/test_cradle.py``).
+a spin stays unchanged (tested in ``tests/models/test_cradle.py``).
 
 >>> r = run_cradle("1/2")
 >>> r.iterations, [r.backend.to_exact(x) for x in r.exit_velocity]

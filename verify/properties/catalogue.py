@@ -46,9 +46,9 @@ SKIP = Outcome.SKIP
 #: what a check returns: None (the property holds on the case), :data:`SKIP`, or a sentence (it fails)
 Answer = str | Outcome | None
 #: the termination property's cap of impulses: long but finite runs exit before it (an ideal-rule case
-#: of the thorough census exits after 210 impulses, ``tests/test_properties.py``), and slow transients reach
+#: of the thorough census exits after 210 impulses, ``tests/properties/test_properties.py``), and slow transients reach
 #: the period whose cone proves them (one of the thorough census is proved never to exit after 1408 impulses,
-#: on certified intervals: ``tests/test_periodic.py``, ``verify.properties.verdicts.CENSUS_DIGITS``)
+#: on certified intervals: ``tests/proofs/test_periodic.py``, ``verify.properties.verdicts.CENSUS_DIGITS``)
 LONG_RUNS = 4000
 DONE = ("exit", "non_terminating", "max_iterations")  #: stops that do not depend on number sizes
 #: the stops of a census that leave a run undecided: its cases are listed

@@ -79,7 +79,7 @@ class TableShare:
     choices made, never on a check that passes. So a row whose strategy has already been drawn in full (for a
     row that held) checks those cases again without drawing them; when one of them fails, the row is searched
     by Hypothesis as usual, which draws the same cases, fails at the same one and shrinks it. The verdicts are
-    those of rows searched one by one (``tests/test_properties.py`` compares both).
+    those of rows searched one by one (``tests/properties/test_properties.py`` compares both).
 
     One share belongs to one table (:func:`row_tasks` gives its rows a token): a process (a thread) keeps the share
     of the last table whose rows it ran, and drops it for the next table's (:func:`share_for`)."""

@@ -4,7 +4,7 @@ Two implementations give the same results. :class:`FlintArithmetic` (the ``fast`
 holds a function as a pair of ``fmpq_poly`` (numerator, monic denominator, coprime: a canonical form),
 with flint's multiplication and gcd; :class:`SympyArithmetic` holds it as an element of SymPy's field
 of rational functions, in pure Python. :func:`arithmetic` picks flint where it is installed; both are
-tested against each other (``tests/test_ratfunc.py``).
+tested against each other (``tests/numbers/test_ratfunc.py``).
 
 >>> A = arithmetic("flint") if FLINT else arithmetic("sympy")
 >>> e = A.parameter

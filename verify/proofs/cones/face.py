@@ -2,7 +2,7 @@
 
 Some runs never exit while two impact sets take turns that differ by a rate which tends to 0 faster than the
 rest: five plastic balls under the symmetric rule hit (1, 2, 3) and (0, 2, 3) in turn, forever, rates 0 and 2
-at the first impulse of the period falling far faster than the others (``tests/test_periodic.py``). The
+at the first impulse of the period falling far faster than the others (``tests/proofs/test_periodic.py``). The
 direction the rates tend to (:mod:`verify.proofs.cones.period` finds it in rounded numbers) then has those rates
 exactly 0: it lies on the face where the rule would hit (1, 3) instead. A cone around that direction in which
 those rates keep the run's own signs cannot hold the run's later rates (their share there keeps falling), and

@@ -1,0 +1,1 @@
+"""verify/bench/: the benchmarks."""

@@ -1,0 +1,1 @@
+"""The command line (verify/cli/): outputs, options, errors."""

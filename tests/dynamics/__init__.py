@@ -1,0 +1,1 @@
+"""verify/dynamics/: the system's geometry, systems from functions, the rate form."""

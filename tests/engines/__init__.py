@@ -1,0 +1,1 @@
+"""verify/engines/: the physics engines' adapters, runs and explanations."""

@@ -1,0 +1,1 @@
+"""verify/laws/: the rule, the simultaneous and sequential laws, the fast loops."""

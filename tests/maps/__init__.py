@@ -1,0 +1,1 @@
+"""verify/maps/: the exact maps over one or two parameters."""

@@ -1,0 +1,1 @@
+"""verify/models/: Newton's cradle (the corner's tests are the paper's, tests/paper/)."""

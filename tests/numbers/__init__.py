@@ -1,0 +1,1 @@
+"""verify/numbers/: the parser, exact formatting, the backends, rational functions."""

@@ -1,0 +1,1 @@
+"""verify/oracle/: the reference oracle."""

@@ -1,0 +1,1 @@
+"""verify/paper/: Table 1 and the corner's claims."""

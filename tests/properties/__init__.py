@@ -1,0 +1,1 @@
+"""verify/properties/: the property suite."""

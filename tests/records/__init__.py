@@ -1,0 +1,1 @@
+"""verify/records/: case records, their annotations and numbers."""

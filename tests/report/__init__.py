@@ -1,0 +1,1 @@
+"""verify/report/: the main job and the committed reports."""

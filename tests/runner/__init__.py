@@ -1,0 +1,1 @@
+"""verify/runner/: tasks, checkpoints, Dask."""
