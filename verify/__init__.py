@@ -20,10 +20,9 @@ from verify.errors import (
     Undecided,
     VerifyError,
 )
+from verify.laws.outcome import Result, Step
 from verify.laws.rule import (
     RULES,
-    Result,
-    Step,
     beta,
     global_orthogonal_component,
     impact_set,

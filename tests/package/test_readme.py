@@ -62,7 +62,7 @@ def test_ruff_is_clean():
 
 @pytest.mark.skipif(shutil.which("mypy") is None, reason="mypy is not installed")
 def test_mypy_is_clean():
-    """The types check (configuration in pyproject.toml)."""
+    """The types check: mypy strict on the whole package (configuration in pyproject.toml)."""
     out = subprocess.run(["mypy"], cwd=ROOT, capture_output=True, text=True, check=False)
     assert out.returncode == 0, out.stdout + out.stderr
 

@@ -161,7 +161,7 @@ def cradle_grid(size: int = CRADLE_SIZE) -> list[Fraction]:
     return [Fraction(i, size) for i in range(size)]
 
 
-def general_batch(size: int = GENERAL_SIZE, seed: int = GENERAL_SEED) -> list[tuple]:
+def general_batch(size: int = GENERAL_SIZE, seed: int = GENERAL_SEED) -> list[tuple[Any, ...]]:
     """``size`` random general systems with a velocity each, as exact tuples
     ``(mass_matrix, normals, time_terms, cors, velocity)``, drawn as the oracle's random cases
     (:func:`verify.oracle.reference.random_case`). A draw whose exact run passes
@@ -178,12 +178,12 @@ def general_batch(size: int = GENERAL_SIZE, seed: int = GENERAL_SEED) -> list[tu
     from verify.numbers.parse import to_number
     from verify.oracle.reference import GENERATION_BITS, random_cases
 
-    def exact(rec: dict) -> tuple:
+    def exact(rec: dict[Any, Any]) -> tuple[Any, ...]:
         g, a = ([[to_number(x) for x in row] for row in rec[f]] for f in ("mass_matrix", "normals"))
         c, e, v = ([to_number(x) for x in rec[f]] for f in ("time_terms", "restitution", "velocity"))
         return g, a, c, e, v
 
-    def bounded(rec: dict) -> bool:
+    def bounded(rec: dict[Any, Any]) -> bool:
         g, a, c, e, v = exact(rec)
         run = solve(System(g, a, e, c), v, max_iterations=MAX_IMPULSES, trace=False, certify=False,
                     budget=Budget(bits=GENERATION_BITS))  # fmt: skip
@@ -197,16 +197,16 @@ class Outcome(NamedTuple):
     exact engine's :class:`~verify.laws.outcome.Result`, with its System, is not kept: the plain
     loops keep no more than this either)."""
 
-    impact_sets: list
+    impact_sets: list[Any]
     stop: str
-    velocity: tuple
+    velocity: tuple[Any, ...]
 
 
 def _kept(result: Any) -> Outcome:
     return Outcome(result.impact_sets, result.stop, result.exit_velocity)
 
 
-def _exact_engine(cases: Sequence[tuple], backend: Any) -> list[Outcome]:
+def _exact_engine(cases: Sequence[tuple[Any, ...]], backend: Any) -> list[Outcome]:
     """The general engine on corner cases: one System and one solve a case."""
     from verify.laws.rule import solve
 
@@ -217,7 +217,7 @@ def _exact_engine(cases: Sequence[tuple], backend: Any) -> list[Outcome]:
     return out
 
 
-def _baseline(cases: Sequence[tuple]) -> list[tuple]:
+def _baseline(cases: Sequence[tuple[Any, ...]]) -> list[tuple[Any, ...]]:
     """The plain loop (eq. 10) on every case, in the numbers the cases are in: (zones, xd, yd)."""
     return [paper_run(*c, max_iterations=MAX_IMPULSES) for c in cases]
 
@@ -251,7 +251,7 @@ def _against_loop(batch: str, times: dict[str, float], n: int, *contestants: str
     ]
 
 
-def _corner_figures(cases: list[tuple], repeats: int, with_gp: bool = True) -> list[Figure]:
+def _corner_figures(cases: list[tuple[Any, ...]], repeats: int, with_gp: bool = True) -> list[Figure]:
     from verify.laws.loops.floats import solve_batch
     from verify.numbers.backends import RationalBackend
 
@@ -310,7 +310,9 @@ def _corner_figures(cases: list[tuple], repeats: int, with_gp: bool = True) -> l
     ]
 
 
-def _gp_corner(batch: str, cases: list[tuple], engine: Sequence[Outcome], repeats: int, base: float) -> list[Figure]:
+def _gp_corner(
+    batch: str, cases: list[tuple[Any, ...]], engine: Sequence[Outcome], repeats: int, base: float
+) -> list[Figure]:
     gp = _gp()
     if gp is None:
         return []
@@ -318,7 +320,7 @@ def _gp_corner(batch: str, cases: list[tuple], engine: Sequence[Outcome], repeat
     return [_gp_figure(batch, runs, engine, (f"{batch}.fraction_loop", base))]
 
 
-def _short_figures(cases: list[tuple], repeats: int, with_gp: bool = True) -> list[Figure]:
+def _short_figures(cases: list[tuple[Any, ...]], repeats: int, with_gp: bool = True) -> list[Figure]:
     """The short runs with a new geometry per case: the general exact engine (one System and one
     solve a case) against the plain Fraction loop; their branch sequences must agree. Beside
     them, the bare rate loop (:func:`verify.bench.baselines.bare_rates_run`, nothing validated,
@@ -329,7 +331,7 @@ def _short_figures(cases: list[tuple], repeats: int, with_gp: bool = True) -> li
 
     n, fast, still = len(cases), RationalBackend(), Fraction(0)
 
-    def bare() -> list[tuple]:
+    def bare() -> list[tuple[Any, ...]]:
         out = []
         for k, xd, yd, e1, e2 in cases:
             g, normals = corner_geometry(k)
@@ -364,7 +366,7 @@ def _gp() -> Any:
     return gp if gp.available() else None
 
 
-def _same_branches(batch: str, engine: Sequence[Outcome], loop: Sequence[tuple]) -> None:
+def _same_branches(batch: str, engine: Sequence[Outcome], loop: Sequence[tuple[Any, ...]]) -> None:
     if [list(o.impact_sets) for o in engine] != [list(sets) for sets, _ in loop]:
         raise AssertionError(f"the exact engine and the plain Fraction loop disagree on the {batch} batch")
 
@@ -383,7 +385,7 @@ def _cradle_figures(eps: list[Fraction], repeats: int, with_gp: bool = True) -> 
     g, normals = cradle_geometry([Fraction(1)] * 3)
     v, still = [Fraction(100), Fraction(0), Fraction(0)], [Fraction(0), Fraction(0)]
 
-    def loop() -> list[tuple]:
+    def loop() -> list[tuple[Any, ...]]:
         geometry = plain_geometry(g, normals)
         return [plain_run(geometry, still, [e, e], v, MAX_IMPULSES) for e in eps]
 
@@ -405,7 +407,7 @@ def _cradle_figures(eps: list[Fraction], repeats: int, with_gp: bool = True) -> 
     ]
 
 
-def _general_figures(cases: list[tuple], repeats: int) -> list[Figure]:
+def _general_figures(cases: list[tuple[Any, ...]], repeats: int) -> list[Figure]:
     """Random general systems, a new geometry each: one System and one solve a case against the
     plain loop (:mod:`verify.bench.baselines`), which builds its geometry per case too."""
     from verify.bench.baselines import plain_geometry, plain_run
@@ -415,7 +417,7 @@ def _general_figures(cases: list[tuple], repeats: int) -> list[Figure]:
 
     fast, n = RationalBackend(), len(cases)
 
-    def loop() -> list[tuple]:
+    def loop() -> list[tuple[Any, ...]]:
         return [plain_run(plain_geometry(g, a), c, e, v, MAX_IMPULSES) for g, a, c, e, v in cases]
 
     def engine() -> list[Outcome]:
@@ -427,7 +429,9 @@ def _general_figures(cases: list[tuple], repeats: int) -> list[Figure]:
     return _against_loop("general", times, n, "exact_engine")
 
 
-def _gp_systems(batch: str, systems: list[tuple], engine: Sequence[Outcome], repeats: int, times: dict) -> list[Figure]:
+def _gp_systems(
+    batch: str, systems: list[tuple[Any, ...]], engine: Sequence[Outcome], repeats: int, times: dict[Any, Any]
+) -> list[Figure]:
     gp = _gp()
     if gp is None:
         return []

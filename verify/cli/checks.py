@@ -447,7 +447,7 @@ def junit_after_usage_error(argv: list[str], message: str) -> None:
     _write_error_junit(path, f"verify oracle {argv[1]} {cases}", message, prefix, junit_group(cases))
 
 
-def checked_cases(args: argparse.Namespace, command_name: str) -> tuple[str, list[dict], str | None]:
+def checked_cases(args: argparse.Namespace, command_name: str) -> tuple[str, list[dict[Any, Any]], str | None]:
     """The case file's text, records and dataset (None when it names none), validated (one line and exit code 2
     for a bad file), with RESULTS.json or --impl given, not both."""
     from verify.records.results import load_cases

@@ -499,9 +499,10 @@ def command(sub: SubParsers, name: str, func: Callable[[argparse.Namespace], int
     texts = command_texts()[name]
     examples = texts["examples"]
     label = "examples" if len(examples) > 1 else "example"
-    p = sub.add_parser(name.rsplit(maxsplit=1)[-1], help=texts["help"], formatter_class=formatter,
-                       description=texts.get("description"),
-                       epilog=f"{label}:\n" + "".join(f"  {line}\n" for line in examples))  # fmt: skip
+    epilog = f"{label}:\n" + "".join(f"  {line}\n" for line in examples)
+    word = name.rsplit(maxsplit=1)[-1]
+    p: argparse.ArgumentParser = sub.add_parser(word, help=texts["help"], formatter_class=formatter,
+                                                description=texts.get("description"), epilog=epilog)  # fmt: skip
     p.set_defaults(func=func)
     return p
 

@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import argparse
 import sys
+from typing import Any
 
 from verify.cli.common import WORKERS, OutputDir, writing
 
@@ -63,7 +64,7 @@ def cmd_engines(args: argparse.Namespace) -> int:
     return 0
 
 
-def write_engines_report(out: str, record: dict) -> None:
+def write_engines_report(out: str, record: dict[Any, Any]) -> None:
     """``engines.json`` (the record), then the page and its figure, into ``out``."""
     from pathlib import Path
 

@@ -93,7 +93,7 @@ def map_budget_options(p: argparse.ArgumentParser) -> None:
 
 def map_watch(args: argparse.Namespace, label: str) -> tuple[Any, StatusLine]:
     """The :class:`~verify.maps.line.Watch` of the budget options, with a status line on a terminal."""
-    from verify.maps.line import Watch
+    from verify.maps.watch import Watch
 
     status = StatusLine.for_args(args)
     progress = (lambda line: status.show(f"{label} {line}")) if status.enabled else None

@@ -17,9 +17,13 @@ from __future__ import annotations
 import time
 from collections.abc import Callable, Sequence
 from dataclasses import dataclass, field, replace
-from typing import Any, Literal, Protocol, get_args
+from typing import Any, Literal, Protocol, TypeAlias, get_args
 
 from verify import bounds
+
+#: a JSON value: what a certificate, a case record and a result record hold
+JSONValue: TypeAlias = str | int | float | bool | list["JSONValue"] | dict[str, "JSONValue"] | None
+JSONObject: TypeAlias = dict[str, JSONValue]
 
 #: how a run stops (a result record's ``stop``): no constraint is hit any more; the paper's almost-equal stop
 #: (paper mode); the cap on impulses; proved never to exit (with a certificate); a size or time budget ran out
@@ -32,7 +36,7 @@ class Halted:
     """A stop test's answer when it stops a run: the stop and, for ``non_terminating``, its certificate."""
 
     stop: Stop
-    certificate: dict[str, Any] | None = None
+    certificate: JSONObject | None = None
 
 
 class Halt(Protocol):

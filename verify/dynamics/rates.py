@@ -128,7 +128,7 @@ class KnownRates:
     def __init__(self, system: System, v: Sequence[Any], b: Sequence[Any]):
         self._system, self._v, self._b = system, v, b
 
-    def rates(self, v: Sequence[Any]) -> tuple:
+    def rates(self, v: Sequence[Any]) -> tuple[Any, ...]:
         return tuple(self._b) if v is self._v else self._system.rates(v)
 
     def __getattr__(self, name: str) -> Any:
@@ -140,7 +140,7 @@ def _size(system: System, v0: Sequence[Any], mu: Sequence[Any], now: Sequence[An
     return max(system.backend.size(x) for x in (now if now is not None else velocity(system, v0, mu)))
 
 
-def _stop_reason(halts: Sequence[Halt], system: Any, v: tuple) -> Halted | None:
+def _stop_reason(halts: Sequence[Halt], system: Any, v: tuple[Any, ...]) -> Halted | None:
     """The first stop test that fires."""
     for h in halts:
         halted = h(system, v)

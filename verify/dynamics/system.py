@@ -56,7 +56,7 @@ def _equal(a: Number, b: Number) -> bool:
     return certified_sign(a - b) == 0  # a SymPy number among them: SymPy takes the Fraction exactly
 
 
-def _exact_backend(g: list[list], a: list[list], e: list, c: list) -> Backend:
+def _exact_backend(g: list[list[Any]], a: list[list[Any]], e: list[Any], c: list[Any]) -> Backend:
     """The exact backend for a system's parsed numbers (:func:`verify.numbers.backends.exact_for`); an
     entry it cannot hold is named by its field, with the ``backend`` parameter that can."""
     try:
@@ -246,7 +246,7 @@ def _contacts(
 _ZERO = Fraction(0)
 
 
-def _check_vector(values: Any, length: int | None, field: str) -> list:
+def _check_vector(values: Any, length: int | None, field: str) -> list[Any]:
     if type(values) not in (list, tuple) and (isinstance(values, (str, bytes)) or not isinstance(values, Sequence)):
         raise InvalidSystem(f"{field}: expected a list of numbers, got {type(values).__name__}")
     if length is not None and len(values) != length:
@@ -557,11 +557,11 @@ class System:
         return new
 
     # -- the quantities the rule needs --------------------------------------------------
-    def velocity(self, values: Sequence[Any], field: str = "velocity") -> tuple:
+    def velocity(self, values: Sequence[Any], field: str = "velocity") -> tuple[Any, ...]:
         """Parse and convert a velocity vector (n components) into the backend."""
         return tuple(self.backend.convert_all(_check_vector(values, self.n, field)))
 
-    def rates(self, v: Sequence[Any]) -> tuple:
+    def rates(self, v: Sequence[Any]) -> tuple[Any, ...]:
         """``p(F_i) = dF_i/dt + dF_i . v`` for every constraint (negative: an impact, eq. 2)."""
         out = []
         for ci, row in zip(self.time_terms, self._sparse_normals):
@@ -571,7 +571,7 @@ class System:
             out.append(total)
         return tuple(out)
 
-    def combine_normals(self, coefficients: Sequence[tuple[int, Any]]) -> tuple:
+    def combine_normals(self, coefficients: Sequence[tuple[int, Any]]) -> tuple[Any, ...]:
         """``sum c_j U_j`` over the pairs ``(j, c_j)``: the shape of every impulse."""
         out: list[Any] = [None] * self.n
         for j, c in coefficients:
@@ -682,7 +682,7 @@ class System:
 # -- widening the exact field for a velocity ---------------------------------------------------
 
 
-def exact_backend_for_velocity(system: System, velocity: Sequence[Any]) -> tuple[System, tuple]:
+def exact_backend_for_velocity(system: System, velocity: Sequence[Any]) -> tuple[System, tuple[Any, ...]]:
     """On the exact backend, widen the number field when the velocity needs it; returns the
     system and the velocity converted into its backend.
 
@@ -713,7 +713,7 @@ def on_exact_field(system: System, values: list[Any]) -> System:
     return system.convert_to(exact_for(source_numbers(system) + values))
 
 
-def source_numbers(system: System) -> list:
+def source_numbers(system: System) -> list[Any]:
     """Every number the system was built from (mass matrix, normals, time terms, CORs), exactly."""
     src = system.source
     everything = [x for row in src["mass_matrix"] for x in row] + [x for row in src["normals"] for x in row]

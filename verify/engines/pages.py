@@ -17,7 +17,8 @@ def _v(values: list[str] | None, digits: int = 6) -> str:
 def explained_table(record: dict[str, Any]) -> list[str]:
     """Per engine: the share of its default answers an exact model explains (and the model that explains most),
     its largest kinetic-energy gain, and its median distance to the paper's rule and to the simultaneous law."""
-    from verify.engines.run import GAIN, median_distance
+    from verify.engines.explain import GAIN
+    from verify.engines.run import median_distance
     from verify.numbers.format import format_decimal
 
     lines = [

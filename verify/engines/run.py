@@ -154,7 +154,8 @@ def run_adapter(
     if done.returncode != 0:
         last = (done.stderr.strip().splitlines() or ["(no message)"])[-1]
         raise RuntimeError(f"the {name} adapter exited with code {done.returncode}: {last}")
-    return json.loads(done.stdout)
+    output: dict[str, Any] = json.loads(done.stdout)
+    return output
 
 
 def _variants(description: dict[str, Any]) -> list[tuple[str, dict[str, float]]]:

@@ -31,13 +31,13 @@ class Step:
     """
 
     impact_set: tuple[int, ...]
-    rates: tuple  # p(F_i) of the velocity before the impulse, for every constraint
+    rates: tuple[Any, ...]  # p(F_i) of the velocity before the impulse, for every constraint
     beta: Any  # None for a single impact
-    impulse: tuple
-    velocity: tuple  # after the impulse
+    impulse: tuple[Any, ...]
+    velocity: tuple[Any, ...]  # after the impulse
     system: System = field(repr=False, compare=False)
     #: the sequential law: (constraint, change of its accumulated impulse) for each impulse this sweep changed
-    changes: tuple = field(default=(), repr=False, compare=False)
+    changes: tuple[Any, ...] = field(default=(), repr=False, compare=False)
 
     @cached_property
     def kinetic_energy(self) -> Any:
@@ -61,21 +61,21 @@ class Result:
 
     system: System
     rule: str
-    velocity_in: tuple
-    exit_velocity: tuple
+    velocity_in: tuple[Any, ...]
+    exit_velocity: tuple[Any, ...]
     stop: Stop
     steps: tuple[Step, ...]
     impact_sets: list[tuple[int, ...]]
     betas: list[Any]
     max_iterations: int
     notes: tuple[str, ...] = ()
-    certificate: dict | None = field(default=None)
+    certificate: dict[Any, Any] | None = field(default=None)
     #: the impact law: ``"rule"`` (the paper's iterative rule), ``"simultaneous"``
     #: (:mod:`verify.laws.simultaneous`) or ``"sequential"`` (:mod:`verify.laws.sequential`)
     law: str = "rule"
     #: the impulse magnitudes lambda_i, one per constraint, of the simultaneous law (or the sequential law's
     #: accumulated impulses); None for the rule
-    impulses: tuple | None = None
+    impulses: tuple[Any, ...] | None = None
     #: on a backend that is not rigorous (mp, float): the first impulse whose impact set was decided on a
     #: rate below the working precision (the run is not to be trusted from there on; a note says so), or None
     doubtful: int | None = None
@@ -104,7 +104,7 @@ class Result:
         return velocity_name(self.stop)
 
     @property
-    def last_velocity(self) -> tuple:
+    def last_velocity(self) -> tuple[Any, ...]:
         """The velocity after the last impulse: the exit velocity when ``stop == "exit"``, else where the run
         stopped (``exit_velocity`` holds it too, under the name of the common case)."""
         return self.exit_velocity

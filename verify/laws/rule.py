@@ -117,7 +117,7 @@ def impact_set(system: System, v: Sequence[Any]) -> tuple[int, ...]:
     return tuple(i for i, b in enumerate(system.rates(v)) if K.sign(b) < 0)
 
 
-def orthogonal_component(system: System, v: Sequence[Any], i: int) -> tuple:
+def orthogonal_component(system: System, v: Sequence[Any], i: int) -> tuple[Any, ...]:
     """``V_i(p) = (p(F_i) / G_ii) U_i``, the Phi-orthogonal component w.r.t. S_i.
 
     >>> from verify.dynamics.system import System
@@ -129,7 +129,7 @@ def orthogonal_component(system: System, v: Sequence[Any], i: int) -> tuple:
     return system.combine_normals([(i, b / system.gram_diag[i])])
 
 
-def global_orthogonal_component(system: System, v: Sequence[Any], J: Sequence[int]) -> tuple:
+def global_orthogonal_component(system: System, v: Sequence[Any], J: Sequence[int]) -> tuple[Any, ...]:
     """``V_J(p)``: the component of p orthogonal to the intersection of the S_j, j in J.
 
     It is ``sum mu_k U_k`` where ``G_JJ mu = (p(F_j))_j`` (the Gram solve), so that
@@ -140,7 +140,7 @@ def global_orthogonal_component(system: System, v: Sequence[Any], J: Sequence[in
     return system.combine_normals(list(zip(J, mu)))
 
 
-def _gram_solve(system: System, rhs: Sequence[Any], J: Sequence[int]) -> tuple:
+def _gram_solve(system: System, rhs: Sequence[Any], J: Sequence[int]) -> tuple[Any, ...]:
     K = system.backend
     G_J = [[system.gram[j][k] for k in J] for j in J]
     return solve_spd(K, ldl(K, G_J), rhs)
@@ -159,7 +159,7 @@ def beta(system: System, v: Sequence[Any], J: Sequence[int]) -> Any:
     return beta_from_rates(system, system.rates(v), J)
 
 
-def _impulse_from_rates(system: System, b: Sequence[Any], J: Sequence[int]) -> tuple[tuple, Any]:
+def _impulse_from_rates(system: System, b: Sequence[Any], J: Sequence[int]) -> tuple[tuple[Any, ...], Any]:
     """Eq. (8) given the rates p(F_i): returns (impulse, beta or None).
 
     The impulse is ``sum_j c_j U_j`` with ``c_j = -(1 + e_j) p(F_j) / G_jj`` for a single
@@ -170,7 +170,7 @@ def _impulse_from_rates(system: System, b: Sequence[Any], J: Sequence[int]) -> t
     return system.combine_normals(pairs), bt
 
 
-def impulse(system: System, v: Sequence[Any], J: Sequence[int] | None = None) -> tuple:
+def impulse(system: System, v: Sequence[Any], J: Sequence[int] | None = None) -> tuple[Any, ...]:
     """The reactive impulse I(p) of eq. (8) for the impact set J (default: step b's).
 
     >>> from verify.dynamics.system import System
@@ -255,8 +255,14 @@ def _structure(couplings: Sequence[frozenset[int]], J: tuple[int, ...]) -> tuple
 
 
 def _rates_after(
-    system: System, v: tuple, b: Sequence[Any], J: tuple[int, ...], *, structure: tuple, minus_e: tuple
-) -> tuple:
+    system: System,
+    v: tuple[Any, ...],
+    b: Sequence[Any],
+    J: tuple[int, ...],
+    *,
+    structure: tuple[Any, ...],
+    minus_e: tuple[Any, ...],
+) -> tuple[Any, ...]:
     """The rates of the velocity ``v`` after an impulse on J from rates ``b``: those of
     ``system.rates(v)``, except where the structure of the impulse gives them exactly."""
     fresh = system.rates(v)
@@ -290,9 +296,9 @@ class _ExactRates:
     def __init__(self, system: System, velocity: Sequence[Any], bits: int | None = None):
         self._source = (system, velocity)
         self.bits = bits
-        self._exact: tuple[System, tuple] | None = None
+        self._exact: tuple[System, tuple[Any, ...]] | None = None
         self.unavailable: str | None = None  #: why no exact check exists (an input that is not algebraic)
-        self._state: tuple[int, tuple] | None = None
+        self._state: tuple[int, tuple[Any, ...]] | None = None
         self.limit = False  #: whether the backend is at its precision limit (set by :meth:`at`)
 
     def at(self, *, limit: bool) -> _ExactRates:
@@ -327,14 +333,14 @@ class _ExactRates:
             self._exact = (exact, exact.velocity(values))
         return self._exact is not None
 
-    def _built(self) -> tuple[System, tuple]:
+    def _built(self) -> tuple[System, tuple[Any, ...]]:
         """The system and left velocity on the exact backend (Undecided when there is none)."""
         self.available()
         if self._exact is None:
             raise Undecided(self.unavailable)
         return self._exact
 
-    def rates(self, impact_sets: Sequence[tuple[int, ...]]) -> tuple:
+    def rates(self, impact_sets: Sequence[tuple[int, ...]]) -> tuple[Any, ...]:
         """The exact rates after the impulses on ``impact_sets`` (from the run's left velocity)."""
         system, v0 = self._built()
         done, v = self._state if self._state is not None and self._state[0] <= len(impact_sets) else (0, v0)
@@ -364,8 +370,8 @@ class _ExactRates:
 
 
 def _impact_set_of(
-    system: System, b: tuple, impact_sets: Sequence[tuple[int, ...]], exact: _ExactRates | None
-) -> tuple[tuple[int, ...], tuple]:
+    system: System, b: tuple[Any, ...], impact_sets: Sequence[tuple[int, ...]], exact: _ExactRates | None
+) -> tuple[tuple[int, ...], tuple[Any, ...]]:
     """Step b) on the rates ``b``: (J, the rates, with any zero found exactly made the point 0)."""
     K = system.backend
     try:
@@ -385,13 +391,13 @@ def _impact_set_of(
     return tuple(J), tuple(out)
 
 
-def _largest_size(K: Backend, v: tuple) -> int:
+def _largest_size(K: Backend, v: tuple[Any, ...]) -> int:
     return max(K.size(x) for x in v)
 
 
 def _iterate(
     system: System,
-    v: tuple,
+    v: tuple[Any, ...],
     limits: Limits,
     halts: list[Halt],
     trace: bool,
@@ -407,7 +413,7 @@ def _iterate(
     certificate = None
     couplings = _couplings(system)
     minus_e = tuple(K.zero - e for e in system.restitution)
-    structures: dict[tuple[int, ...], tuple] = {}
+    structures: dict[tuple[int, ...], tuple[Any, ...]] = {}
     b = system.rates(v)
     after = [h for h in halts if h.after_impulse]  # tested before the exit check
     halts = [h for h in halts if not h.after_impulse]
@@ -479,7 +485,7 @@ FRACTION_FREE_AFTER = 3
 
 
 def _iterate_untraced(
-    system: System, v: tuple, limits: Limits, halts: list[Halt], progress: Callable[[int], None] | None
+    system: System, v: tuple[Any, ...], limits: Limits, halts: list[Halt], progress: Callable[[int], None] | None
 ) -> Run:
     """:func:`_iterate` without a trace, on an exact backend: in rate coordinates
     (:mod:`verify.dynamics.rates`), and on the rationals, when no stop test or progress needs
@@ -497,7 +503,7 @@ def _iterate_untraced(
 
 def _run(
     system: System,
-    v0: tuple,
+    v0: tuple[Any, ...],
     limits: Limits,
     halts: list[Halt],
     *,
@@ -517,7 +523,9 @@ def _run(
     return _iterate(system, v0, limits, halts, trace, progress=progress, exact=checks)
 
 
-def _result(system: System, rule: str, v0: tuple, out: Run, *, max_iterations: int, notes: list[str]) -> Result:
+def _result(
+    system: System, rule: str, v0: tuple[Any, ...], out: Run, *, max_iterations: int, notes: list[str]
+) -> Result:
     """The :class:`Result` of a run (with the note of a run not to be trusted, :class:`_Doubt`)."""
     if out.doubt is not None:
         notes = [*notes, _doubt_note(system.backend, *out.doubt)]
@@ -750,7 +758,7 @@ def solve_many(
         raise InvalidSystem(
             f"solve_many: {len(velocities)} velocities but {len(restitutions)} restitution vectors (one per case)"
         )
-    systems: dict[tuple, System] = {}
+    systems: dict[tuple[Any, ...], System] = {}
     out = []
     for i, v in enumerate(velocities):
         case = system

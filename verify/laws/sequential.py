@@ -269,7 +269,9 @@ def _outgoing(K: Backend, rates: Sequence[Any]) -> bool:
     return all(K.sign(x) >= 0 for x in rates)
 
 
-def _sweeps(system: System, v: tuple, law: Sequential, thresholds: Sequence[Any], choose: _Choices) -> tuple:
+def _sweeps(
+    system: System, v: tuple[Any, ...], law: Sequential, thresholds: Sequence[Any], choose: _Choices
+) -> tuple[Any, ...]:
     """The sweeps from velocity ``v``: the impulses, the exit velocity, the steps (one per sweep that
     changed an impulse) and whether the exit velocity is outgoing."""
     K, r = system.backend, system.r
@@ -361,7 +363,7 @@ def solve_sequential(
     thresholds = law.thresholds(system.r)
     replay = None if system.backend.is_exact else _exact_choices(system, velocity, law)
 
-    def attempt(system: System) -> tuple[System, tuple]:
+    def attempt(system: System) -> tuple[System, tuple[Any, ...]]:
         if system.backend.widens_to_inputs:
             system, v = exact_backend_for_velocity(system, velocity)
             if not _holds(system, thresholds):  # a threshold outside the number field: widen it

@@ -51,7 +51,9 @@ from verify.numbers.linalg import ldl, solve_spd
 T = TypeVar("T")
 
 
-def complementarity(K: Backend, G: Sequence[Sequence[Any]], q: Sequence[Any]) -> tuple[tuple[int, ...], tuple]:
+def complementarity(
+    K: Backend, G: Sequence[Sequence[Any]], q: Sequence[Any]
+) -> tuple[tuple[int, ...], tuple[Any, ...]]:
     """The solution of LCP(q, G) for a positive definite G: the set S of constraints whose
     complementarity equation is active (``(G lambda + q)_i = 0``) and ``lambda`` (0 off S).
 
@@ -88,7 +90,7 @@ def complementarity(K: Backend, G: Sequence[Sequence[Any]], q: Sequence[Any]) ->
 
 
 def _first_infeasible(
-    K: Backend, G: Sequence[Sequence[Any]], q: Sequence[Any], S: tuple[int, ...], lam: list
+    K: Backend, G: Sequence[Sequence[Any]], q: Sequence[Any], S: tuple[int, ...], lam: list[Any]
 ) -> int | None:
     """The least index that violates its sign: ``lambda_i < 0`` on S, ``(G lambda + q)_i < 0`` off
     S (the other quantity is 0 by construction, so its sign is never asked); None if none."""
@@ -111,7 +113,7 @@ def incoming(system: System, rates: Sequence[Any]) -> tuple[bool, ...]:
     return tuple(K.sign(w) < 0 for w in rates)
 
 
-def lcp_vector(system: System, rates: Sequence[Any], hits: Sequence[bool] | None = None) -> tuple:
+def lcp_vector(system: System, rates: Sequence[Any], hits: Sequence[bool] | None = None) -> tuple[Any, ...]:
     """``q_i = (1 + e_i) w_i`` for an incoming constraint (``hits[i]``, by default ``w_i < 0``),
     ``w_i`` otherwise.
 
@@ -124,7 +126,7 @@ def lcp_vector(system: System, rates: Sequence[Any], hits: Sequence[bool] | None
     return tuple((K.one + e) * w if hit else w for w, e, hit in zip(rates, system.restitution, hits))
 
 
-def _on_exact(system: System, velocity: Sequence[Any]) -> tuple[System, tuple] | None:
+def _on_exact(system: System, velocity: Sequence[Any]) -> tuple[System, tuple[Any, ...]] | None:
     """The system and velocity on their exact backend, or None when an input is not algebraic."""
     values = velocity_numbers(velocity)
     try:
@@ -135,7 +137,7 @@ def _on_exact(system: System, velocity: Sequence[Any]) -> tuple[System, tuple] |
 
 
 def _decide(
-    system: System, v: tuple, exact: tuple[System, tuple] | None
+    system: System, v: tuple[Any, ...], exact: tuple[System, tuple[Any, ...]] | None
 ) -> tuple[tuple[bool, ...], tuple[int, ...], tuple[int, ...]]:
     """Which constraints are incoming, the active set, and the constraints of the active set whose
     impulse is not 0: on ``system``'s backend, or exactly when ``exact`` is given (an approximate
@@ -148,7 +150,7 @@ def _decide(
     return hits, S, tuple(i for i in S if not known_zero(s.backend, lam[i]))
 
 
-def _on_active_set(system: System, v: tuple, hits: tuple[bool, ...], S: tuple[int, ...]) -> tuple:
+def _on_active_set(system: System, v: tuple[Any, ...], hits: tuple[bool, ...], S: tuple[int, ...]) -> tuple[Any, ...]:
     """``lambda`` with ``(G lambda + q)_S = 0`` and 0 off S (no sign asked)."""
     K, lam = system.backend, [system.backend.zero] * system.r
     if S:
@@ -175,7 +177,7 @@ def solve_simultaneous(
     """
     exact = _on_exact(system, velocity) if not system.backend.is_exact else None
 
-    def attempt(system: System) -> tuple[System, tuple]:
+    def attempt(system: System) -> tuple[System, tuple[Any, ...]]:
         if system.backend.widens_to_inputs:
             system, v = exact_backend_for_velocity(system, velocity)
         else:
@@ -208,7 +210,14 @@ def refining(system: System, attempt: Callable[[System], tuple[System, T]], what
 
 
 def _result(
-    system: System, v: tuple, hit: tuple[int, ...], lam: tuple, *, rule: str, max_iterations: int, notes: list[str]
+    system: System,
+    v: tuple[Any, ...],
+    hit: tuple[int, ...],
+    lam: tuple[Any, ...],
+    *,
+    rule: str,
+    max_iterations: int,
+    notes: list[str],
 ) -> Result:
     """The Result of one simultaneous impulse on the constraints ``hit`` (no step when it is empty)."""
     impulse = system.combine_normals([(i, lam[i]) for i in hit])

@@ -54,7 +54,8 @@ from verify.laws.rule import solve
 from verify.maps.widen import at_point, closed_cone
 from verify.numbers.algebraic import RealAlgebraic, X
 from verify.numbers.backends.base import Backend
-from verify.numbers.backends.symbolic import EPS, Piece, RootCache, Split, SymbolicBackend
+from verify.numbers.backends.ratfunc import EPS
+from verify.numbers.backends.symbolic import Piece, RootCache, Split, SymbolicBackend
 from verify.numbers.numeric import certified_sign
 from verify.proofs.cones.period import linear_step
 from verify.proofs.termination import MAX_PERIOD

@@ -58,9 +58,9 @@ class Roots(RootCache):
 
     def __init__(self) -> None:
         super().__init__()
-        self._flint: dict[tuple, list[RealAlgebraic]] = {}
+        self._flint: dict[tuple[Any, ...], list[RealAlgebraic]] = {}
 
-    def roots_of(self, coeffs: tuple) -> list[RealAlgebraic]:
+    def roots_of(self, coeffs: tuple[Any, ...]) -> list[RealAlgebraic]:
         if not FLINT or len(coeffs) < 2:
             return super().roots_of(coeffs)
         if coeffs not in self._flint:
@@ -400,7 +400,7 @@ def set_areas(P: Polys, cells: Sequence[Cell], box: Box, cache: RootCache | None
     two end pieces, next to the cell's algebraic ends, count from 0 to their whole height."""
     cache = cache or Roots()
     _, _, c, d = box
-    values: dict[tuple, tuple[Fraction, Fraction]] = {}
+    values: dict[tuple[Any, ...], tuple[Fraction, Fraction]] = {}
 
     def at(bound: Bound, t: Fraction) -> tuple[Fraction, Fraction]:
         key = (bound.value, None if bound.poly is None else P.key(bound.poly), bound.index, t)

@@ -29,10 +29,12 @@ from typing import Any
 
 from verify.errors import InvalidInput, InvalidSystem
 from verify.maps import DEFAULT_WIDEN
-from verify.maps.line import Part, Watch, line_parts, parts_json, piece_json, undecided_length
+from verify.maps.line import Part, line_parts, parts_json, piece_json, undecided_length
+from verify.maps.watch import Watch
 from verify.models.cradle import cradle_system, cradle_velocity
 from verify.numbers.algebraic import RealAlgebraic
-from verify.numbers.backends.symbolic import EPS, Piece, RootCache, Split, SymbolicBackend
+from verify.numbers.backends.ratfunc import EPS
+from verify.numbers.backends.symbolic import Piece, RootCache, Split, SymbolicBackend
 from verify.numbers.format import counted, format_exact
 from verify.numbers.parse import to_number
 

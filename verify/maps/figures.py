@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+from collections.abc import Callable
 from fractions import Fraction
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
@@ -111,7 +112,7 @@ def staircase_figure(cmap: CradleMap) -> Any:
     masses = "" if all(m == 1 for m in cmap.masses) else f" (masses {', '.join(str(m) for m in cmap.masses)})"
     ax.set_title(f"Newton's cradle, {cmap.balls} balls{masses}, eps in [{cmap.domain.lower}, {cmap.domain.upper}]")
     ax.grid(alpha=0.3)
-    style = {
+    style: dict[str, Callable[[str], Any]] = {
         "exit": lambda label: Line2D([], [], color="C0", lw=1.6, label=label),
         "non_terminating": lambda label: Patch(color="C3", alpha=0.18, label=label),
         "exits_later": lambda label: Patch(**_UNEXPLORED_STYLE["exits_later"], label=label),
@@ -276,7 +277,7 @@ def _named_sequence(sets: list[tuple[int, ...]], names: list[str]) -> str:
     return "".join("(" + ",".join(names[j] for j in J) + ")" for J in sets)
 
 
-def plane_legend(m: EpsMap) -> list[tuple[tuple, str]]:
+def plane_legend(m: EpsMap) -> list[tuple[tuple[Any, ...], str]]:
     """``(behaviour, label)`` for each behaviour drawn, the largest area first; a behaviour is (stop,
     impulses, impact sets).
 
@@ -287,7 +288,7 @@ def plane_legend(m: EpsMap) -> list[tuple[tuple, str]]:
      'exit after 2: (S1,S2)(S1), area 0.0733-0.0782']
     """
     plane, names = m.cells, list(m.system.names)
-    kinds: dict[tuple, list[Any]] = {}
+    kinds: dict[tuple[Any, ...], list[Any]] = {}
     for p in plane.parts:
         if p.stop != "not_run":
             kinds.setdefault((p.stop, p.iterations, tuple(p.impact_sets)), []).append(p)

@@ -44,11 +44,13 @@ from verify.dynamics.system import System, is_algebraic
 from verify.errors import BadNumber, InvalidInput, InvalidSystem
 from verify.maps import DEFAULT_LINES, DEFAULT_WIDEN, MAX_LINES
 from verify.maps.backends.plane import PlaneBackend
-from verify.maps.line import Part, Watch, line_parts, parts_json, piece_json
+from verify.maps.line import Part, line_parts, parts_json, piece_json
 from verify.maps.plane import PlaneMap, plane_json, plane_parts
+from verify.maps.watch import Watch
 from verify.numbers.algebraic import RealAlgebraic
 from verify.numbers.backends import NumberFieldBackend, exact_for
-from verify.numbers.backends.symbolic import EPS, Piece, RootCache, Split, SymbolicBackend
+from verify.numbers.backends.ratfunc import EPS
+from verify.numbers.backends.symbolic import Piece, RootCache, Split, SymbolicBackend
 from verify.numbers.format import counted, format_exact
 from verify.numbers.parse import CONSTANTS, FUNCTIONS, Number, parse_number, to_number
 

@@ -51,7 +51,8 @@ from verify.maps.boundary import LAM, Pattern, characteristic, frame, pattern_ma
 from verify.maps.plane import plane_parts
 from verify.maps.watch import Watch
 from verify.numbers.algebraic import RealAlgebraic
-from verify.numbers.backends.symbolic import EPS, Piece, RootCache, Split, SymbolicBackend
+from verify.numbers.backends.ratfunc import EPS
+from verify.numbers.backends.symbolic import Piece, RootCache, Split, SymbolicBackend
 from verify.numbers.format import format_exact
 
 #: the largest length left undecided between the boundary and the interval the argument covers

@@ -14,7 +14,7 @@ polynomial (exact algebraic numbers) and each part is run again. Every part ends
 Neighbouring parts that behave the same are merged, so each endpoint belongs to exactly one
 part, decided exactly; the union is the whole piece.
 
->>> from verify.numbers.backends.symbolic import EPS
+>>> from verify.numbers.backends.ratfunc import EPS
 >>> from verify.models.corner import corner_system
 >>> def corner(K):  # a corner of slope 1/2, eps1 the parameter and eps2 = 1/2
 ...     return corner_system("1/2", EPS, "1/2", backend=K)
@@ -45,7 +45,8 @@ from verify.maps.turning import closed_below_turning
 from verify.maps.watch import Watch
 from verify.maps.widen import around_point, point_run, without
 from verify.numbers.algebraic import RealAlgebraic
-from verify.numbers.backends.symbolic import EPS, Piece, RootCache, Split, SymbolicBackend
+from verify.numbers.backends.ratfunc import EPS
+from verify.numbers.backends.symbolic import Piece, RootCache, Split, SymbolicBackend
 from verify.numbers.format import counted, format_decimal, format_exact
 from verify.proofs.termination import MAX_PERIOD
 
@@ -74,7 +75,7 @@ class Part:
         )
 
 
-def _cone_of(certificate: dict[str, Any] | None) -> tuple:
+def _cone_of(certificate: dict[str, Any] | None) -> tuple[Any, ...]:
     """What a certificate's cone is made of (two parts with equal cones can be merged)."""
     c = certificate or {}
     cells = c.get("cuts") if c.get("kind") == "exits on cells" else None  # each part keeps its own cells

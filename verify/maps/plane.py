@@ -141,7 +141,7 @@ def plane_parts(
     P = polys(arithmetic)
     tower = Tower.over(P, number_field) if number_field is not None else None
     cache, cones = Roots(), (CellCones(build) if certify and cell_cones else None)
-    curves: dict[tuple, Any] = {}
+    curves: dict[tuple[Any, ...], Any] = {}
     started = shown = time.monotonic()
     deadline = watch.started + watch.seconds if watch is not None and watch.seconds is not None else None
 
@@ -149,7 +149,9 @@ def plane_parts(
         if deadline is not None and time.monotonic() > deadline:
             raise OutOfTime("the map's wall-clock budget ran out while a cell was cut")
 
-    work: list[tuple[Cell, frozenset[tuple]]] = [(c, frozenset()) for c in reversed(decompose(P, [], box, cache))]
+    work: list[tuple[Cell, frozenset[tuple[Any, ...]]]] = [
+        (c, frozenset()) for c in reversed(decompose(P, [], box, cache))
+    ]
     parts: list[CellPart] = []
     try:
         while work and not (watch is not None and watch.check()):
@@ -192,7 +194,9 @@ def plane_parts(
                     stopped=stopped)  # fmt: skip
 
 
-def _cut(P: Polys, cell: Cell, new: Sequence[Any], box: Box, using: tuple[Roots, Any]) -> tuple[list[Cell], dict]:
+def _cut(
+    P: Polys, cell: Cell, new: Sequence[Any], box: Box, using: tuple[Roots, Any]
+) -> tuple[list[Cell], dict[Any, Any]]:
     """The cell's parts cut by the curves of ``new`` that meet it, and those curves (by key): a curve that does not
     meet the cell keeps one sign on it, so it is known there and cuts nothing (``using``: the root cache and the
     wall-clock check)."""
@@ -205,7 +209,7 @@ def _run_cell(
     build: Callable[[PlaneBackend], System],
     velocity: Sequence[Any],
     cell: Cell,
-    known: tuple[Polys, frozenset[tuple], tuple[str, str]],
+    known: tuple[Polys, frozenset[tuple[Any, ...]], tuple[str, str]],
     max_impulses: int,
     *,
     deadline: float | None = None,

@@ -224,7 +224,7 @@ def behaviour_lines(m: PlaneMap, contacts: Sequence[str] | None = None) -> list[
     from verify.maps.plane import describe_area
 
     out = ["Area of each behaviour (exact bounds):"]
-    kinds: dict[tuple, list[Any]] = {}
+    kinds: dict[tuple[Any, ...], list[Any]] = {}
     for p in m.parts:
         if p.stop == "exit":
             key = (p.stop, p.iterations, tuple(p.impact_sets), "")

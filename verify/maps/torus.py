@@ -56,7 +56,8 @@ from verify.maps.boundary import LAM, Pattern, characteristic, pattern_map, symp
 from verify.maps.meanvalue import MeanValue, ball, cell, working_precision
 from verify.maps.turning import extension, field_factors
 from verify.maps.watch import Watch
-from verify.numbers.backends.symbolic import EPS, Piece, RootCache, SymbolicBackend
+from verify.numbers.backends.ratfunc import EPS
+from verify.numbers.backends.symbolic import Piece, RootCache, SymbolicBackend
 from verify.numbers.format import format_decimal
 
 #: impulses a branch may take after it leaves the period before the cell is given up
@@ -431,7 +432,12 @@ class _Forms:
             arb_mat(self.rows, self.columns, [getattr(x, part) for row in rows for x in row])
             for part in ("point", "value", "slope")
         )
-        self._vector = lambda xs: arb_mat(self.columns, 1, xs)
+
+    def _vector(self, xs: list[Any]) -> Any:
+        """A column of ``xs`` (arb_mat: python-flint's matrices of balls)."""
+        from flint import arb_mat
+
+        return arb_mat(self.columns, 1, xs)
 
     def signs(self, weights: list[MeanValue]) -> list[int | None]:
         """The sign of each form combined with ``weights`` (one per column)."""

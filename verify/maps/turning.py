@@ -53,7 +53,8 @@ from verify.maps.cells import Roots
 from verify.maps.widen import closed_cone, short_point
 from verify.numbers.algebraic import RealAlgebraic, X
 from verify.numbers.backends.field import NumberFieldBackend
-from verify.numbers.backends.symbolic import EPS, Piece, RootCache, Split, SymbolicBackend
+from verify.numbers.backends.ratfunc import EPS
+from verify.numbers.backends.symbolic import Piece, RootCache, Split, SymbolicBackend
 
 Y = sp.Symbol("y")
 #: digits of the rational that stands for sqrt(d) in the generators

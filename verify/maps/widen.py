@@ -34,7 +34,8 @@ from verify.dynamics.system import System
 from verify.errors import InvalidInput, Undecided
 from verify.laws.rule import solve
 from verify.numbers.algebraic import RealAlgebraic
-from verify.numbers.backends.symbolic import EPS, Piece, RootCache, Split, SymbolicBackend
+from verify.numbers.backends.ratfunc import EPS
+from verify.numbers.backends.symbolic import Piece, RootCache, Split, SymbolicBackend
 from verify.proofs.cones.lp import pivot_budget
 from verify.proofs.cones.period import MAX_PIVOTS, certificate_of, close, limit_cone, member, rates_after
 

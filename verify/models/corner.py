@@ -33,7 +33,8 @@ from typing import Any
 
 from verify.dynamics.system import System
 from verify.errors import InvalidInput, InvalidSystem
-from verify.laws.rule import DEFAULT_MAX_ITERATIONS, Result, solve
+from verify.laws.outcome import Result
+from verify.laws.rule import DEFAULT_MAX_ITERATIONS, solve
 from verify.laws.sequential import Law
 from verify.numbers.backends import Backend, get_backend
 from verify.numbers.numeric import certified_sign
@@ -58,7 +59,7 @@ class CornerRun:
         return sum(1 for J in self.result.impact_sets if len(J) == 2) >= 2
 
 
-def _sympy():
+def _sympy() -> Any:
     import sympy
 
     return sympy

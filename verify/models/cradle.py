@@ -24,7 +24,8 @@ from typing import Any, TypedDict, Unpack
 
 from verify.dynamics.system import System
 from verify.errors import InvalidSystem
-from verify.laws.rule import DEFAULT_MAX_ITERATIONS, Result, solve_many
+from verify.laws.outcome import Result
+from verify.laws.rule import DEFAULT_MAX_ITERATIONS, solve_many
 from verify.laws.sequential import Law
 from verify.models.paper import PAPER_MAX_ITERATIONS, PAPER_READING, Reading, aeev_halt
 from verify.numbers.backends import Backend
@@ -33,7 +34,7 @@ from verify.numbers.parse import to_number
 MODES = ("exact", "paper")
 
 
-def _restitution(eps: Any, contacts: int) -> list:
+def _restitution(eps: Any, contacts: int) -> list[Any]:
     values = list(eps) if isinstance(eps, (list, tuple)) else [eps]
     if len(values) == 1:
         values = values * contacts
@@ -163,7 +164,7 @@ def cradle_system_full(
     )
 
 
-def cradle_velocity(balls: int, v0: Any = "100", velocity: Sequence[Any] | None = None) -> list:
+def cradle_velocity(balls: int, v0: Any = "100", velocity: Sequence[Any] | None = None) -> list[Any]:
     """The left velocity: ``velocity`` when given, else ball 1 at v0 and the others at rest."""
     if velocity is not None:
         if len(velocity) != balls:

@@ -27,7 +27,7 @@ def fractions(x: Any) -> Any:
     return [fractions(y) for y in x] if isinstance(x, (list, tuple)) else Fraction(x)
 
 
-def metric_inverse_apply(g: list[list[Fraction]], a: list[Any]) -> tuple:
+def metric_inverse_apply(g: list[list[Fraction]], a: list[Any]) -> tuple[Any, ...]:
     """``g^-1 a`` in the fastest installed rationals (``a`` Fractions or those); the factorisation of the
     last g is kept (a draw asks it several times).
 
@@ -41,7 +41,7 @@ def metric_inverse_apply(g: list[list[Fraction]], a: list[Any]) -> tuple:
     return solve_spd(_F, _FACTORS[key], [x if type(x) is not Fraction else _F.convert(x) for x in a])
 
 
-def velocity_with_rates(system: tuple, w: list[Fraction], targets: dict[int, Fraction]) -> list[Fraction]:
+def velocity_with_rates(system: tuple[Any, ...], w: list[Fraction], targets: dict[int, Fraction]) -> list[Fraction]:
     """``v = w + sum_k c_k g^-1 a_k`` whose rates ``p(F_j)`` equal ``targets[j]`` exactly.
 
     ``system`` is ``(g, normals, time_terms)``; the other rates are whatever follows.

@@ -18,12 +18,15 @@ that grows without bound as the corner narrows towards the boundary.
 from __future__ import annotations
 
 from fractions import Fraction
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 from verify.numbers.format import format_exact
 
+if TYPE_CHECKING:
+    import sympy as sp
 
-def symmetric_boundary() -> tuple[Any, Any]:
+
+def symmetric_boundary() -> tuple[sp.Expr, sp.Expr]:
     """The boundary slope k*(eps) and angle alpha*(eps), derived with SymPy.
 
     Solves ``(1 + eps)(1 - k^2) = 2 sqrt(eps) (1 + k^2)`` (that is c = 2 sqrt(eps), the

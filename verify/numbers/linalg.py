@@ -19,7 +19,7 @@ from typing import Any
 
 from verify.numbers.backends.base import Backend
 
-Vector = tuple
+Vector = tuple[Any, ...]
 Matrix = Sequence[Sequence[Any]]
 
 

@@ -205,10 +205,10 @@ def _gave_up(exact: dict[str, Any], mine: dict[str, Any]) -> bool:
         return False
     sets_e, sets_m = exact["impact_sets"], impact_sets_of(mine)
     if sets_m is None:
-        return exact["stop"] != "exit"  # no impulses given: only an endless run can be given up on
+        return bool(exact["stop"] != "exit")  # no impulses given: only an endless run can be given up on
     n = mine.get("iterations", len(sets_m))
     longer = exact["stop"] == "non_terminating" or n < exact["iterations"]
-    return longer and sets_e[: len(sets_m)] == sets_m[: len(sets_e)]
+    return bool(longer and sets_e[: len(sets_m)] == sets_m[: len(sets_e)])
 
 
 def grade_case(case: dict[str, Any], exact: dict[str, Any], mine: dict[str, Any], found: Any, tol: Fraction) -> Grade:

@@ -48,7 +48,8 @@ import sympy as sp
 
 from verify.dynamics.system import System
 from verify.laws.rule import Budget, impulse, solve
-from verify.maps.cradle import CradleMap, Part, cradle_map, termination_boundaries
+from verify.maps.cradle import CradleMap, cradle_map, termination_boundaries
+from verify.maps.line import Part
 from verify.models.corner import corner_geometry, slope_of, velocity_of
 from verify.models.cradle import cradle_geometry
 from verify.models.rates import velocity_with_rates
@@ -127,7 +128,7 @@ def level_spec(level: int) -> Level:
     if level not in (1, 2, 3):
         raise ValueError(f"level must be 1, 2 or 3, got {level!r}")
 
-    def upto(*per_level: tuple) -> tuple:  # what levels 1..level add, in turn
+    def upto(*per_level: tuple[Any, ...]) -> tuple[Any, ...]:  # what levels 1..level add, in turn
         return tuple(x for added in per_level[:level] for x in added)
 
     return Level(
@@ -192,7 +193,7 @@ def _label(b: RealAlgebraic, below: Part, above: Part) -> str:
 # -- the cradle ---------------------------------------------------------------------------------
 
 
-def _cradle_case(spec: CradleSpec, case_id: str, eps: Any, why: str) -> dict:
+def _cradle_case(spec: CradleSpec, case_id: str, eps: Any, why: str) -> dict[Any, Any]:
     masses = [Fraction(m) for m in spec.masses]
     g, normals = cradle_geometry(masses)
     velocity = [1] + [0] * (len(masses) - 1)
@@ -216,11 +217,11 @@ def _change(below: Part, above: Part) -> str:
     return f"the count goes from {below.iterations} to {above.iterations}"
 
 
-def _breakpoint_cases(spec: CradleSpec, cmap: CradleMap, level: Level) -> list[dict]:
+def _breakpoint_cases(spec: CradleSpec, cmap: CradleMap, level: Level) -> list[dict[Any, Any]]:
     """Beside every breakpoint between two exits: eps 10^-k below and above it when that eps lies in
     the neighbouring part of the map (no other breakpoint in between), and on it when it is rational
     or a quadratic surd."""
-    out: list[dict] = []
+    out: list[dict[Any, Any]] = []
     labels: list[str] = []
     for b, below, above in cmap.thresholds():
         if below.stop != "exit" or above.stop != "exit":
@@ -246,8 +247,8 @@ def _breakpoint_cases(spec: CradleSpec, cmap: CradleMap, level: Level) -> list[d
     return out
 
 
-def _termination_cases(spec: CradleSpec, cmap: CradleMap, level: Level) -> list[dict]:
-    out: list[dict] = []
+def _termination_cases(spec: CradleSpec, cmap: CradleMap, level: Level) -> list[dict[Any, Any]]:
+    out: list[dict[Any, Any]] = []
     for b in termination_boundaries(cmap):
         form = _closed_form(b)
         label = slug(form) if form is not None and len(slug(form)) <= 24 else "boundary"
@@ -270,9 +271,9 @@ def _termination_cases(spec: CradleSpec, cmap: CradleMap, level: Level) -> list[
     return out
 
 
-def cradle_cases(level: Level) -> list[dict]:
+def cradle_cases(level: Level) -> list[dict[Any, Any]]:
     """The cradle's breakpoint and termination-boundary cases of a level (one map per cradle)."""
-    out: list[dict] = []
+    out: list[dict[Any, Any]] = []
     for spec in level.maps:
         cmap = cradle_map(masses=list(spec.masses), max_impulses=spec.max_impulses)
         out += _breakpoint_cases(spec, cmap, level)
@@ -283,14 +284,14 @@ def cradle_cases(level: Level) -> list[dict]:
 # -- the corner and the wedge --------------------------------------------------------------------
 
 
-def _corner_case(case_id: str, slope: Any, eps: Sequence[Any], velocity: Sequence[Any], why: str) -> dict:
+def _corner_case(case_id: str, slope: Any, eps: Sequence[Any], velocity: Sequence[Any], why: str) -> dict[Any, Any]:
     g, normals = corner_geometry(slope)
     record = case_record(case_id, g, normals, eps, [*velocity, 0], max_iterations=MAX_ITERATIONS)
     record["why"] = why
     return record
 
 
-def corner_cases(level: Level) -> list[dict]:
+def corner_cases(level: Level) -> list[dict[Any, Any]]:
     """Entrance velocities along a wall of the corner (a rate exactly 0) and 10^-k beside it."""
     k2, eps = Fraction(1, 2), [Fraction(1, 2), Fraction(1, 5)]
     base = "corner of slope 1/2, CORs 1/2 and 1/5"
@@ -325,9 +326,9 @@ def _wedge_boundary(e: Fraction) -> Any:
     return Fraction(int(k.p), int(k.q)) if k.is_Rational else k
 
 
-def wedge_cases(level: Level) -> list[dict]:
+def wedge_cases(level: Level) -> list[dict[Any, Any]]:
     """The symmetric wedge on its boundary slope, 10^-k narrower (never exits), and wider (exits late)."""
-    out: list[dict] = []
+    out: list[dict[Any, Any]] = []
     for text in level.wedge_cors:
         e = Fraction(text)
         form = _wedge_boundary(e)
@@ -354,9 +355,9 @@ def wedge_cases(level: Level) -> list[dict]:
 # -- grazing contacts, CORs 0 and 1 ----------------------------------------------------------------
 
 
-def grazing_cases(level: Level) -> list[dict]:
+def grazing_cases(level: Level) -> list[dict[Any, Any]]:
     """Cradles whose first ball hits balls at rest that touch (a rate exactly 0), CORs 0 and 1."""
-    out: list[dict] = []
+    out: list[dict[Any, Any]] = []
     for balls in level.balls:
         g, normals = cradle_geometry([Fraction(1)] * balls)
         v = [1] + [0] * (balls - 1)
@@ -379,9 +380,9 @@ def grazing_cases(level: Level) -> list[dict]:
 # -- badly scaled mass matrices -----------------------------------------------------------------
 
 
-def scaled_cases(level: Level) -> list[dict]:
+def scaled_cases(level: Level) -> list[dict[Any, Any]]:
     """Cradles with masses 1e-6 and 1e6, and Hilbert mass matrices (condition numbers up to 1e13)."""
-    out: list[dict] = []
+    out: list[dict[Any, Any]] = []
     for masses, v, what in (
         (LIGHT_HEAVY, [1, 0, 0], "a ball of mass 1e-6 hits masses 1 and 1e6"),
         (LIGHT_HEAVY[::-1], [1, 0, 0], "a ball of mass 1e6 hits masses 1 and 1e-6"),
@@ -407,7 +408,7 @@ def scaled_cases(level: Level) -> list[dict]:
 # -- random systems with a decision on its boundary ------------------------------------------------
 
 
-def _draw_system(rng: random.Random, tiny: int) -> tuple[list, list, list, list]:
+def _draw_system(rng: random.Random, tiny: int) -> tuple[list[Any], list[Any], list[Any], list[Any]]:
     """A random SPD ``L L^T`` (the diagonal of L from 1 down to 10^-tiny), independent normals, time
     terms (moving one time in four) and CORs with 0 and 1."""
 
@@ -424,7 +425,7 @@ def _draw_system(rng: random.Random, tiny: int) -> tuple[list, list, list, list]
     return g, normals, time_terms, eps
 
 
-def near_boundary_case(rng: random.Random, case_id: str, kind: str, k: int, tiny: int = 0) -> dict | None:
+def near_boundary_case(rng: random.Random, case_id: str, kind: str, k: int, tiny: int = 0) -> dict[Any, Any] | None:
     """A random system whose rate of its last constraint, after the first impulse, is exactly -10^-k
     (``kind`` "minus"), 0 ("zero") or +10^-k ("plus"); None when the draw does not fit (the caller
     draws again). The first impact set is {0} or {0, 1}; the other rates stay positive.
@@ -467,18 +468,18 @@ def near_boundary_case(rng: random.Random, case_id: str, kind: str, k: int, tiny
     return record
 
 
-def _ends(record: dict) -> bool:
+def _ends(record: dict[Any, Any]) -> bool:
     """Whether the exact run of a draw ends (exit or proved never to exit) while its numbers stay small."""
     system = System(record["mass_matrix"], record["normals"], record["restitution"], record["time_terms"])
     r = solve(system, record["velocity"], max_iterations=1000, trace=False, budget=Budget(bits=DRAW_BITS))
     return r.stop in ("exit", "non_terminating")
 
 
-def random_cases(seed: int, count: int, prefix: str, tiny: int = 0) -> list[dict]:
+def random_cases(seed: int, count: int, prefix: str, tiny: int = 0) -> list[dict[Any, Any]]:
     """``count`` near-boundary random systems from ``random.Random`` seeded by (prefix, seed); the
     first ``m`` cases of a larger count are the ``m`` cases of a smaller one."""
     rng = random.Random(f"verify-hardcases-{prefix}-{seed}")
-    out: list[dict] = []
+    out: list[dict[Any, Any]] = []
     while len(out) < count:
         i = len(out)
         kind, k = NEAR_KINDS[i % len(NEAR_KINDS)], NEAR_EXPONENTS[i % len(NEAR_EXPONENTS)]
@@ -492,7 +493,7 @@ def random_cases(seed: int, count: int, prefix: str, tiny: int = 0) -> list[dict
 # -- the whole set ------------------------------------------------------------------------------------
 
 
-def generate(level: int, seed: int, law: str = "rule") -> list[dict]:
+def generate(level: int, seed: int, law: str = "rule") -> list[dict[Any, Any]]:
     """The hard cases of ``level`` (1, 2 or 3) and ``seed``: case records with a ``why`` field; with
     ``law`` ``"simultaneous"`` or ``"sequential"`` also the cases where that law branches
     (:mod:`verify.oracle.lawcases`).
@@ -505,7 +506,7 @@ def generate(level: int, seed: int, law: str = "rule") -> list[dict]:
     (40, 3)
     """
     spec = level_spec(level)
-    families: list[Callable[[Level], list[dict]]] = [cradle_cases, corner_cases, wedge_cases, grazing_cases,
+    families: list[Callable[[Level], list[dict[Any, Any]]]] = [cradle_cases, corner_cases, wedge_cases, grazing_cases,
                                                       scaled_cases]  # fmt: skip
     out = [record for family in families for record in family(spec)]
     out += random_cases(seed, spec.illcond, "illcond", tiny=8)

@@ -26,7 +26,9 @@ DISTANCES = {1: (12, 6), 2: (15, 12, 9, 6), 3: (30, 15, 12, 9, 6, 3)}
 CAP = 10_000
 
 
-def _cradle(case_id: str, eps: Any, velocity: list[Any], why: str, settings: dict[str, Any] | None = None) -> dict:
+def _cradle(
+    case_id: str, eps: Any, velocity: list[Any], why: str, settings: dict[str, Any] | None = None
+) -> dict[Any, Any]:
     g, normals = cradle_geometry([1] * len(velocity))
     record = case_record(case_id, g, normals, [eps] * (len(velocity) - 1), velocity, max_iterations=CAP)
     record["why"] = why
@@ -43,7 +45,7 @@ def _beside(level: int) -> list[tuple[str, Fraction]]:
     return out
 
 
-def sequential_cases(level: int) -> list[dict]:
+def sequential_cases(level: int) -> list[dict[Any, Any]]:
     """Thresholds, order ties and badly scaled contacts of the sequential law."""
     out = []
     for t in (Fraction(1, 2), Fraction(1)) if level > 1 else (Fraction(1, 2),):
@@ -68,7 +70,7 @@ def sequential_cases(level: int) -> list[dict]:
     return out
 
 
-def simultaneous_cases(level: int) -> list[dict]:
+def simultaneous_cases(level: int) -> list[dict[Any, Any]]:
     """The boundary of the simultaneous law's active set in a three-ball cradle with COR e: with contact
     S(1,2) alone the middle ball leaves at (1 + e)/2, so a third ball leaving at exactly that speed takes
     no impulse from S(2,3), and 10^-k slower it takes one."""
@@ -87,7 +89,7 @@ def simultaneous_cases(level: int) -> list[dict]:
     return out
 
 
-def law_cases(level: int, law: str) -> list[dict]:
+def law_cases(level: int, law: str) -> list[dict[Any, Any]]:
     """The hard cases of a law (none for the paper's rule: :mod:`verify.oracle.hardcases` holds those)."""
     if law == "sequential":
         return sequential_cases(level)

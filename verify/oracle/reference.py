@@ -44,19 +44,19 @@ SEED = 2021
 GOLDEN_MAX_ITERATIONS = 10_000
 
 
-def _cradle(case_id: str, eps: list[Any], velocity: list[Any], masses: list[Any] | None = None) -> dict:
+def _cradle(case_id: str, eps: list[Any], velocity: list[Any], masses: list[Any] | None = None) -> dict[Any, Any]:
     g, normals = cradle_geometry(masses or [1] * len(velocity))
     return case_record(case_id, g, normals, eps, velocity, max_iterations=GOLDEN_MAX_ITERATIONS)
 
 
-def _corner(case_id: str, slope: Any, eps: list[Any], velocity: list[Any]) -> dict:
+def _corner(case_id: str, slope: Any, eps: list[Any], velocity: list[Any]) -> dict[Any, Any]:
     g, normals = corner_geometry(slope)
     return case_record(case_id, g, normals, eps, velocity, max_iterations=GOLDEN_MAX_ITERATIONS)
 
 
-def _paper_cases() -> list[dict]:
+def _paper_cases() -> list[dict[Any, Any]]:
     from verify.models.corner import slope_of, velocity_of
-    from verify.paper.table1 import load_table1
+    from verify.paper.readings import load_table1
 
     data = load_table1()
     out = [_cradle(f"paper-table1-eps-{row[0]}", [row[0], row[0]], [data["v0"], 0, 0]) for row in data["rows"]]
@@ -64,7 +64,7 @@ def _paper_cases() -> list[dict]:
     return out
 
 
-def _family_cases() -> list[dict]:
+def _family_cases() -> list[dict[Any, Any]]:
     from verify.models.corner import slope_of, velocity_of
 
     return [
@@ -87,8 +87,8 @@ def _family_cases() -> list[dict]:
 
 
 def random_cases(
-    count: int = 16, *, seed: int | None = None, keep: Callable[[dict], bool] | None = None
-) -> tuple[list[dict], int]:
+    count: int = 16, *, seed: int | None = None, keep: Callable[[dict[Any, Any]], bool] | None = None
+) -> tuple[list[dict[Any, Any]], int]:
     """General systems (:func:`random_case`): SPD mass matrices, r = 2..4 independent normals,
     some moving, velocities with exact target rates (several hit, some grazing), CORs with 0
     and 1, drawn with ``seed`` (default the golden dataset's).
@@ -100,7 +100,7 @@ def random_cases(
     """
     rng = random.Random(SEED if seed is None else seed)
     keep = _ends if keep is None else keep
-    out: list[dict] = []
+    out: list[dict[Any, Any]] = []
     k = 0
     while len(out) < count:
         record = random_case(rng, len(out), k)
@@ -113,7 +113,7 @@ def random_cases(
 GENERATION_BITS = 2048
 
 
-def _ends(record: dict) -> bool:
+def _ends(record: dict[Any, Any]) -> bool:
     from verify.laws.rule import Budget, solve
 
     c = case_from_record(record)
@@ -145,7 +145,7 @@ def random_geometry(
     return g, normals
 
 
-def random_case(rng: random.Random, index: int, k: int) -> dict:
+def random_case(rng: random.Random, index: int, k: int) -> dict[Any, Any]:
     """A random general system and velocity as a case record, drawn from ``rng``: r = 2..4
     constraints (``2 + index % 3``) in n = r+1 or r+2 coordinates (``k``), moving constraints
     for every fourth index, CORs with 0 and 1 drawn often, a velocity that hits two or three
@@ -175,25 +175,25 @@ def random_case(rng: random.Random, index: int, k: int) -> dict:
     return case_record(case_id, g, normals, eps, v, time_terms=time_terms, max_iterations=GOLDEN_MAX_ITERATIONS)
 
 
-def golden_dataset() -> tuple[list[dict], int]:
+def golden_dataset() -> tuple[list[dict[Any, Any]], int]:
     """The golden dataset's case records in a fixed order, and the number of random draws
     replaced because their numbers grew past :data:`GENERATION_BITS`."""
     randoms, skipped = random_cases()
     return _paper_cases() + _family_cases() + randoms, skipped
 
 
-def golden_cases() -> list[dict]:
+def golden_cases() -> list[dict[Any, Any]]:
     """The golden dataset's case records, in a fixed order."""
     return golden_dataset()[0]
 
 
 def golden_results(
-    cases: list[dict],
+    cases: list[dict[Any, Any]],
     *,
     budget: Any = None,
     progress: Callable[[int, str, int], None] | None = None,
     law: Law = "rule",
-) -> list[dict]:
+) -> list[dict[Any, Any]]:
     """The exact result records of the cases (the default exact engine, with certificates), under
     the paper's rule or, with ``law="simultaneous"``, the simultaneous law.
 
@@ -230,12 +230,12 @@ def golden_results(
 
 #: how many exact results :func:`golden_results` keeps (the least recently used go first)
 RESULTS_KEPT = 4096
-_KEPT: collections.OrderedDict[str, dict] = collections.OrderedDict()
+_KEPT: collections.OrderedDict[str, dict[Any, Any]] = collections.OrderedDict()
 
 
 def _exact_result(
-    k: int, record: dict, law: Law, budget: Any, progress: Callable[[int, str, int], None] | None
-) -> dict:
+    k: int, record: dict[Any, Any], law: Law, budget: Any, progress: Callable[[int, str, int], None] | None
+) -> dict[Any, Any]:
     """The exact result record of case k (from 1) of a file."""
     from verify.laws.rule import solve
 
@@ -256,7 +256,7 @@ def _exact_result(
     return result_record(r, c.id)
 
 
-def _summary(cases: list[dict], results: list[dict], skipped: int) -> str:
+def _summary(cases: list[dict[Any, Any]], results: list[dict[Any, Any]], skipped: int) -> str:
     decimals = (
         "\nEach case of `cases.json` also carries `decimal`: its numbers correctly rounded to 40 significant\n"
         "digits, for a program that reads numbers with `strtod` (`docs/oracle.md`).\n"
@@ -265,7 +265,7 @@ def _summary(cases: list[dict], results: list[dict], skipped: int) -> str:
     return head + dataset_description(cases, results, skipped) + decimals
 
 
-def dataset_description(cases: list[dict], results: list[dict], skipped: int) -> str:
+def dataset_description(cases: list[dict[Any, Any]], results: list[dict[Any, Any]], skipped: int) -> str:
     """What the golden dataset holds: how it is made, one table row per case, the stops."""
     lines = [
         "Generated by `verify oracle export DIR` (`verify/oracle/reference.py`); do not edit by hand.",
@@ -295,7 +295,7 @@ def dataset_description(cases: list[dict], results: list[dict], skipped: int) ->
     return "\n".join(lines)
 
 
-def _library_free(record: dict) -> dict:
+def _library_free(record: dict[Any, Any]) -> dict[Any, Any]:
     """A result record whose ``backend`` does not name the rational library in use (gmpy2, FLINT or pure
     Python give the same numbers): the golden files are the same bytes on every install.
 
@@ -396,9 +396,9 @@ OPTIONAL_CHECKED = ("stop", "iterations", "impact_sets")
 
 
 def compare(
-    cases: list[dict],
-    expected: list[dict],
-    got: list[dict],
+    cases: list[dict[Any, Any]],
+    expected: list[dict[Any, Any]],
+    got: list[dict[Any, Any]],
     *,
     rtol: Fraction = DEFAULT_RTOL,
     atol: Fraction = Fraction(0),
@@ -433,7 +433,7 @@ def compare(
         out.tolerance = budgets.default.describe() + (
             f"; {len(budgets.cases)} id patterns with their own (--tolerances)" if budgets.cases else ""
         )
-    by_id: dict[str, dict] = {}
+    by_id: dict[str, dict[Any, Any]] = {}
     for i, r in enumerate(got):
         if r["id"] in by_id:
             out.mismatches.append(Mismatch(r["id"], "id", f"results[{i}] repeats the id"))
@@ -460,7 +460,9 @@ class Found:
     velocity_compared: bool = False
 
 
-def _check_case(out: Comparison, case: dict, exact: dict, mine: dict | None, tol: Tolerance) -> None:
+def _check_case(
+    out: Comparison, case: dict[Any, Any], exact: dict[Any, Any], mine: dict[Any, Any] | None, tol: Tolerance
+) -> None:
     """Compare one case: its mismatches, its count in ``unchecked``, and its grade."""
     from verify.oracle.grading import Grade, grade_case
 
@@ -490,7 +492,7 @@ def _check_case(out: Comparison, case: dict, exact: dict, mine: dict | None, tol
     out.grades.append(grade)
 
 
-def _prefix_mismatch(cid: str, sets_e: list, sets_m: list) -> list[Mismatch]:
+def _prefix_mismatch(cid: str, sets_e: list[Any], sets_m: list[Any]) -> list[Mismatch]:
     """The first impulse at which two impact-set sequences differ, over their common length."""
     m = min(len(sets_e), len(sets_m))
     if sets_e[:m] == sets_m[:m]:
@@ -499,7 +501,7 @@ def _prefix_mismatch(cid: str, sets_e: list, sets_m: list) -> list[Mismatch]:
     return [Mismatch(cid, "impact_sets", f"from impulse {w + 1}: expected {sets_e[w]}, got {sets_m[w]}")]
 
 
-def _read_velocity(case: dict, mine: dict) -> None:
+def _read_velocity(case: dict[Any, Any], mine: dict[Any, Any]) -> None:
     """Every component of the implementation's velocity read as a number, as many as the case has
     (InvalidInput names a bad one: graded ``bad_number``)."""
     n, got = len(case["velocity"]), len(mine["exit_velocity"])
@@ -509,7 +511,7 @@ def _read_velocity(case: dict, mine: dict) -> None:
         approx(x, f"results[{case['id']}].exit_velocity[{i}]")
 
 
-def _compare_one(case: dict, exact: dict, mine: dict, tol: Tolerance) -> Found:
+def _compare_one(case: dict[Any, Any], exact: dict[Any, Any], mine: dict[Any, Any], tol: Tolerance) -> Found:
     """One case's comparison. The velocity is compared with the exact one wherever that is known: at an exit,
     after the sweeps of the sequential law whatever its stop, and at any stop the implementation reached after
     as many impulses as the exact run. A result without ``stop`` (velocity-only) gives an exit velocity, or
@@ -554,7 +556,7 @@ def _compare_one(case: dict, exact: dict, mine: dict, tol: Tolerance) -> Found:
     return found
 
 
-def _count(mine: dict) -> int | None:
+def _count(mine: dict[Any, Any]) -> int | None:
     """The impulses (or sweeps) a result says it made: its ``iterations``, else the length of its
     ``impact_sets``, else None."""
     if "iterations" in mine:
@@ -562,7 +564,9 @@ def _count(mine: dict) -> int | None:
     return len(mine["impact_sets"]) if "impact_sets" in mine else None
 
 
-def _compare_sequential(found: Found, case: dict, exact: dict, mine: dict, tol: Tolerance) -> Found:
+def _compare_sequential(
+    found: Found, case: dict[Any, Any], exact: dict[Any, Any], mine: dict[Any, Any], tol: Tolerance
+) -> Found:
     """The sequential law: the velocity after the sweeps always; the stop and the sweeps' counts up to the
     float bookkeeping that :mod:`verify.oracle.bookkeeping` tolerates when the velocity agrees."""
     from verify.oracle import bookkeeping as sweeps
@@ -592,7 +596,7 @@ def _compare_sequential(found: Found, case: dict, exact: dict, mine: dict, tol: 
     return found
 
 
-def _sets_mismatch(cid: str, exact: dict, mine: dict, unit: str = "impulse") -> list[Mismatch]:
+def _sets_mismatch(cid: str, exact: dict[Any, Any], mine: dict[Any, Any], unit: str = "impulse") -> list[Mismatch]:
     """The first impulse (or sweep) at which the impact sets differ, when the result gives them."""
     sets_e, sets_m = exact["impact_sets"], impact_sets_of(mine)
     if sets_m is None or sets_m == sets_e:
@@ -607,7 +611,7 @@ def _sets_mismatch(cid: str, exact: dict, mine: dict, unit: str = "impulse") -> 
     return [Mismatch(cid, "impact_sets", f"from {unit} {w + 1}: expected {a}, got {b}")]
 
 
-def _budget_mismatch(cid: str, exact: dict, mine: dict) -> list[Mismatch]:
+def _budget_mismatch(cid: str, exact: dict[Any, Any], mine: dict[Any, Any]) -> list[Mismatch]:
     """The exact run reached its budget: only its first impulses are known."""
     n, found = exact["iterations"], []
     if mine.get("stop") in ("exit", "max_iterations", "aeev") and mine.get("iterations", n + 1) <= n:
@@ -622,13 +626,13 @@ def _budget_mismatch(cid: str, exact: dict, mine: dict) -> list[Mismatch]:
     return found + _prefix_mismatch(cid, exact["impact_sets"], impact_sets_of(mine) or [])
 
 
-def _stop_text(mine: dict, unit: str = "impulses") -> str:
+def _stop_text(mine: dict[Any, Any], unit: str = "impulses") -> str:
     """The implementation's stop, with its impulse (or sweep) count when given."""
     n = mine.get("iterations")
-    return mine["stop"] + ("" if n is None else f" after {n} {unit}")
+    return str(mine["stop"]) + ("" if n is None else f" after {n} {unit}")
 
 
-def _no_exit_text(exact: dict) -> str:
+def _no_exit_text(exact: dict[Any, Any]) -> str:
     """Why a velocity given as an exit velocity is wrong where the exact run does not exit."""
     if exact["stop"] == "non_terminating":
         what = f"non_terminating (proved, after {counted(exact['iterations'], 'impulse')}, never to exit)"
@@ -637,7 +641,7 @@ def _no_exit_text(exact: dict) -> str:
     return f"expected {what}"
 
 
-def _speeds(case: dict, exact: dict) -> tuple[Fraction, list[Fraction], Fraction]:
+def _speeds(case: dict[Any, Any], exact: dict[Any, Any]) -> tuple[Fraction, list[Fraction], Fraction]:
     """The entrance speed ``max|v_in|``, the exact velocity's components and its speed ``max|v_exit|``: what
     the tolerance of a component is measured against."""
     cid = case["id"]
@@ -646,18 +650,18 @@ def _speeds(case: dict, exact: dict) -> tuple[Fraction, list[Fraction], Fraction
     return entrance, values, max(abs(x) for x in values)
 
 
-def _velocity_bound(case: dict, exact: dict, tol: Tolerance) -> Fraction:
+def _velocity_bound(case: dict[Any, Any], exact: dict[Any, Any], tol: Tolerance) -> Fraction:
     """The largest error allowed on a component of the velocity (that of its largest component)."""
     entrance, values, speed = _speeds(case, exact)
     return max(tol.bound(x, entrance, speed) for x in values)
 
 
-def _velocity(found: Found, case: dict, exact: dict, mine: dict, tol: Tolerance) -> None:
+def _velocity(found: Found, case: dict[Any, Any], exact: dict[Any, Any], mine: dict[Any, Any], tol: Tolerance) -> None:
     found.velocity_compared = True
     found.mismatches += _compare_velocity(case, exact, mine, tol)
 
 
-def _compare_betas(cid: str, exact: dict, mine: dict, rtol: Fraction) -> list[Mismatch]:
+def _compare_betas(cid: str, exact: dict[Any, Any], mine: dict[Any, Any], rtol: Fraction) -> list[Mismatch]:
     """beta at each impulse of the same run, within ``rtol`` of the exact one (null for a single impact)."""
     for w, (e, m) in enumerate(zip(exact["betas"], mine["betas"])):
         if (e is None) != (m is None):
@@ -669,7 +673,9 @@ def _compare_betas(cid: str, exact: dict, mine: dict, rtol: Fraction) -> list[Mi
     return []
 
 
-def _compare_velocity(case: dict, exact: dict, mine: dict, tol: Tolerance) -> list[Mismatch]:
+def _compare_velocity(
+    case: dict[Any, Any], exact: dict[Any, Any], mine: dict[Any, Any], tol: Tolerance
+) -> list[Mismatch]:
     cid = case["id"]
     n = len(case["velocity"])
     if len(mine["exit_velocity"]) != n:
@@ -693,7 +699,7 @@ def _compare_velocity(case: dict, exact: dict, mine: dict, tol: Tolerance) -> li
     return out
 
 
-def load_results(text: str, source: str) -> list[dict]:
+def load_results(text: str, source: str) -> list[dict[Any, Any]]:
     """Parse and validate a result file (schema of the contracts); errors name the field."""
     return load_result_file(text, source)[0]
 
@@ -724,7 +730,7 @@ def _constants_as_text(data: Any) -> None:
                 r[name] = [text(x) for x in r[name]]
 
 
-def load_result_file(text: str, source: str, dataset: str | None = None) -> tuple[list[dict], dict[str, str]]:
+def load_result_file(text: str, source: str, dataset: str | None = None) -> tuple[list[dict[Any, Any]], dict[str, str]]:
     """A result file's results, and the cases it lists as skipped (id -> reason). A bare ``NaN``
     (what Python's ``json.dump`` writes) or ``Infinity`` in a number's place is kept as its text,
     to be graded ``bad_number`` as the string ``"nan"`` is; anywhere else it is refused, naming

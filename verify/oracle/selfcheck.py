@@ -16,8 +16,9 @@ from fractions import Fraction
 from pathlib import Path
 from typing import Any
 
+from verify.dynamics.policy import JSONObject
 from verify.oracle import reference as oracle
-from verify.oracle.grading import TableRow, table_row
+from verify.oracle.grading import DEFAULT_RTOL, TableRow, table_row
 from verify.oracle.reference import Comparison
 
 #: the worked example of docs/oracle.md, in a source checkout
@@ -30,8 +31,8 @@ class OracleFindings:
     (``example``) and on the hard cases of level 1 (``hard``), both None outside a checkout; ``engine_rows``:
     each engine of the engines record graded on the golden cases against the simultaneous law."""
 
-    cases: list[dict[str, Any]]
-    results: list[dict[str, Any]]
+    cases: list[JSONObject]
+    results: list[JSONObject]
     skipped: int
     self_check: Comparison
     example: Comparison | None = None
@@ -68,7 +69,7 @@ def _run_example(program: Path, cases: list[dict[str, Any]], exact: list[dict[st
     """The float example run on ``cases`` and compared with their ``exact`` results at its tolerance."""
     text = oracle.run_implementation(f"{sys.executable} {program}", json.dumps({"cases": cases}), 600)
     got = oracle.load_results(text, str(EXAMPLE))
-    return oracle.compare(cases, exact, got, rtol=oracle.DEFAULT_RTOL, atol=Fraction(0))
+    return oracle.compare(cases, exact, got, rtol=DEFAULT_RTOL, atol=Fraction(0))
 
 
 def engine_rows(cases: list[dict[str, Any]], out: Path) -> list[TableRow]:
@@ -85,6 +86,6 @@ def engine_rows(cases: list[dict[str, Any]], out: Path) -> list[TableRow]:
         got = [{"id": r["id"], "exit_velocity": r["engine_exit_velocity"]} for r in e["cases"] if r["id"] in ids]
         ran = {r["id"] for r in got}
         skipped = {c["id"]: "not built by the engine" for c in cases if c["id"] not in ran}
-        compared = oracle.compare(cases, exact, got, rtol=oracle.DEFAULT_RTOL, atol=Fraction(0), skipped=skipped)
+        compared = oracle.compare(cases, exact, got, rtol=DEFAULT_RTOL, atol=Fraction(0), skipped=skipped)
         rows.append(table_row(f"{e['name']} {e['version']}", "simultaneous", compared))
     return rows

@@ -16,10 +16,16 @@ from __future__ import annotations
 from concurrent.futures import Executor
 from dataclasses import dataclass, field
 from fractions import Fraction
-from typing import Any, Literal
+from typing import TYPE_CHECKING, Any, Literal
 
+from verify.dynamics.policy import JSONObject
 from verify.paper.sweep import random_corner_cases, run_case, sweep
 from verify.runner.tasks import TaskRunner
+
+if TYPE_CHECKING:
+    import sympy as sp
+
+    from verify.paper.float_check import FloatCheck
 
 #: a claim's verdict on the sample: it holds, a case refutes it, or (the asymmetric corner) where repeated
 #: multiple impacts occur was found, or not
@@ -114,7 +120,7 @@ def _mirrored_ok(r: dict[str, Any], m: dict[str, Any]) -> bool:
         return False
     if r["stop"] != "exit":  # a proof may fire a step earlier on one side: compare what both ran
         common = min(len(mirrored), len(m["zones"]))
-        return mirrored[:common] == m["zones"][:common]
+        return bool(mirrored[:common] == m["zones"][:common])
     if mirrored != m["zones"]:
         return False
     (x, y), (mx, my) = (map(Fraction, r["exit_velocity"]), map(Fraction, m["exit_velocity"]))
@@ -178,10 +184,10 @@ class CornerFindings:
     per slope), and float against exact (:func:`verify.paper.float_check.float_vs_exact`)."""
 
     claims: list[Claim]
-    boundary: tuple[Any, Any]
+    boundary: tuple[sp.Expr, sp.Expr]
     eps: str
-    rebounds: list[dict[str, Any]]
-    floats: dict[str, Any]
+    rebounds: list[JSONObject]
+    floats: FloatCheck
 
 
 def corner_findings(

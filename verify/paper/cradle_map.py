@@ -19,7 +19,7 @@ from verify.numbers.parse import to_number
 
 def aeev_rows_explained(cmap: CradleMap) -> list[dict[str, Any]]:
     """The paper's AEEV rows of Table 1 read off the map: do they exit by themselves?"""
-    from verify.paper.table1 import load_table1, parse_printed_iterations
+    from verify.paper.readings import load_table1, parse_printed_iterations
 
     out = []
     for eps, *_, printed in load_table1()["rows"]:

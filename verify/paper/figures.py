@@ -9,6 +9,7 @@ from dataclasses import dataclass
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
+from verify.dynamics.policy import JSONObject
 from verify.laws.outcome import Result
 from verify.numbers.format import counted
 from verify.views.figures import load_pyplot, save_figure
@@ -94,7 +95,7 @@ def iterations_cases(n: int = 30) -> Cases:
     from mpmath import mp
 
     def rational_tan(degrees: float) -> str:  # grid construction only; the runs are exact on these rationals
-        return mp.nstr(mp.tan(mp.radians(degrees)), 6, min_fixed=-10, max_fixed=10)
+        return str(mp.nstr(mp.tan(mp.radians(degrees)), 6, min_fixed=-10, max_fixed=10))
 
     alphas = [(i + 0.5) * 90 / (2 * n) for i in range(2 * n)]
     phis = [-89 + 178 * j / (2 * n) for j in range(2 * n + 1)]
@@ -370,8 +371,8 @@ class FigureRuns:
     """A corner figure with its cases and their runs: what the page draws, computed before."""
 
     figure: CornerFigure
-    cases: Cases
-    results: Cases
+    cases: list[JSONObject]
+    results: list[JSONObject]
 
 
 def run_corner_figures(runner: TaskRunner | None = None) -> list[FigureRuns]:

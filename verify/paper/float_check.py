@@ -18,7 +18,7 @@ from __future__ import annotations
 
 from concurrent.futures import Executor
 from fractions import Fraction
-from typing import Any
+from typing import Any, TypedDict
 
 from verify.paper.sweep import sweep
 from verify.runner.tasks import TaskRunner
@@ -61,6 +61,17 @@ def compare_case(case: dict[str, Any]) -> dict[str, Any]:
     return out
 
 
+class FloatCheck(TypedDict):
+    """What :func:`float_vs_exact` found: the cases compared, those where the floats take another branch,
+    their count by reason and with a COR of 0, and the first five of them (case, zones, reason)."""
+
+    cases: int
+    differing: int
+    reasons: dict[str, int]
+    differing_with_a_cor_of_0: int
+    examples: list[dict[str, Any]]
+
+
 def float_vs_exact(
     cases: list[dict[str, Any]],
     *,
@@ -68,7 +79,7 @@ def float_vs_exact(
     workers: int | None = None,
     progress: bool | None = None,
     runner: TaskRunner | None = None,
-) -> dict[str, Any]:
+) -> FloatCheck:
     """Compare every case (on ``runner``, else ``executor`` or ``workers``: :func:`verify.paper.sweep.sweep`);
     counts by reason, and the first few differing cases."""
     results = sweep(cases, executor=executor, workers=workers, progress=progress, func=compare_case, runner=runner)

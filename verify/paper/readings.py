@@ -100,7 +100,8 @@ class Search:
 def load_table1() -> dict[str, Any]:
     """The printed Table 1 (strings as printed) with its source."""
     text = resources.files("verify").joinpath("data/paper/table1.json").read_text(encoding="utf-8")
-    return json.loads(text)
+    table: dict[str, Any] = json.loads(text)
+    return table
 
 
 def parse_printed_iterations(text: str) -> tuple[str, int]:

@@ -35,7 +35,7 @@ from collections.abc import Iterable
 from dataclasses import dataclass, field
 from fractions import Fraction
 
-from verify.laws.rule import Result
+from verify.laws.outcome import Result
 from verify.models.cradle import run_cradle, run_cradle_many
 from verify.models.paper import PAPER_READING, Reading
 from verify.numbers.backends import Backend, get_backend

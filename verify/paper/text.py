@@ -7,7 +7,7 @@ from collections.abc import Sequence
 from fractions import Fraction
 from typing import TYPE_CHECKING, Any
 
-from verify.laws.rule import Result
+from verify.laws.outcome import Result
 from verify.maps.text import behaviour_lines, eps_map_text
 from verify.models.paper import MEASURES, NORMS, PAPER_READING, PAPER_SIGMA_RELATIVE, PAPER_SIGMA_STATED, WHENS
 from verify.numbers.format import counted, format_decimal, format_exact

@@ -235,7 +235,7 @@ def non_termination_halt(system: System, memory: int = 8, *, searched: set[tuple
     history: list[tuple[int, Any, tuple[int, ...]]] = []  # (impulses so far, rates, impact set taken)
     # the earlier states by the direction of their rates (b / b_pivot): only a state in the same
     # direction can be a positive multiple, so one lookup replaces a scan of the last ``memory``
-    directions: dict[tuple, list[int]] = {}
+    directions: dict[tuple[Any, ...], list[int]] = {}
 
     periodic = period_halt(history, set() if searched is None else searched)
 
@@ -333,7 +333,7 @@ def period_halt(
     return test
 
 
-def _direction(K: Backend, b: Sequence[Any]) -> tuple:
+def _direction(K: Backend, b: Sequence[Any]) -> tuple[Any, ...]:
     """The rates divided by their first non-zero entry (and its index): equal for two rate
     vectors exactly when one is a non-zero multiple of the other (exact elements are canonical)."""
     pivot = next((i for i, x in enumerate(b) if x != K.zero), None)

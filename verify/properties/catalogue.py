@@ -67,7 +67,7 @@ def _velocities_before(result: Any) -> list[list[Fraction]]:
     return vs
 
 
-def _inputs(record: dict[str, Any]) -> tuple:
+def _inputs(record: dict[str, Any]) -> tuple[Any, ...]:
     f = Drawn("", "", record).values
     return f("mass_matrix"), f("normals"), f("time_terms"), f("restitution")
 
@@ -294,7 +294,7 @@ def laws_agree_after_one_orthogonal_impulse(run: Any, d: Drawn, extra: Any) -> A
 # -- the printed formulas -----------------------------------------------------------------------------
 
 
-def _compare_with_printed(run: Any, d: Drawn, pick: Callable[[tuple, list], str | None]) -> Answer:
+def _compare_with_printed(run: Any, d: Drawn, pick: Callable[[tuple[Any, ...], list[Any]], str | None]) -> Answer:
     """Compare every impulse of the run with eq. ``pick(J, eps)`` (None: not compared)."""
     r = run(d.record, d.rule)
     g, a, t, e = _inputs(d.record)
@@ -337,7 +337,7 @@ def asymmetric_is_eq7(run: Any, d: Drawn, extra: Any) -> Answer:
 
 def beta_is_one_for_one_constraint(run: Any, d: Drawn, extra: Any) -> Answer:
     """beta of the engine for J = {j}, and for {j, k} when V_k = 0 (Prop. 1 i, Sect. 3.2)."""
-    from verify.laws.rule import beta_from_rates
+    from verify.dynamics.rates import beta_from_rates
 
     r = run(d.record, d.rule)
     s, K = r.system, r.backend
@@ -383,7 +383,7 @@ def orthogonal_is_codimension_rule(run: Any, d: Drawn, extra: Any) -> Answer:
 
 
 def _same_outcome(
-    a: Any, b: Any, label: str, map_velocity: Callable[[list], list], perm: list[int] | None = None
+    a: Any, b: Any, label: str, map_velocity: Callable[[list[Any]], list[Any]], perm: list[int] | None = None
 ) -> Answer:
     """Whether run b is run a seen through a change (impact sets relabelled by ``perm``).
 
@@ -473,7 +473,7 @@ def mirror_symmetry(run: Any, d: Drawn, extra: Any) -> Answer:
     perm = list(range(r))[::-1]
     other = _transformed(d.record, A=A, perm=perm)
 
-    def mapped(v: list) -> list:
+    def mapped(v: list[Any]) -> list[Any]:
         return formulas.solve_linear(A, v)
 
     return _same_outcome(run(d.record, d.rule), run(other, d.rule), label, mapped, perm)
@@ -490,7 +490,7 @@ def mass_scaling_changes_nothing(run: Any, d: Drawn, c: Fraction) -> Answer:
     return _same_outcome(run(d.record, d.rule), run(other, d.rule), f"scaling all masses by {c}", lambda v: v)
 
 
-def covariant(run: Any, d: Drawn, factors: tuple) -> Answer:
+def covariant(run: Any, d: Drawn, factors: tuple[Any, ...]) -> Answer:
     n = len(d.record["velocity"])
     A = _matrix_from_factors(n, *factors)
     other = _transformed(d.record, A=A)
@@ -505,7 +505,7 @@ def frame_independent(run: Any, d: Drawn, u: list[Fraction]) -> Answer:
     return _same_outcome(run(d.record, d.rule), run(other, d.rule), label, lambda v: [x + y for x, y in zip(v, u)])
 
 
-def _matrix_from_factors(n: int, lower: list, diagonal: list, upper: list) -> list[list[Fraction]]:
+def _matrix_from_factors(n: int, lower: list[Any], diagonal: list[Any], upper: list[Any]) -> list[list[Fraction]]:
     """A = L D U with unit triangular L, U and a non-zero diagonal D: invertible by construction."""
     L = [
         [Fraction(1) if i == j else lower[(i * n + j) % len(lower)] if j < i else Fraction(0) for j in range(n)]

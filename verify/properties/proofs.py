@@ -24,7 +24,7 @@ def _gram(h: int, orthogonal: bool = False) -> sp.Matrix:
     return sp.Matrix(h, h, lambda i, j: sp.Symbol(f"G{min(i, j)}{max(i, j)}") if i == j or not orthogonal else 0)
 
 
-def _parts(h: int, orthogonal: bool = False, rates: list | None = None) -> tuple:
+def _parts(h: int, orthogonal: bool = False, rates: list[Any] | None = None) -> tuple[Any, ...]:
     G = _gram(h, orthogonal)
     b = sp.Matrix(rates if rates is not None else sp.symbols(f"b0:{h}"))
     lam = sp.Matrix([b[j] / G[j, j] for j in range(h)])
@@ -37,7 +37,7 @@ def _beta(G: sp.Matrix, lam: sp.Matrix, mu: sp.Matrix) -> sp.Expr:
 
 
 def _zero(expr: sp.Expr) -> bool:
-    return sp.cancel(sp.together(expr)) == 0
+    return bool(sp.cancel(sp.together(expr)) == 0)
 
 
 def _energy(rule: str) -> str | None:
@@ -89,7 +89,7 @@ def _energy_change(rule: str) -> str | None:
     )
 
 
-def energy_increase_criterion(inputs: Any, v: Any, J: Any) -> tuple:
+def energy_increase_criterion(inputs: Any, v: Any, J: Any) -> tuple[Any, ...]:
     """Both sides of the criterion of the energy change identity, for one impulse (Fractions).
 
     ``inputs`` is ``(g, normals, time_terms, restitution)``; the energy rises iff lhs > rhs.
@@ -162,7 +162,7 @@ def _simultaneous_energy(rule: str) -> str | None:
     )
 
 
-def simultaneous_energy_terms(constraints: Any, v: Any, v_out: Any, impulses: Any) -> tuple:
+def simultaneous_energy_terms(constraints: Any, v: Any, v_out: Any, impulses: Any) -> tuple[Any, ...]:
     """The two sums of the simultaneous law's energy change (Fractions, from the raw inputs):
     ``1/2 sum lambda_i (w_i + w'_i)`` over the constraints that are not incoming (``w_i >= 0``),
     then over the incoming ones; the energy rises iff the first exceeds minus the second.

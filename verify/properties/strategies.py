@@ -147,7 +147,7 @@ def independent_normals(draw: Any, g: list[list[Fraction]], r: int, orthogonal: 
                 row.append(draw(small_rationals(2, 2)))
         rows.append(row)
     if orthogonal:  # Gram-Schmidt for <a, b> = a g^-1 b^T: keeps independence
-        U: list[tuple] = []
+        U: list[tuple[Any, ...]] = []
         done = [_F.convert_all(row) for row in rows]
         for i in range(r):
             for k in range(i):
@@ -234,7 +234,7 @@ def cases(family: str, rule: str) -> st.SearchStrategy[Drawn]:
     return _FAMILIES[family](rule)
 
 
-def make_drawn(family: str, rule: str, inputs: tuple, v: Any) -> Drawn:
+def make_drawn(family: str, rule: str, inputs: tuple[Any, ...], v: Any) -> Drawn:
     """Package exact inputs ``(g, normals, time_terms, restitution)`` and a velocity as a
     :class:`Drawn` (the record holds exact strings)."""
     g, normals, time_terms, eps = inputs

@@ -92,7 +92,7 @@ class TableShare:
     def __init__(self, token: str) -> None:
         self.token = token
         self.runs: OrderedDict[str, Any] = OrderedDict()
-        self.drawn: OrderedDict[tuple, list[Any]] = OrderedDict()
+        self.drawn: OrderedDict[tuple[Any, ...], list[Any]] = OrderedDict()
 
     def run(self, key: str, compute: Any) -> Any:
         """The run of ``key``, computed once."""
@@ -105,7 +105,7 @@ class TableShare:
             self.runs.move_to_end(key)
         return found
 
-    def keep_drawn(self, key: tuple, items: list[Any]) -> None:
+    def keep_drawn(self, key: tuple[Any, ...], items: list[Any]) -> None:
         """The cases a strategy drew in full (for a row that held)."""
         self.drawn[key] = items
         if len(self.drawn) > self.STRATEGIES:

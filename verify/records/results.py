@@ -24,7 +24,8 @@ from fractions import Fraction
 from typing import Any
 
 from verify.errors import InvalidInput
-from verify.laws.rule import DEFAULT_MAX_ITERATIONS, Result
+from verify.laws.outcome import Result
+from verify.laws.rule import DEFAULT_MAX_ITERATIONS
 from verify.numbers.backends.base import Backend
 
 DECIMAL_DIGITS = 30
@@ -37,10 +38,10 @@ class Case:
     id: str
     system: Any
     velocity_source: Any
-    velocity: tuple
+    velocity: tuple[Any, ...]
     max_iterations: int
     #: the sequential law's settings of this case (its record's ``law_settings``), or None
-    law_settings: dict | None = None
+    law_settings: dict[Any, Any] | None = None
 
 
 def value_string(K: Backend, x: Any, digits: int = DECIMAL_DIGITS) -> str:

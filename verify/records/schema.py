@@ -31,7 +31,8 @@ def schema(kind: str) -> dict[str, Any]:
     if kind not in KINDS:
         raise ValueError(f"unknown schema {kind!r}")
     text = resources.files("verify.records").joinpath("schemas", f"{kind}.schema.json").read_text(encoding="utf-8")
-    return json.loads(text)
+    schema: dict[str, Any] = json.loads(text)
+    return schema
 
 
 @cache

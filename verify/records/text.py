@@ -12,7 +12,7 @@ from collections.abc import Sequence
 from typing import TYPE_CHECKING, Any
 
 from verify.dynamics.system import default_names
-from verify.laws.rule import Result
+from verify.laws.outcome import Result
 from verify.numbers.backends.base import Backend
 from verify.numbers.format import counted, format_exact
 from verify.records.results import value_string

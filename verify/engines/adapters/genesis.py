@@ -198,7 +198,8 @@ class GenesisAdapter(Adapter):
                 entities = make(gs, scene)
                 scene.build()
             self._scenes[key] = (scene, entities)
-        return self._scenes[key]
+        built: tuple[Any, list[Any]] = self._scenes[key]
+        return built
 
     def _material(self, gs: Any) -> Any:
         """Unit mass for a sphere (its inertia 2/5 m R^2 = 1), the least friction Genesis allows, or more."""

@@ -157,7 +157,7 @@ class Batch:
     r_b: np.ndarray
     v: np.ndarray
     r_v: np.ndarray
-    exact: Callable[[int], tuple[Any, list]]
+    exact: Callable[[int], tuple[Any, list[Any]]]
     S: np.ndarray
     r_S: np.ndarray
     kappa: np.ndarray
@@ -287,7 +287,7 @@ class _Run:
         self.rCm = np.zeros((N, r))
         self.v0 = batch.v.copy()
         self.rv0 = batch.r_v.copy()
-        self.anchors: dict[int, tuple[int, tuple]] = {}  # case -> (impulses, exact velocity there)
+        self.anchors: dict[int, tuple[int, tuple[Any, ...]]] = {}  # case -> (impulses, exact velocity there)
         self.exact_results: dict[int, Any] = {}
 
     # -- the exact rungs ------------------------------------------------------------------
@@ -338,7 +338,7 @@ class _Run:
             return None
         return [p[0] for p in rounded], [p[1] for p in rounded]
 
-    def finish_exactly(self, i: int, w: int, v: tuple, stop: str) -> None:
+    def finish_exactly(self, i: int, w: int, v: tuple[Any, ...], stop: str) -> None:
         """Case i ends at the exact velocity v after w impulses (from a catch-up)."""
         system = self.batch.exact(i)[0]
         K = system.backend

@@ -57,15 +57,15 @@ FULL_CONTENT_EVERY = 16
 class IntegerData:
     """The constants of the rule for one rational system, over integers (see the module)."""
 
-    A: tuple  # per constraint: ((k, A_ik), ...) non-zero entries of L dF_i
-    C: tuple  # per constraint: L dF_i/dt (0 for fixed constraints)
-    Uz: tuple  # per constraint: ((k, Uz_jk), ...) non-zero entries of M U_j
-    single: tuple  # per constraint: (q_j L M, p_j)
-    P: tuple  # 1/G_jj = P_j / Q_I
+    A: tuple[Any, ...]  # per constraint: ((k, A_ik), ...) non-zero entries of L dF_i
+    C: tuple[Any, ...]  # per constraint: L dF_i/dt (0 for fixed constraints)
+    Uz: tuple[Any, ...]  # per constraint: ((k, Uz_jk), ...) non-zero entries of M U_j
+    single: tuple[Any, ...]  # per constraint: (q_j L M, p_j)
+    P: tuple[Any, ...]  # 1/G_jj = P_j / Q_I
     QI: int
-    Gz: tuple  # G_jk = Gz_jk / Q_G
+    Gz: tuple[Any, ...]  # G_jk = Gz_jk / Q_G
     QG: int
-    E: tuple  # -(1 + e_j) = E_j / Ed
+    E: tuple[Any, ...]  # -(1 + e_j) = E_j / Ed
     ELM: int  # Ed L M
 
 

@@ -60,12 +60,12 @@ class Polys:
 
     def __init__(self, name: str):
         self.name = name
-        self._shown: dict[tuple, str] = {}
+        self._shown: dict[tuple[Any, ...], str] = {}
         #: SymPy expressions already converted (a map converts the same velocity on each of its cells)
-        self.converted: dict[tuple, Any] = {}
+        self.converted: dict[tuple[Any, ...], Any] = {}
         #: exact texts already written (a map writes the same certificate's numbers on many cells)
-        self.written: dict[tuple, str] = {}
-        self._projections: dict[tuple, Any] = {}  #: resultants, discriminants and factors already computed
+        self.written: dict[tuple[Any, ...], str] = {}
+        self._projections: dict[tuple[Any, ...], Any] = {}  #: resultants, discriminants and factors already computed
         if name == "flint":
             self.ctx = flint.fmpq_mpoly_ctx.get(("x", "y"))
             self.x, self.y = self.ctx.gens()
@@ -173,7 +173,7 @@ class Polys:
             self._remember(key, found)
         return self._projections[key]
 
-    def _remember(self, key: tuple, value: Any) -> None:
+    def _remember(self, key: tuple[Any, ...], value: Any) -> None:
         if len(self._projections) >= CONVERTED:
             self._projections.clear()
         self._projections[key] = value
@@ -322,7 +322,7 @@ class PlaneBackend(Backend):
         self,
         P: Polys,
         sample: Sample,
-        known: set[tuple],
+        known: set[tuple[Any, ...]],
         names: tuple[str, str] = ("x", "y"),
         *,
         point: bool = False,

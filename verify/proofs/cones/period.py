@@ -171,7 +171,7 @@ def _classify(K: Backend, carried: Sequence[tuple[Vector, bool]]) -> tuple[list[
 Carried = list[tuple[Vector, bool]]
 
 
-def _direction(K: Backend, v: Vector) -> tuple:
+def _direction(K: Backend, v: Vector) -> tuple[Any, ...]:
     """v scaled by 1/|v_k| at its first non-zero entry k (rationals: positive multiples become equal);
     v itself on other backends, where that sign could cut a parameter's range."""
     if not K.rationals:
@@ -261,7 +261,7 @@ def carry(
                     low, high = split(K, vs, f)
                     cut += [(low, (*J, f)), (high, J)]
             parts = cut
-        nxt: dict[tuple, bool] = {}  # the vectors, each once (strict if it comes strict from any part)
+        nxt: dict[tuple[Any, ...], bool] = {}  # the vectors, each once (strict if it comes strict from any part)
         for vs, J in parts:
             if stages is not None and not linear_step(system, J):
                 if len(vs) > MAX_VECTORS:

@@ -62,7 +62,7 @@ def pushed(system: Any, J: Sequence[int], x: Sequence[Any]) -> Vector:
     return out
 
 
-def forms(system: Any, J: Sequence[int], vs: Sequence[Vector]) -> tuple[dict, dict]:
+def forms(system: Any, J: Sequence[int], vs: Sequence[Vector]) -> tuple[dict[Any, Any], dict[Any, Any]]:
     """The bilinear forms of beta's numerator and denominator on every pair of the vectors, ``N[k, l] =
     sum_j v_k[j] lam_l[j]`` and ``D[k, l] = lam_k^T G_JJ lam_l`` (lam_j = v[j] / G_jj), each pair computed once
     and stored both ways (the forms are symmetric).
@@ -184,11 +184,11 @@ def _hull3(K: Backend, vectors: Carried) -> list[int] | None:
     points = sorted((v[axes[0]] / t, v[axes[1]] / t, n) for n, ((v, _), t) in enumerate(zip(vectors, heights)))
     near = {pt[2]: _near(K, pt) for pt in points}
 
-    def turn(o: tuple, a: tuple, b: tuple) -> int:
+    def turn(o: tuple[Any, ...], a: tuple[Any, ...], b: tuple[Any, ...]) -> int:
         return _turn(K, near, o, a, b)
 
-    lower: list[tuple] = []
-    upper: list[tuple] = []
+    lower: list[tuple[Any, ...]] = []
+    upper: list[tuple[Any, ...]] = []
     for chain, seq in ((lower, points), (upper, points[::-1])):
         for pt in seq:
             while len(chain) >= 2 and turn(chain[-2], chain[-1], pt) <= 0:
@@ -205,7 +205,7 @@ _ULP = 2.0**-52
 _LARGEST, _SMALLEST = 2.0**500, 2.0**-500
 
 
-def _near(K: Backend, point: tuple) -> tuple[float, float] | None:
+def _near(K: Backend, point: tuple[Any, ...]) -> tuple[float, float] | None:
     """The point's coordinates as floats, each within a relative :data:`_ULP` of the exact one (None when
     a coordinate is too large, or too small but not 0, for the error bound of :func:`_turn`)."""
     out = []
@@ -220,7 +220,7 @@ def _near(K: Backend, point: tuple) -> tuple[float, float] | None:
     return out[0], out[1]
 
 
-def _turn(K: Backend, near: dict[int, Any], o: tuple, a: tuple, b: tuple) -> int:
+def _turn(K: Backend, near: dict[int, Any], o: tuple[Any, ...], a: tuple[Any, ...], b: tuple[Any, ...]) -> int:
     """The sign of the cross product ``(a - o) x (b - o)`` of three points (exact rationals (x, y, n), with their
     floats ``near[n]`` from :func:`_near` or None). In floating point when the rounded product is farther
     from 0 than a bound on its error, else exactly.
