@@ -404,8 +404,8 @@ def test_verify_all_gives_each_step_its_own_time(
             progress(f"[report {i}/3] step {i} ...")
             now[0] += seconds
         return types.SimpleNamespace(
-            table1=None, cradle_map=types.SimpleNamespace(cmap=None), corner_example=None, corner=types.SimpleNamespace(claims=None),
-            profile="ci", verdicts=[], oracle=types.SimpleNamespace(self_check=types.SimpleNamespace(ok=True)),
+            table1=None, cradle_map=types.SimpleNamespace(cmap=None), corner_example=None,
+            corner=types.SimpleNamespace(claims=None), profile="ci", verdicts=[], oracle=types.SimpleNamespace(self_check=types.SimpleNamespace(ok=True)),
         )  # fmt: skip
 
     monkeypatch.setattr(pages, "write_reports", steps)
