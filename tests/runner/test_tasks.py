@@ -405,7 +405,8 @@ def test_verify_all_gives_each_step_its_own_time(
             now[0] += seconds
         return types.SimpleNamespace(
             table1=None, cradle_map=types.SimpleNamespace(cmap=None), corner_example=None,
-            corner=types.SimpleNamespace(claims=None), profile="ci", verdicts=[], oracle=types.SimpleNamespace(self_check=types.SimpleNamespace(ok=True)),
+            corner=types.SimpleNamespace(claims=None), profile="ci", verdicts=[],
+            oracle=types.SimpleNamespace(self_check=types.SimpleNamespace(ok=True)),
         )  # fmt: skip
 
     monkeypatch.setattr(pages, "write_reports", steps)
