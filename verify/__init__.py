@@ -11,6 +11,7 @@ velocities or CORs over one geometry).
 (3, 'exit', ['325/16', '375/16', '225/4'])
 """
 
+from verify.dynamics.policy import Halted, StopTest
 from verify.dynamics.system import System
 from verify.errors import (
     BadNumber,
@@ -61,12 +62,14 @@ __all__ = [
     "RULES",
     "Backend",
     "BadNumber",
+    "Halted",
     "InvalidInput",
     "InvalidSystem",
     "NoConvergence",
     "Result",
     "Sequential",
     "Step",
+    "StopTest",
     "System",
     "Undecided",
     "VerifyError",

@@ -1,4 +1,4 @@
-"""The engine adapters (``python -m verify.engines.ENGINE``): their frame, physical laws, settings, skips.
+"""The engine adapters (``python -m verify.engines.adapters.ENGINE``): their frame, physical laws, settings, skips.
 
 One table, :data:`ENGINES`, says what differs between the five adapters; the checks they all
 share are parametrized over it, each engine run skipped (``pytest.importorskip``) when the

@@ -387,3 +387,26 @@ def test_cells_of_three_contacts_proved_never_to_exit_carry_a_period_cone_that_h
         assert solve(system, ["1", "0", "0", "0"], max_iterations=200).stop != "exit", (x, y)
         checked += 1
     assert checked >= 10
+
+
+def test_the_cone_search_on_cells_decides_membership_at_the_sample_point(monkeypatch) -> None:
+    """On a plane of two CORs the cone search solves its linear programs in rationals at the cell's sample point,
+    then checks the combination on the whole cell: a linear program runs on the plane's functions only where the
+    plane has no sample point (one on the plane's functions would cut the cell at every sign it asks, and split
+    this map of 37 parts into 161)."""
+    from verify.cli import main
+    from verify.proofs.cones import period
+
+    seen: list[tuple[str, bool]] = []
+    original = period.feasible
+
+    def recording(K, *args, **kwargs):
+        seen.append((type(K).__name__, K.at_sample(K.zero) is not None))
+        return original(K, *args, **kwargs)
+
+    monkeypatch.setattr(period, "feasible", recording)
+    argv = ["map", "docs/examples/balls-2112-cors.json", "--cells", "--cell-cones", "--max-impulses", "8",
+            "--parameter", "e_out=0,1/4", "--parameter", "e_mid=0,1/4", "--json", "--quiet"]  # fmt: skip
+    assert main(argv) == 0
+    assert ("RationalBackend", False) in seen, "the guard: the map searched cones at sample points"
+    assert (PlaneBackend.__name__, True) not in seen

@@ -67,7 +67,7 @@ def test_export_generate_check_and_table_give_the_same_bytes_on_pure_python(tmp_
     for name in ("cases.json", "results.json", "results-simultaneous.json", "README.md"):
         assert (tmp_path / "golden" / name).read_bytes() == (ROOT / "golden" / name).read_bytes(), name
     done = verify(
-        "oracle", "generate", "--level", "1", "--seed", "0", "--out", str(tmp_path / "hard.json"), cwd=tmp_path
+        "oracle", "generate", "--level", "1", "--seed", "0", "--save", str(tmp_path / "hard.json"), cwd=tmp_path
     )
     assert done.returncode == 0, done.stderr
     assert (tmp_path / "hard.json").read_text(encoding="utf-8") == generate_file_text(1, 0)

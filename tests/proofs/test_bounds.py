@@ -17,12 +17,13 @@ from tests.proofs.test_periodic import CASES, _system
 from verify import bounds
 from verify.laws.rule import solve
 from verify.proofs.cones import period
+from verify.report import bounds as catalogue
 
 ROOT = Path(__file__).resolve().parents[2]
 
 
 def test_every_bound_is_an_integer_constant_of_the_module_it_names() -> None:
-    for name, b in bounds.BOUNDS.items():
+    for name, b in catalogue.BOUNDS.items():
         assert isinstance(b.value, int) and b.value > 0, name
 
 
@@ -31,8 +32,8 @@ def test_every_bound_is_recorded_where_the_code_compares_with_it() -> None:
     used = set(re.findall(r'bounds\.use\("(\w+)"', code)) | set(re.findall(r'bounds\.use\(\s*"(\w+)" if', code))
     used |= set(re.findall(r'else "(\w+)", MAX_PIVOTS', code))
     reached = set(re.findall(r'bounds\.reached\("(\w+)"\)', code))
-    assert set(bounds.BOUNDS) == used
-    assert set(bounds.BOUNDS) - {"pivots_failed", "period"} <= reached
+    assert set(catalogue.BOUNDS) == used
+    assert set(catalogue.BOUNDS) - {"pivots_failed", "period"} <= reached
 
 
 def test_a_search_that_finds_its_cone_records_its_pivots_within_the_bound() -> None:
@@ -68,7 +69,7 @@ def test_nothing_is_recorded_outside_a_recording() -> None:
 def test_the_summary_takes_the_largest_use_and_counts_what_was_reached() -> None:
     records = [{"bound": "carried", "peak": 7}, {"bound": "carried", "peak": 3}]
     records += [{"bound": "crossings", "reached": 1}] * 2
-    s = bounds.summary([*map(json.dumps, records), ""])
+    s = catalogue.summary([*map(json.dumps, records), ""])
     assert s["carried"] == (7, 0) and s["crossings"] == (None, 2) and s["pivots"] == (None, 0)
     for bad in (
         '{"bound": "nope", "peak": 1}',
@@ -77,7 +78,7 @@ def test_the_summary_takes_the_largest_use_and_counts_what_was_reached() -> None
         '{"bound": "carried", "peak": 1, "x": 2}',
     ):
         with pytest.raises(ValueError, match="line 1"):
-            bounds.summary([bad])
+            catalogue.summary([bad])
 
 
 def test_processes_of_a_command_append_to_one_file_and_verify_bounds_adds_them_up(tmp_path: Path) -> None:
@@ -93,7 +94,7 @@ def test_processes_of_a_command_append_to_one_file_and_verify_bounds_adds_them_u
     lines = log.read_text().splitlines()
     with bounds.recording() as seen:
         solve(system, [F(v) for v in velocity], max_iterations=1000)
-    assert bounds.summary(lines)["pivots"] == (seen["pivots"], 0)
+    assert catalogue.summary(lines)["pivots"] == (seen["pivots"], 0)
     out = subprocess.run(
         [sys.executable, "-m", "verify", "bounds", str(log)], capture_output=True, text=True, check=False
     )

@@ -22,6 +22,7 @@ from typing import Any
 import pytest
 from hypothesis import example, given
 
+import verify.dynamics.rates as rates_module
 import verify.laws.rule as rule_module
 from verify import bounds
 from verify.cli import main
@@ -458,7 +459,7 @@ def test_the_census_digits_decide_a_long_exit_that_400_digits_left_at_the_budget
 # -- tests of the tests: each property catches a broken rule --------------------------------------
 
 _original_impulse = rule_module._impulse_from_rates
-_original_beta = rule_module.beta_from_rates
+_original_beta = rates_module.beta_from_rates  # the engine's beta, where it is defined
 _original_for_rule = rule_module._system_for_rule
 _original_rates = System.rates
 
@@ -604,7 +605,7 @@ def test_every_property_has_a_mutant() -> None:
 @pytest.mark.parametrize("name", list(MUTANTS))
 def test_each_property_catches_a_broken_rule(name: str, monkeypatch: pytest.MonkeyPatch) -> None:
     attribute, mutant, family, rule = MUTANTS[name]
-    target = System if attribute == "rates" else rule_module
+    target = {"rates": System, "beta_from_rates": rates_module}.get(attribute, rule_module)
     monkeypatch.setattr(target, attribute, mutant)
     verdict = search(property_named(name), family, rule, 100)
     assert verdict.verdict == "refuted", f"{name}: the mutant {mutant.__name__} was not caught ({verdict.note})"

@@ -48,7 +48,7 @@ How to read them:
   contestant keeps what the plain loop keeps: the branch sequence and the last velocity of each case.
 - The exact engine is the general one: a `System` built and checked per case (symmetric positive
   definite mass matrix, independent normals, CORs in [0, 1]), then `solve` without a trace. It runs
-  the rule in rate coordinates (`verify/dynamics/rates.py`: the impulses act on the r rates
+  the rule in rate coordinates (`verify/laws/loops/rates.py`: the impulses act on the r rates
   through the Gram matrix alone, and the velocity is formed once, at the end), and a long run over
   integers with one common denominator (`verify/laws/loops/integer.py`). The cradle batch uses the
   batch entry point `solve_many`: the geometry is built once and each COR shares it.

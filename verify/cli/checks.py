@@ -255,7 +255,9 @@ def write_counterexamples(folder: str, found: list[Any]) -> None:
 
 def export_folder(args: argparse.Namespace) -> str:
     """The folder of ``verify oracle export``: DIR or ``--out DIR`` (one of them)."""
-    if (args.folder is None) == (args.out is None):
+    if args.folder is None and args.out is None:
+        raise UsageError(f"{PROG} oracle export: give the folder to write, as DIR or as --out DIR")
+    if args.folder is not None and args.out is not None:
         raise UsageError(f"{PROG} oracle export: give the folder once, as DIR or as --out DIR")
     return str(args.folder if args.folder is not None else args.out)
 

@@ -13,7 +13,7 @@ import contextlib
 import functools
 import os
 import sys
-from collections.abc import Callable, Iterator
+from collections.abc import Callable, Iterator, Sequence
 from fractions import Fraction
 from typing import Any
 
@@ -28,7 +28,23 @@ class UsageError(VerifyError):
 
 
 class Parser(argparse.ArgumentParser):
-    """An argument parser whose errors are one line (a :class:`UsageError`), with no usage block."""
+    """An argument parser whose errors are one line (a :class:`UsageError`), with no usage block; an error about
+    a renamed option (:class:`Renamed`) names it as it was typed.
+
+    >>> p = Parser(prog="x")
+    >>> _ = renamed(p, "--max-impulses", "--max-iterations", type=int, default=None)
+    >>> p.parse_args(["--max-iterations", "y"])
+    Traceback (most recent call last):
+    verify.cli.common.UsageError: x: --max-iterations: invalid int value: 'y'
+    """
+
+    typed: tuple[str, ...] = ()  #: the words this parser was given (``parse_known_args``)
+
+    def parse_known_args(  # type: ignore[override]  # the same, remembering the words
+        self, args: Sequence[str] | None = None, namespace: argparse.Namespace | None = None
+    ) -> tuple[argparse.Namespace, list[str]]:
+        self.typed = tuple(sys.argv[1:] if args is None else args)
+        return super().parse_known_args(args, namespace)
 
     def error(self, message: str) -> None:  # type: ignore[override]  # raises instead of exiting
         import re
@@ -36,8 +52,9 @@ class Parser(argparse.ArgumentParser):
         # "argument --dps: must be ..." -> "--dps must be ..."; "argument --x: invalid ..." -> "--x: invalid ..."
         found = re.match(r"argument (\S+): (.*)", message, re.DOTALL)
         if found:
-            name, rest = found.groups()
-            name = name.split("/")[0]  # a renamed option: its new name (its 0.2 names are hidden)
+            names, rest = found.groups()
+            name = next((n for n in names.split("/") if any(w.split("=")[0] == n for w in self.typed)), names)
+            name = name.split("/")[0]  # a renamed option: as typed, else its new name
             message = f"{name} {rest}" if rest.startswith("must ") else f"{name}: {rest}"
         raise UsageError(f"{self.prog}: {message}")
 

@@ -166,8 +166,8 @@ def cmd_bench(args: argparse.Namespace) -> int:
 
 def cmd_bounds(args: argparse.Namespace) -> int:
     """``verify bounds``: the bounds of the algorithms, and what the commands run under VERIFY_BOUNDS used."""
-    from verify.bounds import summary, table
     from verify.cli.common import UsageError
+    from verify.report.bounds import summary, table
 
     if not args.logs:
         print(table())

@@ -17,7 +17,7 @@ from __future__ import annotations
 import time
 from collections.abc import Callable, Sequence
 from dataclasses import dataclass, field, replace
-from typing import Any, Literal, Protocol, TypeAlias, get_args
+from typing import Any, Literal, Protocol, TypeAlias, get_args, runtime_checkable
 
 from verify import bounds
 
@@ -39,6 +39,7 @@ class Halted:
     certificate: JSONObject | None = None
 
 
+@runtime_checkable
 class Halt(Protocol):
     """A stop test: called with (system, velocity) before each impulse, once an impact is known to remain;
     returns :class:`Halted` to stop the run, or None to go on. The system it is given answers
@@ -66,6 +67,27 @@ class StopTest:
 
     def __call__(self, system: Any, v: Sequence[Any], /) -> Halted | None:
         return self.test(system, v)
+
+
+def as_halt(test: Halt | Callable[[Any, Sequence[Any]], Any]) -> Halt:
+    """A stop test as a run calls it: a :class:`Halt` as it is, or a plain function (0.2's stop tests: it returns
+    a stop's name, a pair (stop, certificate), or None) wrapped in a :class:`StopTest`. The plain form is read
+    in 0.3 only.
+
+    >>> halted = as_halt(lambda system, v: "aeev" if v[0] == v[1] else None)
+    >>> halted(None, [2, 2]), halted(None, [1, 2]), halted.after_impulse
+    (Halted(stop='aeev', certificate=None), None, False)
+    """
+    if isinstance(test, Halt):
+        return test
+
+    def halted(system: Any, v: Sequence[Any]) -> Halted | None:
+        out = test(system, v)
+        if out is None or isinstance(out, Halted):
+            return out
+        return Halted(*out) if isinstance(out, tuple) else Halted(out)
+
+    return StopTest(halted)
 
 
 @dataclass(frozen=True)

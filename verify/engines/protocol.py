@@ -28,6 +28,7 @@ from __future__ import annotations
 
 import argparse
 import contextlib
+import copy
 import functools
 import importlib
 import json
@@ -35,7 +36,7 @@ import math
 import os
 import sys
 import tomllib
-from collections.abc import Iterator, Sequence
+from collections.abc import Callable, Iterator, Sequence
 from importlib import resources
 from typing import Any, ClassVar
 
@@ -112,7 +113,7 @@ def solver_model(
 
 
 #: the ranges of the settings that several adapters share (each checked where the adapter has it)
-SHARED_RANGES: dict[str, Any] = {
+SHARED_RANGES: dict[str, Callable[[float], bool]] = {
     "time_step": lambda v: v > 0,
     "timestep": lambda v: v > 0,
     "reverse_order": lambda v: v in (0, 1),
@@ -163,8 +164,8 @@ class Adapter:
         default to its name."""
         super().__init_subclass__(**kwargs)
         for key, value in description(cls.name).items():
-            if key in DESCRIBED:
-                setattr(cls, key, tuple(value) if key == "alternate" else value)
+            if key in DESCRIBED:  # a copy: the class's own, apart from the cached file
+                setattr(cls, key, tuple(value) if key == "alternate" else copy.deepcopy(value))
         for attribute in ("package", "module"):
             if attribute not in vars(cls):  # neither the table nor the class names it: the engine's own name
                 setattr(cls, attribute, cls.name)
@@ -203,7 +204,8 @@ class Adapter:
         if unknown:
             raise ValueError(f"unknown setting {unknown[0]!r} (known: {', '.join(sorted(self.settings))})")
         self.config = {**self.settings, **(overrides or {})}
-        bad = [name for name, ok in self.checks().items() if not ok]
+        checked = self.checks()
+        bad = [name for name in self.config if not checked.get(name, True)]  # the first in --describe's order
         if bad:
             raise ValueError(f"setting {bad[0]} = {self.config[bad[0]]!r} is out of range")
 

@@ -39,8 +39,7 @@ from functools import cached_property, partial
 from typing import Any, Literal, get_args
 
 from verify import bounds
-from verify.dynamics import rates as rate_form
-from verify.dynamics.policy import Halt, Limits, Run
+from verify.dynamics.policy import Halt, Limits, Run, as_halt
 from verify.dynamics.rates import beta_from_rates, coefficients
 from verify.dynamics.system import (
     System,
@@ -53,6 +52,7 @@ from verify.dynamics.system import (
 from verify.errors import InvalidInput, InvalidSystem, NoConvergence, Undecided
 from verify.laws.loops import balls
 from verify.laws.loops import integer as fraction_free
+from verify.laws.loops import rates as rate_form
 from verify.laws.outcome import Result, Step
 from verify.laws.sequential import Law, Sequential, solve_sequential
 from verify.laws.simultaneous import solve_simultaneous
@@ -591,7 +591,7 @@ def solve(
     rule: str = "general",
     law: Law = "rule",
     max_iterations: int = DEFAULT_MAX_ITERATIONS,
-    halt: Halt | None = None,
+    halt: Halt | Callable[[Any, Sequence[Any]], Any] | None = None,
     trace: bool = True,
     certify: bool = True,
     budget: Budget | None = None,
@@ -633,7 +633,7 @@ def solve(
         return solve_simultaneous(system, velocity, rule=rule, max_iterations=max_iterations)
     if name == "sequential":
         return solve_sequential(system, velocity, law if isinstance(law, Sequential) else Sequential(), rule=rule)
-    options = RunOptions(rule_name(rule), max_iterations, halt, trace, certify)
+    options = RunOptions(rule_name(rule), max_iterations, None if halt is None else as_halt(halt), trace, certify)
     return _solve_rule(system, velocity, budget, progress, options, searched=set())
 
 

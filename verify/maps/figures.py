@@ -13,6 +13,7 @@ from verify.views.figures import load_pyplot, save_figure, to_float
 if TYPE_CHECKING:
     from verify.maps.cradle import CradleMap
     from verify.maps.general import EpsMap
+    from verify.numbers.algebraic import RealAlgebraic
 
 
 def _unexplored_kind(part: Any) -> str:
@@ -127,7 +128,7 @@ def staircase_figure(cmap: CradleMap) -> Any:
     return fig
 
 
-def _distance_panel(ax: Any, cmap: Any, boundary: Any) -> None:
+def _distance_panel(ax: Any, cmap: CradleMap, boundary: RealAlgebraic | Fraction) -> None:
     """The steps against eps - boundary on a log scale: they grow like (eps - boundary)^(-1/2)."""
     b = to_float(boundary)
     smallest = None

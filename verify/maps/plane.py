@@ -110,6 +110,10 @@ class PlaneMap:
         return low, min(high, (b - a) * (d - c) - others)
 
 
+#: the cells still to run, each with the curves already known to cut around it
+Pending = list[tuple[Cell, frozenset[tuple[Any, ...]]]]
+
+
 def plane_parts(
     build: Callable[[PlaneBackend], System],
     velocity: Sequence[Any],
@@ -149,9 +153,7 @@ def plane_parts(
         if deadline is not None and time.monotonic() > deadline:
             raise OutOfTime("the map's wall-clock budget ran out while a cell was cut")
 
-    work: list[tuple[Cell, frozenset[tuple[Any, ...]]]] = [
-        (c, frozenset()) for c in reversed(decompose(P, [], box, cache))
-    ]
+    work: Pending = [(c, frozenset()) for c in reversed(decompose(P, [], box, cache))]
     parts: list[CellPart] = []
     try:
         while work and not (watch is not None and watch.check()):

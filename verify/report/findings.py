@@ -5,13 +5,23 @@ from __future__ import annotations
 import threading
 from concurrent.futures import Future
 from functools import cached_property
-from typing import Any
+from typing import TYPE_CHECKING
 
 from verify.laws.outcome import Result
 from verify.oracle.selfcheck import OracleFindings, oracle_findings
 from verify.paper.corner_claims import CornerFindings
 from verify.paper.figures import FigureRuns
 from verify.paper.pages import CORNER_CASES, CORNER_EXAMPLE
+
+if TYPE_CHECKING:
+    from collections.abc import Sequence
+
+    from verify.models.corner import CornerRun
+    from verify.paper.corner_map import CornerMaps
+    from verify.paper.cradle_map import MapReport
+    from verify.paper.table1 import Table1
+    from verify.properties.verdicts import Verdict
+    from verify.runner.tasks import TaskRunner
 
 
 class Findings:
@@ -22,12 +32,14 @@ class Findings:
     local processes or a Dask cluster, with a checkpoint or not; default one process per core).
     """
 
-    def __init__(self, profile: str = "ci", runner: Any = None, verdicts: Any = None) -> None:
+    def __init__(
+        self, profile: str = "ci", runner: TaskRunner | None = None, verdicts: Sequence[Verdict] | None = None
+    ) -> None:
         from verify.runner.tasks import TaskRunner
 
         self.profile, self.runner = profile, runner or TaskRunner(workers=None)
         self.given_verdicts = verdicts
-        self._rows: Future[list[Any]] | None = None  # the property rows started by :meth:`start_verdicts`
+        self._rows: Future[list[Verdict]] | None = None  # the property rows started by :meth:`start_verdicts`
 
     def start_verdicts(self) -> None:
         """Start the property rows now, from a thread of this process, on the runner's other processes (a cluster,
@@ -36,7 +48,7 @@ class Findings:
         already, or when the rows would run in this process (then :attr:`verdicts` computes them)."""
         if self.given_verdicts or self._rows is not None or not self.runner.elsewhere:
             return
-        rows: Future[list[Any]] = Future()
+        rows: Future[list[Verdict]] = Future()
 
         def run() -> None:
             try:
@@ -48,27 +60,27 @@ class Findings:
         threading.Thread(target=run, name="verify property rows", daemon=True).start()
 
     @cached_property
-    def table1(self) -> Any:
+    def table1(self) -> Table1:
         from verify.paper.table1 import table1
 
         return table1()
 
     @cached_property
-    def cradle_map(self) -> Any:
+    def cradle_map(self) -> MapReport:
         from verify.maps.cradle import cradle_map
         from verify.paper.cradle_map import map_report
 
         return map_report(cradle_map(max_impulses=40), approach=6, paper=True)
 
     @cached_property
-    def corner_example(self) -> Any:
+    def corner_example(self) -> CornerRun:
         from verify.models.corner import run_corner
 
         e = CORNER_EXAMPLE
         return run_corner(alpha=e["alpha"], phi=e["phi"], eps1=e["eps1"], eps2=e["eps2"], v0=e["v0"])
 
     @cached_property
-    def corner_maps(self) -> Any:
+    def corner_maps(self) -> CornerMaps:
         from verify.paper.corner_map import corner_maps
 
         return corner_maps()
@@ -94,10 +106,10 @@ class Findings:
         return cradle_motion_runs()
 
     @cached_property
-    def verdicts(self) -> list[Any]:
+    def verdicts(self) -> list[Verdict]:
         return self._rows.result() if self._rows is not None else self._verdicts()
 
-    def _verdicts(self) -> list[Any]:
+    def _verdicts(self) -> list[Verdict]:
         from verify.properties import verdicts
 
         if self.given_verdicts:

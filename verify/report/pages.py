@@ -9,7 +9,7 @@ from __future__ import annotations
 
 from collections.abc import Callable
 from pathlib import Path
-from typing import Any
+from typing import TYPE_CHECKING
 
 from verify.bench.pages import performance_page
 from verify.engines.pages import engines_page
@@ -17,6 +17,12 @@ from verify.oracle.pages import oracle_page
 from verify.paper.pages import corner_page, cradle_map_page, fig1_page, table1_page
 from verify.properties.pages import properties_page
 from verify.report.findings import Findings
+
+if TYPE_CHECKING:
+    from collections.abc import Sequence
+
+    from verify.properties.verdicts import Verdict
+    from verify.runner.tasks import TaskRunner
 
 
 def _corner(out: Path, f: Findings) -> str:
@@ -52,8 +58,8 @@ TITLES = {
 
 
 def write_reports(out: str | Path = "reports", *, profile: str = "ci", workers: int | None = None,
-                  progress: Callable[[str], None] | None = None, verdicts: Any = None,
-                  runner: Any = None) -> Findings:  # fmt: skip
+                  progress: Callable[[str], None] | None = None, verdicts: Sequence[Verdict] | None = None,
+                  runner: TaskRunner | None = None) -> Findings:  # fmt: skip
     """Write every page and the index into ``out``; returns the :class:`Findings` shown, which the
     summary of ``verify all`` reads. ``verdicts`` reuses property verdicts already computed for ``profile``.
     The long computations run on ``runner`` (:class:`verify.runner.tasks.TaskRunner`), else on ``workers``

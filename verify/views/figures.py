@@ -31,9 +31,6 @@ def to_float(a: Any) -> float:
     return float(format_decimal(a, 17))
 
 
-# -- the disk in the corner -------------------------------------------------------------------
-
-
 def save_figure(fig: Any, path: str | Path) -> Path:
     """Write ``fig`` as PNG to ``path`` whole or not at all (drawn in memory, then written as
     :func:`verify.records.files.write_atomic` does), and close it."""

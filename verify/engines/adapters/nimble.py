@@ -101,7 +101,7 @@ class NimbleAdapter(DartAdapter):
 
     def checks(self) -> dict[str, bool]:
         c = self.config
-        return {
+        return {  # the shared ranges (Adapter's: DART's collision detectors are no setting here) and nimble's own
             **Adapter.checks(self),
             "lcp_solver": c["lcp_solver"] in (0, 1),
             "pgs_iterations": whole(c["pgs_iterations"]),

@@ -1,1 +1,2 @@
-"""The rule's fast loops: over integers (long exact runs), over balls, and over floats in batches (certified)."""
+"""The rule's fast loops: in rate coordinates, over integers (long exact runs), over balls, and over floats in
+batches (certified)."""

@@ -1,4 +1,4 @@
-"""The rule in rate coordinates (:mod:`verify.dynamics.rates`), shared geometry and
+"""The rule in rate coordinates (:mod:`verify.laws.loops.rates`), shared geometry and
 :func:`verify.laws.rule.solve_many` give the traced rule's own numbers, exactly.
 
 Nothing here is timed (``verify bench`` measures).
@@ -12,10 +12,10 @@ import pytest
 from hypothesis import given, settings
 
 import verify.laws.rule as rule_module
-from verify.dynamics import rates
 from verify.dynamics.policy import Limits
 from verify.dynamics.system import System
 from verify.errors import BadNumber, InvalidSystem
+from verify.laws.loops import rates
 from verify.laws.rule import Budget, solve, solve_many
 from verify.properties.strategies import cases
 
