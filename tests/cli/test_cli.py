@@ -192,15 +192,17 @@ def test_a_run_that_does_not_exit_prints_the_velocity_at_the_stop_everywhere(tmp
     code, out, err = run(["solve", str(path)], capsys)
     assert code == 0, err
     blocks = out.split("\n  kinetic energy")
-    assert blocks[0].startswith("never: non_terminating") and "\n  velocity at the stop: 1, 0, 0\n" in blocks[0]
+    assert blocks[0].startswith("never: never exits (infinitely many impulses; proved after 0 impulses)")
+    assert "\n  velocity when proved never to exit: 1, 0, 0\n" in blocks[0] and "-> " not in blocks[0]
     assert "capped: max_iterations" in blocks[1] and "\n  velocity at the stop: " in blocks[1]
     assert "exits: exit" in blocks[2] and "\n  exit velocity: " in blocks[2]
     assert "exit velocity" not in blocks[0] + blocks[1]
     code, out, _ = run(["cradle", "--eps", "0.01"], capsys)
-    assert "velocity at the stop (exact): 100, 0, 0" in out and "exit velocity" not in out
+    assert "velocity when proved never to exit (exact): 100, 0, 0" in out and "exit velocity" not in out
+    assert "kinetic energy: 5000 in, 5000 when proved never to exit" in out and "iterations: never end" in out
     s = System([[1, 0, 0], [0, 1, 0], [0, 0, 1]], [[-1, 1, 0], [0, -1, 1]], ["1/100", "1/100"])
     summary = solve(s, ["1", "0", "0"]).summary()
-    assert "\n  velocity at the stop: x1 = 1, x2 = 0, x3 = 0" in summary, summary
+    assert "\n  velocity when proved never to exit: x1 = 1, x2 = 0, x3 = 0" in summary, summary
     assert "last velocity" not in summary and "exit velocity" not in summary
-    capped_summary = solve(s, ["1", "0", "0"], max_iterations=0).summary()
+    capped_summary = solve(s, ["1", "0", "0"], max_iterations=0, certify=False).summary()
     assert "velocity at the stop" in capped_summary

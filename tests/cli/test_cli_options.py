@@ -240,6 +240,7 @@ def test_a_failed_report_leaves_no_temporary_file(tmp_path, monkeypatch, capsys)
     from verify.report import pages as report
 
     monkeypatch.setattr(report, "PAGES", [("table1.md", lambda out, ctx: "# page\n")])
+    monkeypatch.setattr(report, "index_page", lambda found: "# index\n")  # not the findings of the real pages
     out_dir = tmp_path / "reports"
     (out_dir / "README.md.tmp").mkdir(parents=True)
     assert main(["report", "--out", str(out_dir)]) == 2

@@ -99,8 +99,8 @@ def engines_page_text(record: dict[str, Any]) -> str:
         head += [
             "## Each engine explained",
             "",
-            "Each answer of an engine at its default settings is compared with exact models of its own algorithm",
-            "(`verify.engines.explain`): the paper's rule, the simultaneous law (also with the engine's documented",
+            "Each answer of an engine at its default settings is compared with exact models of its own algorithm:",
+            "the paper's rule, the simultaneous law (also with the engine's documented",
             "restitution threshold), and the sequential law (`verify solve --law sequential`: projected Gauss-Seidel",
             "sweeps, exactly) with the engine's documented sweeps, the neighbouring counts, both contact orders and",
             "its threshold. An answer is explained when a model is within the engine's precision (float32: 1e-5 of",

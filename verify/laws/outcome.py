@@ -46,13 +46,27 @@ class Step:
 
 def velocity_name(stop: Stop) -> str:
     """The one name that the text outputs give the velocity where a run stopped: ``exit velocity``
-    when it exits, else ``velocity at the stop`` (a run proved never to exit, or stopped by its cap,
-    its budget or the paper's AEEV stop, has not exited). The JSON field is ``exit_velocity`` either way.
+    when it exits; for a run proved never to exit, the velocity when it was proved (it never exits: there
+    is no exit velocity); else ``velocity at the stop`` (stopped by its cap, its budget or the paper's AEEV
+    stop, it has not exited). The JSON field is ``exit_velocity`` either way.
 
     >>> velocity_name("exit"), velocity_name("non_terminating"), velocity_name("max_iterations")
-    ('exit velocity', 'velocity at the stop', 'velocity at the stop')
+    ('exit velocity', 'velocity when proved never to exit', 'velocity at the stop')
     """
-    return "exit velocity" if stop == "exit" else "velocity at the stop"
+    if stop == "exit":
+        return "exit velocity"
+    return "velocity when proved never to exit" if stop == "non_terminating" else "velocity at the stop"
+
+
+def stop_words(stop: Stop, impulses: int, unit: str = "impulse") -> str:
+    """A run's length in words: its impulses, or, for a run proved never to exit, that it never ends.
+
+    >>> stop_words("exit", 3), stop_words("non_terminating", 0)
+    ('exit after 3 impulses', 'never exits (infinitely many impulses; proved after 0 impulses)')
+    """
+    if stop == "non_terminating":
+        return f"never exits (infinitely many {unit}s; proved after {counted(impulses, unit)})"
+    return f"{stop} after {counted(impulses, unit)}"
 
 
 @dataclass(frozen=True)
@@ -145,12 +159,17 @@ class Result:
         words = ["(" + ",".join(names[j] for j in J) + ")" for J in self.impact_sets]
         if len(words) > 12:
             words = [*words[:6], f" ... {len(words) - 9} more ... ", *words[-3:]]
-        how = {"exit": "exit", "non_terminating": "never exits (proved)", "max_iterations": "still impacting"}
-        head = f"{how.get(self.stop, self.stop)} after {counted(self.iterations, 'impulse')}"
+        how = {"exit": "exit", "max_iterations": "still impacting"}
+        head = stop_words(self.stop, self.iterations).replace(self.stop, how.get(self.stop, self.stop), 1)
         law = f"{self.rule} rule" if self.law == "rule" else f"{self.law} law, {self.rule} CORs"
         coordinates = self.system.coordinates
         shown = ", ".join(f"{q} = {K.to_decimal(x, digits)}" for q, x in zip(coordinates, self.exit_velocity))
-        energy = f"{K.to_decimal(self.kinetic_energy_in, digits)} -> {K.to_decimal(self.kinetic_energy_out, digits)}"
+        before, after = K.to_decimal(self.kinetic_energy_in, digits), K.to_decimal(self.kinetic_energy_out, digits)
+        energy = (
+            f"{before} in, {after} when proved never to exit"
+            if self.stop == "non_terminating"
+            else f"{before} -> {after}"
+        )
         caveat = "" if K.is_rigorous else f" ({K.name}: digits not certified)"
         lines = [
             f"{head} ({law}, {K.describe()})",

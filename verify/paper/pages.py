@@ -96,8 +96,7 @@ def _corner_maps_section(out: Path, maps: CornerMaps, text: str) -> str:
     return (
         "\nThe paper's statement that repeated multiple impacts occur when the CORs are very different (its example:\n"
         "eps1 = 0.999, eps2 = 0.001), mapped exactly over the CORs in the number field of the corner's numbers\n"
-        "(`verify.paper.corner_map`; the line is also\n"
-        "`verify map docs/examples/paper-corner-map.json --max-impulses 12`):\n\n"
+        "(the line is `verify map docs/examples/paper-corner-map.json --max-impulses 12`):\n\n"
         + block(text)
         + "\n![the square of both CORs as exact cells, up to three impulses](corner-cors-plane.png)\n"
     )

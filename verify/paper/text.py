@@ -168,8 +168,8 @@ def aeev_text(search: Search) -> list[str]:
         lines.append(f"  Under the readings tried, c = {stated} reproduces every printed count under none"
                      " (the last column says where each first fails)")  # fmt: skip
     reading = PAPER_READING.name
-    lines.append(f"  paper mode uses {reading} with c = {format_decimal(PAPER_SIGMA_RELATIVE)} (see "
-                 "verify/models/paper.py; other readings: verify cradle --mode paper --aeev READING)")  # fmt: skip
+    lines.append(f"  paper mode uses {reading} with c = {format_decimal(PAPER_SIGMA_RELATIVE)} (other readings: "
+                 "verify cradle --mode paper --aeev READING)")  # fmt: skip
     return lines
 
 
@@ -373,7 +373,7 @@ def corner_map_text(found: CornerMaps) -> str:
     curves = sorted({plane.P.show(side.poly, plane.names) for p in found.repeated_plane
                      for side in (p.cell.y_lo, p.cell.y_hi) if getattr(side, "poly", None) is not None})  # fmt: skip
     return (
-        eps_map_text(found.line, exact_in="verify.paper.corner_map")
+        eps_map_text(found.line, exact_in="the --json of verify map")
         + f"\nRepeated multiple impacts (the first two impulses both on both walls) on this line: exactly for eps1 in "
         f"{pieces}.\n\nBoth CORs over [0, 1]^2 as exact cells, up to "
         f"{counted(found.plane.max_impulses, 'impulse')}, from "

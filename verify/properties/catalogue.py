@@ -696,8 +696,8 @@ PROPERTIES: tuple[Property, ...] = (
         census=True,
         max_iterations=LONG_RUNS,
         explain=(
-            "for two constraints the rule never exits exactly when the run enters the invariant cones of "
-            "verify/proofs/termination.py; for three unit balls that is eps <= 7 - 4*sqrt(3) (verify cradle-map), for "
+            "for two constraints the rule never exits exactly when the run enters the invariant cones of its "
+            "certificate; for three unit balls that is eps <= 7 - 4*sqrt(3) (verify cradle-map), for "
             "the symmetric corner tan(alpha) <= (1 - sqrt(e))/(1 + sqrt(e)) (verify corner-claims)"
         ),
     ),

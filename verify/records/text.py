@@ -12,7 +12,7 @@ from collections.abc import Sequence
 from typing import TYPE_CHECKING, Any
 
 from verify.dynamics.system import default_names
-from verify.laws.outcome import Result
+from verify.laws.outcome import Result, stop_words
 from verify.numbers.backends.base import Backend
 from verify.numbers.format import counted, format_exact
 from verify.records.results import value_string
@@ -57,12 +57,25 @@ def cradle_text(result: Result, *, eps: list[str], mode: str, full_trace: bool =
         "non_terminating": "non_terminating (proved never to exit: the certificate is in --json)",
     }.get(result.stop, result.stop)
     which = " (sweeps that changed an impulse)" if result.law == "sequential" else ""
-    lines.append(f"iterations: {result.iterations}{which}; stop: {stop}")
-    lines.append(
-        f"kinetic energy: {K.to_decimal(result.kinetic_energy_in, 12)} -> "
-        f"{K.to_decimal(result.kinetic_energy_out, 12)} (12 significant digits)"
-    )
+    lines.append(f"iterations: {impulses_words(result)}{which}; stop: {stop}")
+    lines.append(energy_line(result) + " (12 significant digits)")
     return "\n".join(lines) + "\n"
+
+
+def impulses_words(result: Result) -> str:
+    """A run's impulses: their number, or, for a run proved never to exit, that they never end."""
+    if result.stop == "non_terminating":
+        return f"never end (infinitely many; proved after {result.iterations})"
+    return str(result.iterations)
+
+
+def energy_line(result: Result) -> str:
+    """The kinetic energy in and out; for a run that never exits, in and when it was proved (there is no out)."""
+    K = result.backend
+    before, after = K.to_decimal(result.kinetic_energy_in, 12), K.to_decimal(result.kinetic_energy_out, 12)
+    if result.stop == "non_terminating":
+        return f"kinetic energy: {before} in, {after} when proved never to exit"
+    return f"kinetic energy: {before} -> {after}"
 
 
 def trace_lines(
@@ -138,10 +151,9 @@ def solve_text(case_id: str, result: Result, trace: bool = False) -> str:
     sets = " ".join("{" + ",".join(shown[j] for j in J) + "}" for J in result.impact_sets[:20])
     if result.iterations > 20:
         sets += f" ... ({result.iterations - 20} more)"
+    unit = "sweep" if result.law == "sequential" else "impulse"
     lines = [
-        f"{case_id}: {result.stop} after "
-        f"{counted(result.iterations, 'sweep' if result.law == 'sequential' else 'impulse')} "
-        f"({K.describe()})",
+        f"{case_id}: {stop_words(result.stop, result.iterations, unit)} ({K.describe()})",
         f"  impact sets: {sets or '-'}",
         *law_lines(result, "  "),
     ]
@@ -150,11 +162,7 @@ def solve_text(case_id: str, result: Result, trace: bool = False) -> str:
     if K.is_exact:
         lines.append(f"  {result.velocity_name}: {join_values([short_exact(K, x) for x in result.exit_velocity])}")
     lines.append(f"  {decimal_label(K)}: {join_values([K.to_decimal(x, 20) for x in result.exit_velocity])}")
-    lines.append(
-        f"  kinetic energy: {K.to_decimal(result.kinetic_energy_in, 12)} -> "
-        f"{K.to_decimal(result.kinetic_energy_out, 12)}"
-        f" ({len(s.names)} constraints, {s.n} coordinates)"
-    )
+    lines.append(f"  {energy_line(result)} ({len(s.names)} constraints, {s.n} coordinates)")
     lines += [f"  note: {n}" for n in result.notes]
     return "\n".join(lines) + "\n"
 
@@ -193,8 +201,8 @@ def corner_text(
         for name, x in zip(("xd", "yd"), r.exit_velocity[:2]):
             lo, hi = K.enclosure(x, 20)
             lines.append(f"  {name} in [{lo}, {hi}]")
-    lines.append(f"iterations: {r.iterations}; stop: {r.stop}")
-    lines.append(f"kinetic energy: {K.to_decimal(r.kinetic_energy_in, 12)} -> {K.to_decimal(r.kinetic_energy_out, 12)}")
+    lines.append(f"iterations: {impulses_words(r)}; stop: {r.stop}")
+    lines.append(energy_line(r))
     return "\n".join(lines) + "\n"
 
 

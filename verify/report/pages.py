@@ -17,6 +17,7 @@ from verify.oracle.pages import oracle_page
 from verify.paper.pages import corner_page, cradle_map_page, fig1_page, table1_page
 from verify.properties.pages import properties_page
 from verify.report.findings import Findings
+from verify.report.glossary import glossary_page
 from verify.views.pages import block
 
 if TYPE_CHECKING:
@@ -43,6 +44,7 @@ PAGES: list[tuple[str, Callable[[Path, Findings], str]]] = [
     ("performance.md", lambda out, f: performance_page(out)),
     ("fig1.md", lambda out, f: fig1_page(out, f.fig1_runs)),
     ("engines.md", lambda out, f: engines_page(out)),
+    ("glossary.md", lambda out, f: glossary_page()),
 ]
 
 
@@ -55,6 +57,18 @@ TITLES = {
     "performance.md": "Performance",
     "fig1.md": "The three disks after the impact (Fig. 1)",
     "engines.md": "Physics engines against the paper's rule and the simultaneous law",
+    "glossary.md": "Glossary: the terms the pages use",
+}
+
+#: the command that draws each figure of the reports on its own (``verify report`` draws them all)
+FIGURE_COMMANDS = {
+    "cradle-staircase.png": "verify cradle-map --figure cradle-staircase.png",
+    "corner-exit-vs-entrance.png": "verify corner-claims --figures DIR",
+    "corner-multiple-impacts.png": "verify corner-claims --figures DIR",
+    "wedge-boundary.png": "verify corner-claims --figures DIR",
+    "corner-cors-plane.png": "verify report",
+    "cradle-motion.png": "verify report",
+    "engines-cradle.png": "verify engines --report",
 }
 
 
@@ -83,7 +97,11 @@ def write_reports(out: str | Path = "reports", *, profile: str = "ci", workers: 
             if progress:
                 progress(f"[report {i}/{len(PAGES)}] {TITLES[name]} ...")
             texts[name] = page(out, findings)
-    texts["README.md"] = index_page(findings)
+        index = index_page(findings)  # on the same pool: what the pages did not compute, it does
+    numbered(texts, [name for name, _ in PAGES])
+    texts["README.md"] = index
+    for name in texts:
+        texts[name] += f"\n---\n\n{provenance()}\n"
     write_all_atomic({out / name: text for name, text in texts.items()})
     return findings
 
@@ -147,3 +165,39 @@ def wrapped(line: str, width: int = 118) -> str:
     import textwrap
 
     return "\n".join(textwrap.wrap(line, width, subsequent_indent="    ", break_long_words=False)) or line
+
+
+def provenance() -> str:
+    """The line at the foot of every page: the version that wrote it and the command (no clock time, so that
+    the reports stay the same bytes when written again)."""
+    from verify import __version__
+
+    return f"Written by verify {__version__} (`verify report`, also run by `verify all`)."
+
+
+def numbered(texts: dict[str, str], order: Sequence[str]) -> None:
+    """Number every figure of the pages in ``order``, in place: each image gets a caption under it, "Figure N.",
+    what it shows and the command that draws it (:data:`FIGURE_COMMANDS`).
+
+    >>> pages = {"a.md": "x\\n![the staircase](cradle-staircase.png)\\n"}
+    >>> numbered(pages, ["a.md"]); print(pages["a.md"])
+    x
+    ![Figure 1: the staircase](cradle-staircase.png)
+    <BLANKLINE>
+    *Figure 1.* the staircase. Drawn by `verify cradle-map --figure cradle-staircase.png`.
+    <BLANKLINE>
+    """
+    import re
+
+    count = 0
+
+    def caption(match: re.Match[str]) -> str:
+        nonlocal count
+        count += 1
+        what, file = match.group(1), match.group(2)
+        command = FIGURE_COMMANDS.get(file, "verify report")
+        return f"![Figure {count}: {what}]({file})\n\n*Figure {count}.* {what}. Drawn by `{command}`."
+
+    for name in order:
+        if name in texts:
+            texts[name] = re.sub(r"^!\[([^\]]*)\]\(([^)]+)\)$", caption, texts[name], flags=re.M)
