@@ -16,7 +16,7 @@ def engines_cradle(record: dict[str, Any], path: str | Path) -> Path:
     from verify.engines.run import GRID, grid_rows
 
     rule, sim, engines = grid_rows(record)
-    fig, axes = plt.subplots(1, 3, figsize=(10.0, 3.4), sharey=True)
+    fig, axes = plt.subplots(1, 3, figsize=(10.0, 4.2), sharey=True)
     markers = ("o", "s", "^", "D", "v", "P", "X")
     eps = [to_float(e) for e in GRID]
     for ball, ax in enumerate(axes):
@@ -32,6 +32,7 @@ def engines_cradle(record: dict[str, Any], path: str | Path) -> Path:
         ax.set_xlabel("eps (both contacts)")
         ax.grid(alpha=0.3)
     axes[0].set_ylabel("exit velocity (v0 = 100)")
-    axes[-1].legend(fontsize=7, loc="best")
-    fig.tight_layout()
+    handles, labels = axes[-1].get_legend_handles_labels()
+    fig.legend(handles, labels, fontsize=7, loc="lower center", ncol=4, frameon=False)  # below the panels, off the data
+    fig.tight_layout(rect=(0, 0.16, 1, 1))
     return save_figure(fig, path)

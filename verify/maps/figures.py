@@ -2,7 +2,7 @@
 
 from __future__ import annotations
 
-from collections.abc import Callable
+from collections.abc import Callable, Sequence
 from fractions import Fraction
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
@@ -76,16 +76,17 @@ def staircase_legend(cmap: CradleMap) -> list[tuple[str, str]]:
     return out
 
 
-def cradle_staircase(cmap: CradleMap, path: str | Path) -> Path:
+def cradle_staircase(cmap: CradleMap, path: str | Path, marks: Sequence[tuple[Fraction, int]] = ()) -> Path:
     """Iteration count against eps for a cradle map: the staircase, the thresholds and the
     termination boundary. Left: the whole range. Right (when there is a termination
     boundary): the same steps against the distance to the boundary, on a log scale.
     The legend (:func:`staircase_legend`) names only what is drawn; unexplored parts are
-    marked as proved to exit later or as undecided, with the map's reason."""
-    return save_figure(staircase_figure(cmap), path)
+    marked as proved to exit later or as undecided, with the map's reason. ``marks``: points (eps, impulses) drawn
+    over it, such as the counts Table 1 prints."""
+    return save_figure(staircase_figure(cmap, marks), path)
 
 
-def staircase_figure(cmap: CradleMap) -> Any:
+def staircase_figure(cmap: CradleMap, marks: Sequence[tuple[Fraction, int]] = ()) -> Any:
     """The matplotlib figure of :func:`cradle_staircase`, not saved (close it with ``plt.close``)."""
     plt = load_pyplot()
     from matplotlib.lines import Line2D
@@ -122,6 +123,9 @@ def staircase_figure(cmap: CradleMap) -> Any:
         "threshold_3_4": lambda label: Line2D([], [], color="C2", ls=":", label=label),
     }
     handles = [style[kind](label) for kind, label in staircase_legend(cmap)]
+    if marks:
+        ax.plot([to_float(e) for e, _ in marks], [n for _, n in marks], "kx", ms=5)
+        handles.append(Line2D([], [], color="black", marker="x", ls="", label="Table 1's eps, printed count"))
     ax.legend(handles=handles, loc="upper right", fontsize=8)
     if boundaries:
         _distance_panel(axes[0][1], cmap, boundaries[0])

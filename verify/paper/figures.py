@@ -61,7 +61,7 @@ def draw_exit_vs_entrance(cases: list[dict[str, Any]], results: list[dict[str, A
 
     plt = load_pyplot()
     pairs, n = EXIT_PAIRS, EXIT_DIRECTIONS
-    fig, (ax1, ax2) = plt.subplots(1, 2, figsize=(10, 4), constrained_layout=True)
+    fig, (ax1, ax2) = plt.subplots(1, 2, figsize=(10, 4.4), constrained_layout=True)
     for i, (e1, e2) in enumerate(pairs):
         rows = results[i * n : (i + 1) * n]
         xs, speed, direction = [], [], []
@@ -71,18 +71,18 @@ def draw_exit_vs_entrance(cases: list[dict[str, Any]], results: list[dict[str, A
             vx, vy = (float(v) for v in r["exit_velocity"])  # display only
             xs.append(j - 90.5)
             speed.append(math.hypot(vx, vy))
-            direction.append(math.degrees(math.atan2(vy, vx)))
+            direction.append(math.degrees(math.atan2(vy, vx)) % 360)  # in [0, 360): the disk leaves backwards
         ax1.plot(xs, speed, lw=1.3, label=f"eps1 = {e1}, eps2 = {e2}")
-        ax2.plot(xs, direction, ".", ms=2.5, label=f"eps1 = {e1}, eps2 = {e2}")
+        ax2.plot(xs, direction, "-", lw=1.3, label=f"eps1 = {e1}, eps2 = {e2}")
     ax1.set_xlabel("entrance direction phi (degrees)")
     ax1.set_ylabel("exit speed (entrance speed 100)")
     ax2.set_xlabel("entrance direction phi (degrees)")
-    ax2.set_ylabel("exit direction (degrees)")
+    ax2.set_ylabel("exit direction (degrees, 180 = straight back)")
     for ax in (ax1, ax2):
         ax.axvline(-30, color="0.5", ls=":", lw=1)
         ax.axvline(30, color="0.5", ls=":", lw=1)
         ax.grid(alpha=0.3)
-        ax.legend(fontsize=8)
+    fig.legend(*ax1.get_legend_handles_labels(), loc="outside lower center", ncol=3, fontsize=8, frameon=False)
     ax1.set_title("disk in a corner, alpha = pi/6: exit speed")
     ax2.set_title("exit direction (dotted: the walls' directions, +-alpha)")
     return save_figure(fig, path)
@@ -193,15 +193,16 @@ def draw_multiple_impacts(cases: list[dict[str, Any]], results: list[dict[str, A
     n = math.isqrt(len(cases)) - 1  # the grid's side, from the number of cases
     grid = np.zeros((n + 1, n + 1))
     forever = np.full((n + 1, n + 1), np.nan)
+    most = max(1, *(r["multiple_impacts"] for r in results))  # the colour bar fitted to the data
     for idx, r in enumerate(results):
         i, j = divmod(idx, n + 1)
-        grid[j, i] = min(r["multiple_impacts"], 4)
+        grid[j, i] = r["multiple_impacts"]
         if r["stop"] == "non_terminating":
             forever[j, i] = 1.0
     fig, ax = plt.subplots(figsize=(5.8, 4.6), constrained_layout=True)
     half = 0.5 / n
     extent = (-half, 1 + half, -half, 1 + half)
-    im = ax.imshow(grid, origin="lower", extent=extent, cmap="magma_r", interpolation="nearest", vmin=0, vmax=4)
+    im = ax.imshow(grid, origin="lower", extent=extent, cmap="magma_r", interpolation="nearest", vmin=0, vmax=most)
     ax.imshow(
         forever, origin="lower", extent=extent, cmap="Blues", vmin=0, vmax=1.3, interpolation="nearest", alpha=0.6
     )
@@ -210,8 +211,7 @@ def draw_multiple_impacts(cases: list[dict[str, Any]], results: list[dict[str, A
     ax.set_ylabel("eps2 (wall S2)")
     ax.set_title("multiple impacts, alpha = pi/6, phi = pi/12 (blue: never exits, proved)")
     ax.legend(loc="upper right", fontsize=8)
-    bar = fig.colorbar(im, ax=ax, label="number of multiple impacts", ticks=[0, 1, 2, 3, 4])
-    bar.ax.set_yticklabels(["0", "1", "2", "3", ">= 4"])
+    fig.colorbar(im, ax=ax, label="number of multiple impacts", ticks=list(range(most + 1)))
     return save_figure(fig, path)
 
 

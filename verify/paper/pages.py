@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 from collections.abc import Sequence
+from fractions import Fraction
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
@@ -43,20 +44,29 @@ def table1_page(table: Table1) -> str:
     )
 
 
-def cradle_map_page(out: Path, report: MapReport) -> str:
+def table1_marks(table: Table1) -> list[tuple[Fraction, int]]:
+    """Table 1's rows as points (eps, the impulses it prints, AEEV rows included) for the staircase."""
+    from verify.numbers.parse import parse_number
+    from verify.paper.readings import parse_printed_iterations
+
+    return [(Fraction(parse_number(row.eps)), parse_printed_iterations(row.printed[-1])[1]) for row in table.rows]
+
+
+def cradle_map_page(out: Path, report: MapReport, marks: Sequence[tuple[Fraction, int]] = ()) -> str:
     """The page of the cradle map (a :class:`verify.paper.cradle_map.MapReport`); draws its figure
     into ``out``."""
     from verify.maps.figures import cradle_staircase
     from verify.maps.text import cradle_map_text
 
-    cradle_staircase(report.cmap, out / "cradle-staircase.png")
+    cradle_staircase(report.cmap, out / "cradle-staircase.png", marks)
     return (
         "# The cradle for every eps in [0, 1]\n\n"
         "eps runs as a symbol; the interval is cut at the exact roots wherever a sign changes. Thresholds are\n"
         "exact algebraic numbers (with decimals); the termination boundary comes with its certificate\n"
         "(`verify cradle-map --json`); the AEEV rows of Table 1 are read off the map. Command: `verify cradle-map`.\n\n"
         + block(cradle_map_text(report.cmap, aeev_rows=report.aeev_rows, approach=report.approach, exact_in="--json"))
-        + "\n![Impulse count against eps: the staircase and the termination boundary](cradle-staircase.png)\n"
+        + "\n![Impulse count against eps: the staircase, the termination boundary and Table 1's printed counts (x)]"
+        "(cradle-staircase.png)\n"
     )
 
 

@@ -14,7 +14,7 @@ from typing import TYPE_CHECKING
 from verify.bench.pages import performance_page
 from verify.engines.pages import engines_page
 from verify.oracle.pages import oracle_page
-from verify.paper.pages import corner_page, cradle_map_page, fig1_page, table1_page
+from verify.paper.pages import corner_page, cradle_map_page, fig1_page, table1_marks, table1_page
 from verify.properties.pages import properties_page
 from verify.report.findings import Findings
 from verify.report.glossary import glossary_page
@@ -37,7 +37,7 @@ def _corner(out: Path, f: Findings) -> str:
 #: each page: its file name, and how it is written from the output folder and the findings
 PAGES: list[tuple[str, Callable[[Path, Findings], str]]] = [
     ("table1.md", lambda out, f: table1_page(f.table1)),
-    ("cradle-map.md", lambda out, f: cradle_map_page(out, f.cradle_map)),
+    ("cradle-map.md", lambda out, f: cradle_map_page(out, f.cradle_map, table1_marks(f.table1))),
     ("corner.md", _corner),
     ("properties.md", lambda out, f: properties_page(f.profile, f.verdicts)),
     ("oracle.md", lambda out, f: oracle_page(f.oracle)),
