@@ -635,7 +635,7 @@ def _stop_text(mine: dict[Any, Any], unit: str = "impulses") -> str:
 def _no_exit_text(exact: dict[Any, Any]) -> str:
     """Why a velocity given as an exit velocity is wrong where the exact run does not exit."""
     if exact["stop"] == "non_terminating":
-        what = f"non_terminating (proved, after {counted(exact['iterations'], 'impulse')}, never to exit)"
+        what = f"non_terminating (never exits; proved after {counted(exact['iterations'], 'impulse')})"
     else:
         what = f"{exact['stop']} (the exact run had not exited after {counted(exact['iterations'], 'impulse')})"
     return f"expected {what}"
