@@ -229,6 +229,10 @@ class Table1:
     rows: list[Row]
     identification: Search
 
+    def disagreeing(self) -> list[tuple[str, str]]:
+        """(eps, column) of every printed entry that disagrees with the exact run."""
+        return [(row.eps, c.column) for row in self.rows for c in row.checks if not c.agrees]
+
 
 def _velocities(result: Result) -> list[Fraction]:
     K = result.backend

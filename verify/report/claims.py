@@ -52,7 +52,7 @@ def _table1_rows(found: Findings) -> list[ClaimRow]:
     from verify.maps.cradle import termination_boundaries, threshold_between
 
     table = found.table1
-    bad = [(row.eps, c.column) for row in table.rows for c in row.checks if not c.agrees]
+    bad = table.disagreeing()
     exiting = [row for row in table.rows if row.exact.stop == "exit" and all(c.agrees for c in row.checks)]
     last = exiting[-1]
     cmap = found.cradle_map.cmap

@@ -36,7 +36,7 @@ def all_summary(
     from verify.maps.cradle import termination_boundaries
 
     lines = ["", "Summary", "======="]
-    bad = [(row.eps, c.column) for row in table.rows for c in row.checks if not c.agrees]
+    bad = table.disagreeing()
     lines.append(f"Table 1: {counted(len(table.rows), 'row')} recomputed; {counted(len(bad), 'printed entry')} "
                  f"{'disagrees' if len(bad) == 1 else 'disagree'} "
                  f"({', '.join(f'eps {e} {c}' for e, c in bad)}); see reports/table1.md")  # fmt: skip
@@ -70,7 +70,7 @@ def abstract(found: Findings) -> list[str]:
     from verify.maps.cradle import termination_boundaries, threshold_between
 
     table = found.table1
-    bad = [(row.eps, c.column) for row in table.rows for c in row.checks if not c.agrees]
+    bad = table.disagreeing()
     cmap = found.cradle_map.cmap
     boundary = termination_boundaries(cmap)[0]
     claims = found.corner.claims
