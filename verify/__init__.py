@@ -38,7 +38,7 @@ from verify.numbers.backends import BACKENDS, Backend, get_backend
 from verify.numbers.format import format_decimal, format_exact
 from verify.numbers.parse import parse_number
 
-__version__ = "0.3.0"
+__version__ = "0.4.0"
 
 #: names imported when first used (they load SymPy and Hypothesis, which the command line's parser does not)
 _LAZY = {

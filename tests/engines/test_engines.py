@@ -99,16 +99,34 @@ def test_the_page_is_rendered_from_the_committed_record() -> None:
     """Every finding line of the page comes from the record (the staleness of the page itself is
     tests/report/test_reports.py's)."""
     from verify.engines.pages import engines_page_text
+    from verify.views.pages import literal_products
 
     record = json.loads(RECORD.read_text(encoding="utf-8"))
     page = (ROOT / "reports" / "engines.md").read_text(encoding="utf-8")
     # what verify report adds to every page: the figures' numbers and captions, the provenance line
     page = re.sub(r"\n---\n\nWritten by verify [^\n]*\n$", "", page)
     page = re.sub(r"!\[Figure \d+: ([^\]]*)\]\(([^)]+)\)\n\n\*Figure \d+\.\* [^\n]*", r"![\1](\2)", page)
-    assert page == engines_page_text(record)
+    assert page == literal_products(engines_page_text(record))
     assert len(record["engines"]) >= 3
     for entry in record["engines"]:
-        assert f"## {entry['name']} {entry['version']}" in page
+        assert f"**{entry['name']} {entry['version']}**" in page
+        assert f"| {entry['name']} | {entry['explained']['precision']} |" in page
+
+
+def test_every_case_of_the_record_is_printed_from_it(capsys) -> None:
+    """``verify engines --from RECORD --cases``: the record's answers on every case, no engine run; a file that
+    is not a record is refused (exit code 2) before anything is printed."""
+    from verify.cli import main
+
+    record = json.loads(RECORD.read_text(encoding="utf-8"))
+    box2d = next(e for e in record["engines"] if e["name"] == "box2d")
+    assert main(["engines", "--from", str(RECORD), "--cases", "--engine", "box2d"]) == 0
+    out = capsys.readouterr().out
+    assert out.startswith(f"box2d {box2d['version']}: {len(box2d['cases'])} cases")
+    assert all(f"| `{c['id']}` |" in out for c in box2d["cases"]) and "pymunk" not in out
+    assert main(["engines", "--from", "README.md"]) == 2
+    captured = capsys.readouterr()
+    assert "--from README.md: not an engines record" in captured.err and not captured.out
 
 
 @pytest.mark.slow(seconds=11)

@@ -62,7 +62,7 @@ def _fixed(line: dict) -> dict[str, Fraction]:
 
 
 def test_the_corner_map_agrees_with_single_exact_runs_at_100_rational_points(capsys) -> None:
-    code, out, _ = run_cli(capsys, ["map", str(CORNER), "--json"])
+    code, out, _ = run_cli(capsys, ["map", str(CORNER), "--json", "--grid"])
     assert code == 0
     data = json.loads(out)
     assert data["layout"] == "grid of lines" and data["restitution"] == ["eps1", "eps2"]

@@ -43,10 +43,12 @@ def test_above_the_boundary_every_eigenvalue_of_the_period_has_modulus_eps(syste
     assert disc.subs(E, star - sp.Rational(1, 10**6)) > 0
 
 
-def _map(system: str):
+def _map(system: str, leaving: bool | None = None):
+    """The map of ``system`` over its interval; by default the proof of exits is tried where nothing else decides
+    (``leaving=None``, as ``verify cradle-map`` does by default)."""
     masses, (lower, upper), _ = CASES[system]
     return cradle_map(masses=[str(m) for m in masses], velocity=["1", "0", "0", "0"], lower=lower, upper=upper,
-                      max_impulses=40, widen=0, leaving=True)  # fmt: skip
+                      max_impulses=40, widen=0, leaving=leaving)  # fmt: skip
 
 
 @pytest.mark.slow(seconds=44)
@@ -60,6 +62,8 @@ def test_every_eps_above_the_boundary_exits_but_a_gap_below_1e_minus_9(system) -
     assert all(p.piece.lower.cmp(boundary) > 0 for p in proved)
     high = undecided_length(m.parts)[1]
     assert high < F(1, 10**6)
+    without = undecided_length(_map(system, leaving=False).parts)[0]
+    assert without > F(1, 10**4) > high, "the default decides what the map without the proof leaves undecided"
     # the conclusion, from runs of the rule itself: each proved part's middle exits, after more than the bound
     for p in proved:
         lo, hi = p.piece.lower.narrowed(F(1, 10**12))[1], p.piece.upper.narrowed(F(1, 10**12))[0]
@@ -131,3 +135,22 @@ def test_from_points_of_the_ellipses_the_run_exits_where_it_leaves_the_period(sy
                     assert (r.stop == "exit" and len(runs) <= 3) or runs[2:4] == sets
                     seen["follows" if runs[2:4] == sets else "leaves"] += 1
         assert seen["leaves"] and seen["follows"], seen  # both branches of fact 2 are met
+
+
+@pytest.mark.parametrize(("flags", "leaving"), [([], None), (["--leaving"], True), (["--no-leaving"], False)])
+def test_the_command_tries_the_proof_where_the_map_leaves_parts_undecided(monkeypatch, flags, leaving) -> None:
+    """``verify cradle-map`` by default tries the proof of exits on what the map leaves undecided (``leaving=None``,
+    tested above); ``--leaving`` everywhere, ``--no-leaving`` nowhere."""
+    import verify.maps.cradle
+    from verify.cli import main
+    from verify.errors import InvalidInput
+
+    seen = []
+
+    def record(*args, **kwargs):
+        seen.append(kwargs["leaving"])
+        raise InvalidInput("stopped here")  # nothing to compute: the command's choice is what is tested
+
+    monkeypatch.setattr(verify.maps.cradle, "cradle_map", record)
+    assert main(["cradle-map", "--balls", "4", *flags]) == 2
+    assert seen == [leaving]

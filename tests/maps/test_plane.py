@@ -215,8 +215,9 @@ def test_the_text_names_the_contacts_as_the_legend_and_the_line_maps_do() -> Non
 
 
 def test_cells_from_the_command_line(tmp_path, capsys) -> None:
-    """``verify map --cells``: JSON with every cell, a figure; one parameter is refused with exit code 2, as is
-    ``--cell-cones`` without ``--cells``."""
+    """``verify map``: with two parameters, cells by default (as ``--cells``): JSON with every cell, a figure; one
+    parameter is refused with exit code 2 under ``--cells``, as is ``--cell-cones`` with a grid of lines, and
+    ``--cells`` with ``--grid``; ``--lines`` asks for the grid."""
     import json
 
     from verify.cli import main
@@ -230,9 +231,16 @@ def test_cells_from_the_command_line(tmp_path, capsys) -> None:
                                           "restitution": ["e"], "velocity": ["1", "0"]}]}))  # fmt: skip
     assert main(["map", str(one), "--cells"]) == 2
     assert "two parameters" in capsys.readouterr().err
-    assert main(["map", "docs/examples/balls-2112-cors.json", "--cell-cones"]) == 2  # cones on cells need cells
+    assert main(["map", "docs/examples/corner-map.json", "--json", "--max-impulses", "8"]) == 0
+    assert json.loads(capsys.readouterr().out) == out, "cells are the default with two parameters"
+    assert main(["map", "docs/examples/corner-map.json", "--json", "--max-impulses", "8", "--lines", "2"]) == 0
+    assert json.loads(capsys.readouterr().out)["layout"] == "grid of lines"
+    assert main(["map", "docs/examples/balls-2112-cors.json", "--cell-cones", "--grid"]) == 2
     captured = capsys.readouterr()
     assert "--cell-cones is for a map of cells" in captured.err and not captured.out
+    assert main(["map", "docs/examples/corner-map.json", "--cells", "--lines", "3"]) == 2
+    captured = capsys.readouterr()
+    assert "--cells and --grid (or --lines)" in captured.err and not captured.out
     figure = tmp_path / "m.png"
     assert (
         main(["map", "docs/examples/corner-map.json", "--cells", "--max-impulses", "8", "--figure", str(figure)]) == 0

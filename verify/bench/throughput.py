@@ -625,7 +625,7 @@ def bench_text(record: dict[str, Any]) -> str:
 
 
 def requirements(record: dict[str, Any]) -> list[str]:
-    """Each ratio that the project requires (issue 19), read off a bench record, met or not."""
+    """Each ratio that the project requires of its speed, read off a bench record, met or not."""
     f = {x["name"]: x for x in record["figures"]}
     out = []
 

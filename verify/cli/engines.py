@@ -23,6 +23,11 @@ def engines_options(p: argparse.ArgumentParser) -> None:
                    help="run engine NAME's adapter with another Python (an environment of its own, with verify and "
                         "the engine installed), e.g. nimblephysics=venv-nimble/bin/python (repeatable)")  # fmt: skip
     p.add_argument("--quiet", action="store_true", help="no progress lines on stderr")
+    p.add_argument("--from", dest="record", default=None, metavar="RECORD",
+                   help="read this record (engines.json of --report, or --json's output) instead of running the "
+                        "engines, e.g. reports/engines.json")  # fmt: skip
+    p.add_argument("--cases", action="store_true",
+                   help="also print each engine's answer on every case, beside both laws' exact answers")  # fmt: skip
     p.add_argument("--json", action="store_true", help="print the record (JSON)")
 
 
@@ -49,7 +54,10 @@ def cmd_engines(args: argparse.Namespace) -> int:
         if not args.quiet:
             print(f"verify engines: {line}", file=sys.stderr, flush=True)
 
-    record = engines_record(args.engine, progress=progress, workers=args.workers or 2, pythons=dict(args.python))
+    if args.record is not None:
+        record = read_record(args.record, args.engine)
+    else:
+        record = engines_record(args.engine, progress=progress, workers=args.workers or 2, pythons=dict(args.python))
     if args.report:
         write_engines_report(args.out, record)
     if args.json:
@@ -58,10 +66,33 @@ def cmd_engines(args: argparse.Namespace) -> int:
     lines = [f"{e['name']} {e['version']}: {len(e['cases'])} cases" for e in record["engines"]]
     lines += [f"{s['name']}: skipped ({s['reason']})" for s in record["skipped"]]
     lines += ["", *[f"- {line}" for line in findings(record)]]
+    if args.cases:
+        from verify.engines.pages import case_tables
+
+        lines += ["", *case_tables(record)]
     if args.report:
         lines += ["", f"wrote {args.out}/engines.md, engines.json and engines-cradle.png"]
     sys.stdout.write("\n".join(lines) + "\n")
     return 0
+
+
+def read_record(path: str, names: list[str] | None) -> dict[str, Any]:
+    """A saved engines record (``--from``), narrowed to the engines ``names`` (all when None); a file that is
+    not such a record is a usage error."""
+    import json
+    from pathlib import Path
+
+    from verify.cli.common import UsageError
+
+    try:
+        record: dict[str, Any] = json.loads(Path(path).read_text(encoding="utf-8"))
+        if not (isinstance(record, dict) and {"cases", "engines", "skipped"} <= record.keys()):
+            raise ValueError("it has no cases, engines and skipped")
+    except (OSError, ValueError) as exc:
+        raise UsageError(f"--from {path}: not an engines record ({exc})") from None
+    if names:
+        record = dict(record, engines=[e for e in record["engines"] if e["name"] in names])
+    return record
 
 
 def write_engines_report(out: str, record: dict[Any, Any]) -> None:

@@ -83,11 +83,12 @@ def map_budget_options(p: argparse.ArgumentParser) -> None:
                    help="below a boundary where only cones that the period turns into themselves can hold, halve "
                         f"a piece on which none closes at most N times (default {DEFAULT_HALVINGS}): more takes "
                         "them nearer the boundary, and longer")  # fmt: skip
-    p.add_argument("--leaving", action="store_true",
+    p.add_argument("--leaving", action=argparse.BooleanOptionalAction, default=None,
                    help="where the runs repeat a period whose eigenvalues all have modulus eps (above a boundary of "
                         "never-exits), prove that every eps exits: the rates leave the period, and exit where they "
                         "leave it (exact cells of eps and a slope), or, for a period of two turning pairs (five "
-                        "unit balls), the rule run on certified cells of eps; minutes")  # fmt: skip
+                        "unit balls), the rule run on certified cells of eps. Default: cradle-map tries it on the "
+                        "parts it leaves undecided without it (seconds for four balls); map does not")  # fmt: skip
     p.add_argument("--quiet", action="store_true", help="no progress line on stderr")
 
 
@@ -220,11 +221,14 @@ def map_options(p: argparse.ArgumentParser) -> None:
         metavar="NAME=LO,HI",
         help="the interval of a parameter (default 0,1 for each); repeat for several",
     )
-    p.add_argument("--lines", type=BoundedInt(2, MAX_LINES), default=DEFAULT_LINES,
-                   help=f"with two or more parameters: values per parameter (default {DEFAULT_LINES})")  # fmt: skip
+    p.add_argument("--lines", type=BoundedInt(2, MAX_LINES), default=None,
+                   help=f"with two or more parameters: a grid of lines, this many values per parameter (default "
+                        f"{DEFAULT_LINES} with three or more parameters, or with --grid)")  # fmt: skip
+    p.add_argument("--grid", action="store_true",
+                   help="with two parameters: a grid of lines instead of the default exact cells")  # fmt: skip
     p.add_argument("--cells", action="store_true",
-                   help="with two parameters: cut the whole box into exact cells instead of a grid of lines "
-                        "(every rational point mapped)")  # fmt: skip
+                   help="with two parameters: cut the whole box into exact cells, every rational point mapped (the "
+                        "default with two parameters; kept for scripts that name it)")  # fmt: skip
     p.add_argument("--cell-cones", action="store_true",
                    help="with --cells, for three or more contacts: try a boundary cone on each cell still "
                         "impacting at the bound, proved on the whole cell (slow: minutes)")  # fmt: skip
@@ -250,18 +254,23 @@ def _parameters(args: argparse.Namespace) -> dict[str, list[str]]:
 
 def cmd_map(args: argparse.Namespace) -> int:
     """``verify map``: a case's CORs as parameters, mapped exactly (one interval, or a grid of lines)."""
+    from verify.maps import DEFAULT_LINES
     from verify.maps.general import case_map, eps_map_json
     from verify.maps.text import eps_map_text
     from verify.records.results import dumps
 
-    if args.cell_cones and not args.cells:
-        raise UsageError(f"{PROG} map: --cell-cones is for a map of cells: give --cells too")
+    grid = args.grid or args.lines is not None
+    if args.cells and grid:
+        raise UsageError(f"{PROG} map: --cells and --grid (or --lines) ask for two different maps: give one")
+    if args.cell_cones and grid:
+        raise UsageError(f"{PROG} map: --cell-cones is for a map of cells, not a grid of lines")
     if args.figure:
         require("matplotlib", "--figure")  # before the map is computed
     watch, status = map_watch(args, "map:")
     try:
-        m = case_map(args.case, args.case_id, _parameters(args), lines=args.lines, max_impulses=args.max_impulses,
-                     watch=watch, widen=args.widen, cells=args.cells, leaving=args.leaving,
+        m = case_map(args.case, args.case_id, _parameters(args), lines=args.lines or (DEFAULT_LINES if grid else None),
+                     max_impulses=args.max_impulses, watch=watch, widen=args.widen,
+                     cells=True if args.cells else False if grid else None, leaving=bool(args.leaving),
                      cell_cones=args.cell_cones)  # fmt: skip
     finally:
         status.close()

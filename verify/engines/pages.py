@@ -16,46 +16,84 @@ def _v(values: list[str] | None, digits: int = 6) -> str:
 
 def explained_table(record: dict[str, Any]) -> list[str]:
     """Per engine: the share of its default answers an exact model explains (and the model that explains most),
-    its largest kinetic-energy gain, and its median distance to the paper's rule and to the simultaneous law."""
-    from verify.engines.explain import GAIN
-    from verify.engines.run import median_distance
+    the law it is nearer, and its median distance to each law over the cases where both laws exit."""
+    from verify.engines.run import AGREES, both_exit, median_distance, nearer_law
     from verify.numbers.format import format_decimal
 
     lines = [
-        f"| engine | precision | explained by an exact model | most by | largest energy gain (above {GAIN}) | "
-        "median distance to the paper's rule | to the simultaneous law |",
-        "|---|---|---|---|---|---|---|",
+        "| engine | precision | explained by an exact model | most by | nearer | cases where both laws exit | "
+        f"median distance to the rule | to the simultaneous law | within {format_decimal(AGREES)} of the "
+        "simultaneous law |",
+        "|---|---|---|---|---|---|---|---|---|",
     ]
     for e in record["engines"]:
         s = e.get("explained") or {"explained": 0, "cases": len(e["cases"]), "models": {}, "precision": "?"}
         top = max(s["models"].items(), key=lambda kv: (kv[1], kv[0]))[0] if s["models"] else "-"
-        gains = [Fraction(c["energy_change"]) for c in e["cases"] if c["energy_change"]]
-        gain = format_decimal(max(gains), 3) if gains and max(gains) > GAIN else "none"
+        agree = sum(Fraction(c["distance_to_simultaneous"]) <= AGREES for c in e["cases"])
         lines.append(
-            f"| {e['name']} | {s['precision']} | {s['explained']} of {s['cases']} | {top} | {gain} | "
-            f"{median_distance(e, 'distance_to_rule')} | {median_distance(e, 'distance_to_simultaneous')} |"
+            f"| {e['name']} | {s['precision']} | {s['explained']} of {s['cases']} | {top} | {nearer_law(e)} | "
+            f"{len(both_exit(e))} | {median_distance(e, 'distance_to_rule')} | "
+            f"{median_distance(e, 'distance_to_simultaneous')} | {agree} of {len(e['cases'])} |"
         )
     return lines
 
 
-def engines_tables(record: dict[str, Any]) -> list[str]:
-    """The engines page's tables: the engines, the exact references, and each engine's cases."""
-    lines = ["## The engines", "", "| engine | version | combines restitution | one COR per contact | settings |",
-             "|---|---|---|---|---|"]  # fmt: skip
+def departures_table(record: dict[str, Any]) -> list[str]:
+    """Per engine, one row of where it departs: from both laws, in kinetic energy, with the speed, on the small
+    COR, and under its other settings."""
+    from verify.engines.run import AGREES, SLOW_TWINS, energy_gains, moved, off_both, small_cor, speed_twins
+    from verify.numbers.format import format_decimal
+
+    def d(x: Fraction) -> str:
+        return format_decimal(x, 2)
+
+    cases = {c["id"]: c for c in record["cases"]}
+    twins = " | ".join(f"`{slow}` x {ratio} against `{fast}`" for slow, fast, ratio in SLOW_TWINS)
+    lines = [
+        f"| engine | departs from both laws by more than {d(AGREES)} | gains kinetic energy | {twins} | "
+        "COR 0.001 on S2 of the paper's corner | another setting moves the answers by |",
+        "|---|---|---|---|---|---|---|",
+    ]
+    for e in record["engines"]:
+        n, c = off_both(e)
+        off = "none" if c is None else f"{n} cases; most on `{c['id']}`"
+        n, c = energy_gains(e)
+        gain = "none" if c is None else f"{n} cases; up to {c['energy_change']} on `{c['id']}`"
+        speed = {slow: f"{d(x)}: " + ("differs" if x > AGREES else "agrees") for slow, _, _, x in speed_twins(e)}
+        small = small_cor(e, cases)
+        kept = "-" if small is None else small[2].split(":")[0]
+        moves = "; ".join(f"{v['label']}: {d(moved(e, v, cases)[0])}" for v in e["variants"])
+        speeds = " | ".join(speed.get(slow, "-") for slow, _, _ in SLOW_TWINS)
+        lines.append(f"| {e['name']} | {off} | {gain} | {speeds} | {kept} | {moves} |")
+    return lines
+
+
+def engines_list(record: dict[str, Any]) -> list[str]:
+    """Each engine: its version, how it combines two restitutions, how one COR per contact is set, its settings."""
+    from verify.views.pages import wrapped
+
+    lines = []
     for e in record["engines"]:
         settings = ", ".join(f"{k} = {v:g}" for k, v in e["settings"].items())
-        lines.append(f"| {e['name']} | {e['version']} | {e['combine_rule']} | {e['cor_setting']} | {settings} |")
-    lines += [f"- **{s['name']}** was not run: {s['reason']}" for s in record["skipped"]]
+        text = (f"**{e['name']} {e['version']}**. Restitution combined: {e['combine_rule']}. One COR per contact: "
+                f"{e['cor_setting']}. Settings: {settings}.")  # fmt: skip
+        lines += wrapped(text, bullet="- ")
+    return lines + [f"- **{s['name']}** was not run: {s['reason']}" for s in record["skipped"]]
+
+
+def case_tables(record: dict[str, Any]) -> list[str]:
+    """The exact references of every case, then each engine's answer on each case (``verify engines --cases``)."""
     ids = {c["id"] for e in record["engines"] for c in e["cases"]}
-    lines += ["", "## The exact references", "", "| case | paper's rule | simultaneous law |", "|---|---|---|"]
+    lines = ["The exact references", "", "| case | paper's rule | simultaneous law |", "|---|---|---|"]
     rows = {c["id"]: c for e in record["engines"] for c in e["cases"]}
     for case in record["cases"]:
         if case["id"] in ids:
             r = rows[case["id"]]
-            rule = _v(r["rule_exit_velocity"]) if r["rule_exit_velocity"] else f"no exit ({r['rule_stop']})"
+            stop = "never exits (infinitely many impulses)" if r["rule_stop"] == "non_terminating" else r["rule_stop"]
+            rule = _v(r["rule_exit_velocity"]) if r["rule_exit_velocity"] else f"no exit: {stop}"
             lines.append(f"| `{case['id']}` | {rule} | {_v(r['simultaneous_exit_velocity'])} |")
     for e in record["engines"]:
-        lines += ["", f"## {e['name']} {e['version']}, default settings", "",
+        lines += ["", f"{e['name']} {e['version']}, default settings", "",
                   "| case | engine exit velocity | to the rule | to the simultaneous law | kinetic energy in -> out | "
                   "nearest exact model (distance) |",
                   "|---|---|---|---|---|---|"]  # fmt: skip
@@ -70,50 +108,98 @@ def engines_tables(record: dict[str, Any]) -> list[str]:
     return lines
 
 
+def found(record: dict[str, Any]) -> list[str]:
+    """The page's opening: what the engines run, as exact models explain it, and where they depart."""
+    from verify.engines.run import AGREES, energy_gains, nearer_law, speed_twins
+    from verify.numbers.format import format_decimal
+    from verify.views.pages import wrapped
+
+    def ruled(e: dict[str, Any]) -> list[dict[str, Any]]:
+        return [c for c in e["cases"] if c["distance_to_rule"] is not None]
+
+    def on_rule(e: dict[str, Any]) -> int:
+        return sum(Fraction(c["distance_to_rule"]) <= AGREES for c in ruled(e))
+
+    engines = record["engines"]
+    sim = [e["name"] for e in engines if nearer_law(e) == "simultaneous law"]
+    rule = [e["name"] for e in engines if nearer_law(e) == "paper's rule"]
+    best = max(engines, key=on_rule)
+
+    def top(e: dict[str, Any]) -> str:
+        s = e.get("explained") or {"models": {}, "explained": 0, "cases": len(e["cases"])}
+        label = max(s["models"].items(), key=lambda kv: (kv[1], kv[0]))[0] if s["models"] else "no model"
+        return f"{e['name']} ({label}: {s['explained']} of {s['cases']})"
+
+    gains = [(e["name"], energy_gains(e)[1]) for e in engines]
+    gainers = [f"{name} (up to {row['energy_change']})" for name, row in gains if row is not None]
+    speed = [e["name"] for e in engines if any(d > AGREES for *_, d in speed_twins(e))]
+    text = [
+        f"**What was found.** Of the {len(engines)} engines, {len(sim)} are nearer the simultaneous law than the "
+        f"paper's rule on most cases where both exit ({', '.join(sim) or 'none'}); {len(rule)} nearer the paper's "
+        f"rule ({', '.join(rule) or 'none'}). No engine is within {format_decimal(AGREES)} of the paper's rule on "
+        f"every case where the rule exits; the most is {best['name']}, on {on_rule(best)} of {len(ruled(best))}.",
+        "Exact models of the engines' own algorithms explain (to the engine's precision) "
+        + "; ".join(top(e) for e in engines)
+        + ".",
+        f"{len(gainers)} engines gain kinetic energy on some case: {', '.join(gainers) or 'none'} (relative rise). "
+        f"{len(speed)} answer differently at a low speed, scaled (a restitution velocity threshold, or a soft "
+        f"contact): {', '.join(speed) or 'none'}.",
+    ]
+    return [line for paragraph in text for line in [*wrapped(paragraph), ""]]
+
+
 def engines_page_text(record: dict[str, Any]) -> str:
     """The engines page for a record of :func:`verify.engines.run.engines_record`."""
-    from verify.engines.run import AGREES, findings
+    from verify.engines.run import AGREES
+    from verify.numbers.format import format_decimal
+    from verify.views.pages import wrapped
 
     names = ", ".join(e["name"] for e in record["engines"]) or "none"
-    head = [
-        "# Physics engines against the paper's rule and the simultaneous law",
-        "",
-        "Each engine runs as a subprocess adapter (`python -m verify.engines.adapters.NAME`, the `verify oracle check",
-        "--impl` protocol) with gravity and friction off, on the cradles and corners below; its exit velocity",
-        "stands beside the exact ones of the paper's rule and of the simultaneous law (Newton's restitution with",
-        "complementarity, all contacts at once: `verify solve --law simultaneous`). The distances are relative:",
-        "`max_i |engine_i - exact_i| / max_i |v_in_i|`. Written by `verify engines --report` (record:",
-        "`engines.json`, beside this page); `verify report` renders the record and runs no engine. Floats of an",
-        "engine are read exactly as printed.",
-        "",
-        f"Engines that ran: {names}.",
-        "",
-        "## Findings (measured on the record)",
-        "",
-        *[f"- {line}" for line in findings(record)],
-        "",
-        f"An engine agrees with a law on a case when the relative distance is at most {AGREES}.",
-        "",
-    ]
+    how = (
+        "Each engine runs through an adapter (the protocol of `verify oracle check --impl`) with gravity and "
+        "friction off, on cradles of 3 to 5 balls, wall chains and corners. Its exit velocity is compared with "
+        "the exact ones of the paper's rule and of the simultaneous law (Newton's restitution with "
+        "complementarity, all contacts at once: `verify solve --law simultaneous`), and with exact models of "
+        "its own algorithm: the simultaneous law (also with the engine's documented restitution threshold) and "
+        "the sequential law (`verify solve --law sequential`: projected Gauss-Seidel sweeps, exactly) with the "
+        "engine's documented sweeps, the neighbouring counts, both contact orders and its threshold. An answer "
+        "is explained when a model is within the engine's precision (float32: 1e-5 of the speed; float64: "
+        "1e-9). Distances are relative, `max_i |engine_i - exact_i| / max_i |v_in_i|`; an engine agrees with a "
+        f"law when the distance is at most {format_decimal(AGREES)}. Floats of an engine are read exactly as "
+        "printed. Measured by `verify engines --report` (record: `engines.json`, beside this page); `verify "
+        "report` renders the record and runs no engine."
+    )
+    lines = ["# Physics engines against the paper's rule and the simultaneous law", ""]
     if record["engines"]:
-        head += [
-            "## Each engine explained",
+        lines += found(record)
+    lines += [*wrapped(how), "", f"Engines that ran: {names}.", ""]
+    if record["engines"]:
+        lines += [
+            "## What each engine runs",
             "",
-            "Each answer of an engine at its default settings is compared with exact models of its own algorithm:",
-            "the paper's rule, the simultaneous law (also with the engine's documented",
-            "restitution threshold), and the sequential law (`verify solve --law sequential`: projected Gauss-Seidel",
-            "sweeps, exactly) with the engine's documented sweeps, the neighbouring counts, both contact orders and",
-            "its threshold. An answer is explained when a model is within the engine's precision (float32: 1e-5 of",
-            "the speed; float64: 1e-9); when several are, they give the same answer to that precision, and the first",
-            "of the engine's own kind of solver is named. The last columns are medians over the cases where the law",
-            "exits.",
+            "The medians are over the cases where both laws exit (their number is given); the last column is over",
+            "every case the engine ran.",
             "",
             *explained_table(record),
             "",
             "![The three-ball cradle against eps: the rule, the simultaneous law and each engine](engines-cradle.png)",
             "",
+            "## Where each engine departs",
+            "",
+            "Relative distances. A slow case is run at 1/200 of its twin's speed and scaled back: an engine",
+            "without a velocity threshold or a soft contact gives the same answer. On the paper's corner, the COR",
+            "0.001 of S2 is either kept or dropped (the answer nearer the simultaneous law with that COR set to 0).",
+            "",
+            *departures_table(record),
+            "",
         ]
-    return "\n".join(head + engines_tables(record)) + "\n"
+    lines += ["## The engines", "", *engines_list(record), "", "## Every case", ""]
+    lines += wrapped(
+        "Each engine's answer on every case, beside the exact answers of both laws and the nearest exact model, is "
+        "in the record `engines.json`: `verify engines --from reports/engines.json --cases` prints the tables "
+        "(`--engine NAME` for one engine)."
+    )
+    return "\n".join(lines) + "\n"
 
 
 def engines_page(out: Path) -> str:

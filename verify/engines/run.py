@@ -310,37 +310,46 @@ def _d(x: Fraction) -> str:
     return format_decimal(x, 2)
 
 
-def median_distance(entry: dict[str, Any], key: str) -> str:
-    """The median of an engine's distances ``key`` over the cases where the law exits (``-`` if none).
+def both_exit(entry: dict[str, Any]) -> list[dict[str, Any]]:
+    """An engine's cases where both laws exit: the one case set its medians are taken over."""
+    return [
+        c for c in entry["cases"] if c["distance_to_rule"] is not None and c["distance_to_simultaneous"] is not None
+    ]
 
-    >>> median_distance({"cases": [{"d": "0.1"}, {"d": None}, {"d": "0.3"}]}, "d")
-    '0.2'
+
+def median_distance(entry: dict[str, Any], key: str) -> str:
+    """The median of an engine's distances ``key`` over the cases where both laws exit (``-`` if none).
+
+    >>> rows = [{"r": "0.1", "s": "0.5"}, {"r": None, "s": "9"}, {"r": "0.3", "s": "0.7"}]
+    >>> median_distance({"cases": [{"distance_to_rule": r["r"], "distance_to_simultaneous": r["s"]} for r in rows]},
+    ...                 "distance_to_simultaneous")
+    '0.6'
     """
-    values = [Fraction(c[key]) for c in entry["cases"] if c[key] is not None]
+    values = [Fraction(c[key]) for c in both_exit(entry)]
     return _d(_median(values)) if values else "-"
 
 
 def closest_law(entry: dict[str, Any]) -> str:
     """Which law the engine's default run is closest to, over the cases where both laws exit."""
-    both = [(Fraction(c["distance_to_rule"]), Fraction(c["distance_to_simultaneous"]))
-            for c in entry["cases"] if c["distance_to_rule"] is not None]  # fmt: skip
+    both = [(Fraction(c["distance_to_rule"]), Fraction(c["distance_to_simultaneous"])) for c in both_exit(entry)]
     if not both:
         return f"**{entry['name']}**: no case where both laws exit"
     sim = sum(s < r for r, s in both)
-    law = "simultaneous law" if 2 * sim > len(both) else "paper's rule" if 2 * sim < len(both) else "neither law"
     agree = sum(Fraction(c["distance_to_simultaneous"]) <= AGREES for c in entry["cases"])
     return (
-        f"**{entry['name']}** is closest to the {law}: closer to the simultaneous law on {sim} of the "
-        f"{len(both)} cases where both laws exit; median relative distance {_d(_median([s for _, s in both]))} "
-        f"to the simultaneous law, {_d(_median([r for r, _ in both]))} to the rule; within {_d(AGREES)} of the "
-        f"simultaneous law on {agree} of {len(entry['cases'])} cases."
+        f"**{entry['name']}** is closest to the {nearer_law(entry)}: closer to the simultaneous law on {sim} of the "
+        f"{len(both)} cases where both laws exit; median relative distance "
+        f"{median_distance(entry, 'distance_to_simultaneous')} to the simultaneous law, "
+        f"{median_distance(entry, 'distance_to_rule')} to the rule (over those {len(both)}); within {_d(AGREES)} "
+        f"of the simultaneous law on {agree} of {len(entry['cases'])} cases."
     )
 
 
-def _worst(scored: list[tuple[Fraction, dict[str, Any]]]) -> str:
-    """``on N cases; the most on `ID```: for the (score, case row) pairs."""
-    row = max(scored, key=lambda sc: sc[0])[1]
-    return f"on {_count(len(scored), 'case')}; the most on `{row['id']}`"
+def nearer_law(entry: dict[str, Any]) -> str:
+    """``simultaneous law``, ``paper's rule`` or ``neither law``: nearer on most cases where both laws exit."""
+    both = both_exit(entry)
+    sim = sum(Fraction(c["distance_to_simultaneous"]) < Fraction(c["distance_to_rule"]) for c in both)
+    return "simultaneous law" if 2 * sim > len(both) else "paper's rule" if 2 * sim < len(both) else "neither law"
 
 
 def _count(n: int, noun: str) -> str:
@@ -352,39 +361,74 @@ def _off_both(c: dict[str, Any]) -> Fraction:
     return min(Fraction(x) for x in (c["distance_to_rule"], c["distance_to_simultaneous"]) if x is not None)
 
 
+def off_both(entry: dict[str, Any]) -> tuple[int, dict[str, Any] | None]:
+    """How many cases the engine departs from both laws on (by more than :data:`AGREES`), and the farthest."""
+    off = [(_off_both(c), c) for c in entry["cases"] if _off_both(c) > AGREES]
+    return len(off), (max(off, key=lambda sc: sc[0])[1] if off else None)
+
+
+def energy_gains(entry: dict[str, Any]) -> tuple[int, dict[str, Any] | None]:
+    """How many cases the engine gains kinetic energy on (a relative rise above GAIN), and the largest gain."""
+    gains = [(Fraction(c["energy_change"]), c) for c in entry["cases"]
+             if c["energy_change"] and Fraction(c["energy_change"]) > GAIN]  # fmt: skip
+    return len(gains), (max(gains, key=lambda sc: sc[0])[1] if gains else None)
+
+
 def departures(entry: dict[str, Any], cases: dict[str, dict[str, Any]]) -> list[str]:
     """Where the engine departs from both laws, gains energy, or moves with speed or settings."""
-    name, rows, out = entry["name"], entry["cases"], []
-    off = [(_off_both(c), c) for c in rows if _off_both(c) > AGREES]
-    if off:
-        c = max(off, key=lambda sc: sc[0])[1]
+    name, out = entry["name"], []
+    n, c = off_both(entry)
+    if c is not None:
         out.append(
-            f"{name} departs from both laws (by more than {_d(AGREES)}) {_worst(off)}: "
-            f"{c['distance_to_simultaneous']} from the simultaneous law, "
+            f"{name} departs from both laws (by more than {_d(AGREES)}) on {_count(n, 'case')}; the most on "
+            f"`{c['id']}`: {c['distance_to_simultaneous']} from the simultaneous law, "
             + (f"{c['distance_to_rule']} from the rule." if c["distance_to_rule"] else "and the rule does not exit.")
         )
-    gains = [
-        (Fraction(c["energy_change"]), c) for c in rows if c["energy_change"] and Fraction(c["energy_change"]) > GAIN
-    ]
-    if gains:
-        c = max(gains, key=lambda sc: sc[0])[1]
+    n, c = energy_gains(entry)
+    if c is not None:
         out.append(
-            f"{name} gains kinetic energy (a relative rise above {_d(GAIN)}) {_worst(gains)}: "
-            f"{c['kinetic_energy_in']} -> {c['kinetic_energy_out']} ({c['energy_change']})."
+            f"{name} gains kinetic energy (a relative rise above {_d(GAIN)}) on {_count(n, 'case')}; the most on "
+            f"`{c['id']}`: {c['kinetic_energy_in']} -> {c['kinetic_energy_out']} ({c['energy_change']})."
         )
-    return out + _threshold(entry) + _dropped_cor(entry, cases) + [_moved(entry, v, cases) for v in entry["variants"]]
+    for slow, fast, ratio, d in speed_twins(entry):
+        what = (
+            "differs: the answer depends on the speed (a restitution velocity threshold, or a soft contact)"
+            if d > AGREES
+            else "agrees: no dependence on the speed between these two"
+        )
+        out.append(f"{name}: `{slow}` scaled by {ratio} against `{fast}`, relative difference {_d(d)}: {what}.")
+    small = small_cor(entry, cases)
+    if small is not None:
+        d_given, d_zero, verdict = small
+        cor = cases[SMALL_COR_CASE]["restitution"][1]
+        out.append(
+            f"{name} on `{SMALL_COR_CASE}` (COR {cor} on S2): {_d(d_given)} from the simultaneous law as given, "
+            f"{_d(d_zero)} with that COR set to 0: {verdict}."
+        )
+    for variant in entry["variants"]:
+        worst, where = moved(entry, variant, cases)
+        out.append(
+            f"{name} under {variant['label']}: "
+            + (
+                f"the answers move by up to {_d(worst)} (relative), on `{where}`."
+                if where
+                else "the same answers as under its default settings, on every case."
+            )
+        )
+    return out
 
 
 #: the case whose small COR (0.001 on wall S2) an engine may drop
 SMALL_COR_CASE = "paper-corner-pi6-pi12"
 
 
-def _dropped_cor(entry: dict[str, Any], cases: dict[str, dict[str, Any]]) -> list[str]:
+def small_cor(entry: dict[str, Any], cases: dict[str, dict[str, Any]]) -> tuple[Fraction, Fraction, str] | None:
     """Whether the engine's answer on the paper's corner is nearer the simultaneous law with the small
-    COR 0.001 as given, or with it set to 0 (both exact): a nearer 0 shows the COR dropped."""
+    COR 0.001 as given, or with it set to 0 (both exact): a nearer 0 shows the COR dropped. The two
+    distances and the verdict (None without that case)."""
     row = next((c for c in entry["cases"] if c["id"] == SMALL_COR_CASE), None)
     if row is None or SMALL_COR_CASE not in cases:
-        return []
+        return None
     case = cases[SMALL_COR_CASE]
     zero = dict(case, restitution=[case["restitution"][0], "0"])
     as_given, dropped = (references([c])[c["id"]]["simultaneous"] for c in (case, zero))
@@ -396,10 +440,7 @@ def _dropped_cor(entry: dict[str, Any], cases: dict[str, dict[str, Any]]) -> lis
         verdict = "too far from both to tell"
     else:
         verdict = "nearer the COR set to 0: the engine drops it" if d_zero < d_given else "nearer the COR as given"
-    return [
-        f"{entry['name']} on `{SMALL_COR_CASE}` (COR {case['restitution'][1]} on S2): {_d(d_given)} from the "
-        f"simultaneous law as given, {_d(d_zero)} with that COR set to 0: {verdict}."
-    ]
+    return d_given, d_zero, verdict
 
 
 #: the slow cases, their fast twins and the speed ratio between them
@@ -409,8 +450,9 @@ SLOW_TWINS = (
 )
 
 
-def _threshold(entry: dict[str, Any]) -> list[str]:
-    """The slow cases against their fast twins, scaled: a difference shows a velocity threshold."""
+def speed_twins(entry: dict[str, Any]) -> list[tuple[str, str, int, Fraction]]:
+    """The slow cases against their fast twins, scaled: (slow, fast, ratio, relative difference); a
+    difference shows a velocity threshold."""
     rows = {c["id"]: c for c in entry["cases"]}
     out = []
     for slow, fast, ratio in SLOW_TWINS:
@@ -419,21 +461,15 @@ def _threshold(entry: dict[str, Any]) -> list[str]:
         a = [Fraction(x) * ratio for x in rows[slow]["engine_exit_velocity"]]
         b = [Fraction(x) for x in rows[fast]["engine_exit_velocity"]]
         d = max(abs(x - y) for x, y in zip(a, b)) / (max(abs(x) for x in b) or Fraction(1))
-        what = (
-            "differs: the answer depends on the speed (a restitution velocity threshold, or a soft contact)"
-            if d > AGREES
-            else "agrees: no dependence on the speed between these two"
-        )
-        out.append(
-            f"{entry['name']}: `{slow}` scaled by {ratio} against `{fast}`, relative difference {_d(d)}: {what}."
-        )
+        out.append((slow, fast, ratio, d))
     return out
 
 
-def _moved(entry: dict[str, Any], variant: dict[str, Any], cases: dict[str, dict[str, Any]]) -> str:
-    """How far another setting moves the engine's answers from its default run."""
+def moved(entry: dict[str, Any], variant: dict[str, Any], cases: dict[str, dict[str, Any]]) -> tuple[Fraction, str]:
+    """How far another setting moves the engine's answers from its default run: the largest relative move
+    and its case (``""`` when nothing moves)."""
     base = {c["id"]: c for c in entry["cases"]}
-    worst, where = Fraction(0), None
+    worst, where = Fraction(0), ""
     for c in variant["cases"]:
         if c["id"] not in base:
             continue
@@ -443,11 +479,7 @@ def _moved(entry: dict[str, Any], variant: dict[str, Any], cases: dict[str, dict
         d = max(abs(x - y) for x, y in zip(a, b)) / scale
         if d > worst:
             worst, where = d, c["id"]
-    if where is None:
-        return (
-            f"{entry['name']} under {variant['label']}: the same answers as under its default settings, on every case."
-        )
-    return f"{entry['name']} under {variant['label']}: the answers move by up to {_d(worst)} (relative), on `{where}`."
+    return worst, where
 
 
 def explained_line(entry: dict[str, Any]) -> str:

@@ -20,6 +20,7 @@ from typing import Any
 from verify.dynamics.policy import Stop
 from verify.dynamics.system import System
 from verify.numbers.format import counted
+from verify.proofs.limits import Limit, alternation_limit
 
 
 @dataclass(frozen=True)
@@ -69,6 +70,15 @@ def stop_words(stop: Stop, impulses: int, unit: str = "impulse") -> str:
     return f"{stop} after {counted(impulses, unit)}"
 
 
+def energy_words(result: Result, digits: int) -> str:
+    """The kinetic energy of a run that never exits: in, when proved, and the limit's when that is proved."""
+    K = result.backend
+    before, after = K.to_decimal(result.kinetic_energy_in, digits), K.to_decimal(result.kinetic_energy_out, digits)
+    limit = result.limit
+    tends = "" if limit is None else f", tends to {K.to_decimal(limit.kinetic_energy, digits)}"
+    return f"{before} in, {after} when proved never to exit{tends}"
+
+
 @dataclass(frozen=True)
 class Result:
     """The outcome of :func:`solve`: exit velocity, stop reason and the full trace."""
@@ -105,6 +115,14 @@ class Result:
     def kinetic_energy_out(self) -> Any:
         """The kinetic energy of the exit velocity."""
         return self.system.kinetic_energy(self.exit_velocity)
+
+    @cached_property
+    def limit(self) -> Limit | None:
+        """For a run proved never to exit, the velocity it tends to, when that is proved too
+        (:func:`verify.proofs.limits.alternation_limit`); None otherwise."""
+        if self.stop != "non_terminating":
+            return None
+        return alternation_limit(self.system, self.exit_velocity, self.certificate)
 
     @property
     def velocity_name(self) -> str:
@@ -165,11 +183,7 @@ class Result:
         coordinates = self.system.coordinates
         shown = ", ".join(f"{q} = {K.to_decimal(x, digits)}" for q, x in zip(coordinates, self.exit_velocity))
         before, after = K.to_decimal(self.kinetic_energy_in, digits), K.to_decimal(self.kinetic_energy_out, digits)
-        energy = (
-            f"{before} in, {after} when proved never to exit"
-            if self.stop == "non_terminating"
-            else f"{before} -> {after}"
-        )
+        energy = f"{before} -> {after}" if self.stop != "non_terminating" else energy_words(self, digits)
         caveat = "" if K.is_rigorous else f" ({K.name}: digits not certified)"
         lines = [
             f"{head} ({law}, {K.describe()})",

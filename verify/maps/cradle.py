@@ -99,7 +99,7 @@ def cradle_map(
     max_impulses: int = DEFAULT_MAX_IMPULSES,
     watch: Watch | None = None,
     widen: int = DEFAULT_WIDEN,
-    leaving: bool = False,
+    leaving: bool | None = False,
 ) -> CradleMap:
     """The cradle for every eps in [lower, upper] (one COR for all contacts); ``balls`` by default the
     length of ``masses`` or ``velocity``, else 3.
@@ -111,7 +111,9 @@ def cradle_map(
     and a progress callback; a map stopped by one (or by Ctrl-C) says why in ``stopped``. ``widen``: the points
     of each unexplored interval at which a single run's cone is widened (:func:`~verify.maps.line.widened`).
     ``leaving``: prove, where the runs repeat a period whose eigenvalues all have modulus eps (above a boundary),
-    that every eps exits (:mod:`verify.maps.leaving`; minutes for four balls).
+    that every eps exits (:mod:`verify.maps.leaving`); None tries it on the parts the map leaves undecided
+    without it, and only there (seconds for four balls, nothing for three: ``verify cradle-map``'s default);
+    False (the default here) never.
 
     >>> cradle_map(lower="0.5", upper="0.2")
     Traceback (most recent call last):
@@ -129,13 +131,24 @@ def cradle_map(
     v = cradle_velocity(balls, v0, velocity)
     cache = RootCache()
     domain = Piece.closed(lo, hi)
-    parts = line_parts(lambda K: cradle_system(EPS, balls, masses, backend=K), v, domain, max_impulses, cache,
-                       watch=watch, widen=widen, leaving=leaving)  # fmt: skip
+
+    def build(K: Any) -> Any:
+        return cradle_system(EPS, balls, masses, backend=K)
+
+    def explained(parts: list[Part]) -> list[Part]:
+        for part in parts:
+            if _undecided(part):
+                reason, part.exits_beyond_bound = _unexplored_reason(part, balls, masses, cache)
+                part.reason = reason if part.exits_beyond_bound or not part.reason else part.reason
+        return parts
+
+    parts = explained(line_parts(build, v, domain, max_impulses, cache, watch=watch, widen=widen,
+                                 leaving=bool(leaving)))  # fmt: skip
+    if leaving is None:  # the proof of exits above a boundary, where nothing else decided the part
+        parts = [q for p in parts for q in (
+            explained(line_parts(build, v, p.piece, max_impulses, cache, watch=watch, widen=widen, leaving=True))
+            if _undecided(p) and not p.piece.is_point else [p])]  # fmt: skip
     system0 = cradle_system("1", balls, masses)
-    for part in parts:
-        if part.stop == "max_iterations" and not part.stopped_by and not part.exits_beyond_bound:
-            reason, part.exits_beyond_bound = _unexplored_reason(part, balls, masses, cache)
-            part.reason = reason if part.exits_beyond_bound or not part.reason else part.reason
     return CradleMap(
         balls,
         [system0.source["mass_matrix"][i][i] for i in range(balls)],
@@ -145,6 +158,11 @@ def cradle_map(
         parts,
         watch.stopped if watch is not None else "",
     )
+
+
+def _undecided(part: Part) -> bool:
+    """A part still impacting at the bound that nothing has decided (not stopped by a budget either)."""
+    return part.stop == "max_iterations" and not part.stopped_by and not part.exits_beyond_bound
 
 
 def _unexplored_reason(part: Part, balls: int, masses: Sequence[Any] | None, cache: RootCache) -> tuple[str, bool]:

@@ -282,9 +282,15 @@ def _named_sequence(sets: list[tuple[int, ...]], names: list[str]) -> str:
     return "".join("(" + ",".join(names[j] for j in J) + ")" for J in sets)
 
 
+def _behaviour(part: Any) -> tuple[Any, ...]:
+    """What a cell is drawn as: an exit by its impulses and impact sets; a cell that never exits, or that is
+    still impacting at the bound, by that alone (its sequence so far is in the text and the JSON)."""
+    return (part.stop, part.iterations, tuple(part.impact_sets)) if part.stop == "exit" else (part.stop,)
+
+
 def plane_legend(m: EpsMap) -> list[tuple[tuple[Any, ...], str]]:
-    """``(behaviour, label)`` for each behaviour drawn, the largest area first; a behaviour is (stop,
-    impulses, impact sets).
+    """``(behaviour, label)`` for each behaviour drawn (:func:`_behaviour`), the largest area first, with its
+    area (exact bounds, rounded; "on a curve" for cells of no area).
 
     >>> from verify.maps.general import case_map
     >>> m = case_map("docs/examples/corner-map.json", cells=True, max_impulses=4)
@@ -296,17 +302,19 @@ def plane_legend(m: EpsMap) -> list[tuple[tuple[Any, ...], str]]:
     kinds: dict[tuple[Any, ...], list[Any]] = {}
     for p in plane.parts:
         if p.stop != "not_run":
-            kinds.setdefault((p.stop, p.iterations, tuple(p.impact_sets)), []).append(p)
+            kinds.setdefault(_behaviour(p), []).append(p)
     total = plane.area("exit")[1] + 1  # an upper bound of any area, for the order only
     out = []
     for key, parts in sorted(kinds.items(), key=lambda kv: total - sum(p.cell.area[0] for p in kv[1])):
         low, high = plane.bounds_of(parts)
-        stop, n, sets = key
-        so_far = f", {_named_sequence(list(sets), names)} so far" if sets else ""
-        what = {"exit": f"exit after {n}: {_named_sequence(list(sets), names)}",
-                "non_terminating": f"never exits (proved) after {counted(n, 'impulse')}{so_far}"}.get(
-            stop, f"unexplored: still impacting after {counted(n, 'impulse')}{so_far}")  # fmt: skip
-        out.append((key, f"{what}, area {to_float(low):.3g}-{to_float(high):.3g}"))
+        if key[0] == "exit":
+            what = f"exit after {key[1]}: {_named_sequence(list(key[2]), names)}"
+        elif key[0] == "non_terminating":
+            what = "never exits (proved)"
+        else:
+            what = f"unexplored: still impacting after {counted(m.max_impulses, 'impulse')}"
+        area = "on a curve" if high == 0 else f"area {to_float(low):.3g}-{to_float(high):.3g}"
+        out.append((key, f"{what}, {area}"))
     return out
 
 
@@ -318,12 +326,13 @@ def _xs(cell: Any) -> list[Fraction]:
     return [lo + (hi - lo) * k / DRAW_STEPS for k in range(DRAW_STEPS + 1)]
 
 
-def plane_plot(m: EpsMap) -> Any:
-    """The matplotlib figure of a map of two parameters as cells (``verify map --cells --figure FILE``), not
-    saved: each open cell filled with the colour of its behaviour (stop and impact sequence; the legend names
-    each, with its area bounds), the unexplored cells hatched in the colour of their impact sequence so far;
-    the curves between cells drawn from their exact description (each side's y computed exactly at rational
-    x, rounded for the drawing only), the cells that are points as dots."""
+def plane_plot(m: EpsMap, title: str = "") -> Any:
+    """The matplotlib figure of a map of two parameters as cells (``verify map --figure FILE``), not saved: each
+    open cell filled with the colour of its behaviour (the legend names each, with its area bounds), cells that
+    never exit dotted, unexplored cells hatched; the curves between cells drawn from their exact description
+    (each side's y computed exactly at rational x, rounded for the drawing only), the cells that are points as
+    dots. When every behaviour but the largest lies in the lowest third of the box, a second panel shows that
+    strip stretched. ``title`` heads the figure (default: the CORs)."""
     plt = load_pyplot()
     from matplotlib.patches import Patch
 
@@ -333,35 +342,41 @@ def plane_plot(m: EpsMap) -> Any:
     cache = Roots()
     legend = plane_legend(m)
     colours = {key: plt.get_cmap("tab10")(k % 10) for k, (key, _) in enumerate(legend)}
-    fig, ax = plt.subplots(figsize=(6.2, 5.0), constrained_layout=True)
+    largest = legend[0][0] if legend else None
+    shapes: list[tuple[str, Any, list[float], list[float], list[float]]] = []
     for part in plane.parts:
         cell = part.cell
-        if part.stop == "not_run":
+        if part.stop == "not_run" or cell.dim == 0 or (cell.dim == 1 and cell.on_line):
             continue
-        key = (part.stop, part.iterations, tuple(part.impact_sets))
-        colour = colours[key]
-        if cell.dim == 2:
-            xs = _xs(cell)
-            low = [to_float(bound_at(plane.P, cell.y_lo, x, plane.box, cache)) for x in xs]
-            high = [to_float(bound_at(plane.P, cell.y_hi, x, plane.box, cache)) for x in xs]
-            style = _plane_style(part.stop, colour)
-            ax.fill_between([to_float(x) for x in xs], low, high, lw=0, **style)
-        elif cell.dim == 1 and not cell.on_line:
-            xs = _xs(cell)
-            ys = [to_float(bound_at(plane.P, cell.y_lo, x, plane.box, cache)) for x in xs]
-            ax.plot([to_float(x) for x in xs], ys, color="black", lw=0.8)
-    for part in plane.parts:  # the points last, above the curves
-        if part.cell.dim == 0 and part.cell.sample is not None:
-            ax.plot([to_float(part.cell.sample[0])], [to_float(part.cell.sample[1])], "o", color="black", ms=2)
-    a, b, c, d = plane.box
-    ax.set_xlim(to_float(a), to_float(b))
-    ax.set_ylim(to_float(c), to_float(d))
-    ax.set_xlabel(xname)
-    ax.set_ylabel(yname)
+        xs = _xs(cell)
+        low = [to_float(bound_at(plane.P, cell.y_lo, x, plane.box, cache)) for x in xs]
+        high = low if cell.dim == 1 else [to_float(bound_at(plane.P, cell.y_hi, x, plane.box, cache)) for x in xs]
+        shapes.append((part.stop, _behaviour(part), [to_float(x) for x in xs], low, high))
+    points = [(to_float(p.cell.sample[0]), to_float(p.cell.sample[1])) for p in plane.parts
+              if p.cell.dim == 0 and p.cell.sample is not None]  # fmt: skip
+    a, b, c, d = (to_float(v) for v in plane.box)
+    detail = max((max(hi) for stop, key, _, _, hi in shapes if key != largest and stop != "not_run"), default=d)
+    zoom = detail < c + (d - c) / 3
+    fig, axes = plt.subplots(1, 2 if zoom else 1, figsize=(10.5 if zoom else 6.2, 5.2), squeeze=False,
+                             constrained_layout=True)  # fmt: skip
+    for k, ax in enumerate(axes[0]):
+        for stop, key, px, low, high in shapes:
+            if low is high:  # a curve between cells
+                ax.plot(px, low, color="black", lw=0.8)
+            else:  # a cell: its edge in its own colour covers the seams between cells of one behaviour
+                ax.fill_between(px, low, high, lw=0.6 if stop == "exit" else 0, **_plane_style(stop, colours[key]))
+        if points:
+            ax.plot(*zip(*points), "o", color="black", ms=2)
+        top = d if k == 0 else c + min(d - c, 1.15 * (detail - c))
+        ax.set_xlim(a, b)
+        ax.set_ylim(c, top)
+        ax.set_xlabel(xname)
+        ax.set_ylabel(yname)
+        ax.set_title("the whole box" if k == 0 else f"detail: {yname} from {c:g} to {top:.2g}", fontsize=9)
     cors = ", ".join(f"{n} = {c}" for n, c in zip(m.system.names, m.restitution))
-    ax.set_title(f"{len(plane.parts)} exact cells; CORs {cors}", fontsize=9)
+    fig.suptitle(title or f"{len(plane.parts)} exact cells; CORs {cors}", fontsize=10)
     handles = [Patch(label=label, **_plane_style(key[0], colours[key])) for key, label in legend]
-    ax.legend(handles=handles, fontsize=7, loc="upper center", bbox_to_anchor=(0.5, -0.12), ncol=1)
+    fig.legend(handles=handles, fontsize=8, loc="outside lower center", ncol=2 if zoom else 1)
     return fig
 
 
@@ -375,6 +390,6 @@ def _plane_style(stop: str, colour: Any) -> dict[str, Any]:
     return {"hatch": "xx", "facecolor": "0.85", "edgecolor": colour}
 
 
-def plane_figure(m: EpsMap, path: str | Path) -> Path:
+def plane_figure(m: EpsMap, path: str | Path, title: str = "") -> Path:
     """:func:`plane_plot` written to ``path`` (PNG) whole or not at all."""
-    return save_figure(plane_plot(m), path)
+    return save_figure(plane_plot(m, title), path)

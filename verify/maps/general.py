@@ -197,11 +197,11 @@ def eps_map(
     restitution: Sequence[Any] | None = None,
     parameters: Mapping[str, Sequence[Any]] | None = None,
     *,
-    lines: int = DEFAULT_LINES,
+    lines: int | None = None,
     max_impulses: int = 40,
     watch: Watch | None = None,
     widen: int = DEFAULT_WIDEN,
-    cells: bool = False,
+    cells: bool | None = None,
     leaving: bool = False,
     cell_cones: bool = False,
 ) -> EpsMap:
@@ -210,22 +210,27 @@ def eps_map(
     ``restitution`` gives one COR per contact: a string (parsed exactly, ``"e1"``, ``"(1 + e)/2"``),
     a SymPy expression or a number; by default every contact has the COR ``eps``. ``parameters``
     maps a name to its interval ``(lo, hi)`` (rationals, default ``(0, 1)``); the CORs must lie in
-    [0, 1] over it. With two or more parameters the map is a grid of ``lines`` values per parameter
-    (see the module). ``max_impulses`` bounds each run: what is still impacting then, and not proved
+    [0, 1] over it. With three or more parameters the map is a grid of ``lines`` values per parameter
+    (default 5; see the module). ``max_impulses`` bounds each run: what is still impacting then, and not proved
     never to exit, is unexplored. ``watch`` (:class:`~verify.maps.line.Watch`) gives budgets and progress
     shared by every line; a map stopped by one (or by Ctrl-C) says why in ``stopped``. ``widen`` is the number
     of rational points of each unexplored interval at which a single run's cone is widened
     (:func:`~verify.maps.line.widened`); ``leaving`` proves exits above boundaries on lines
-    (:func:`~verify.maps.line.line_parts`). With ``cells`` and two parameters, the map is the box cut into exact
-    cells instead of a grid of lines (:mod:`verify.maps.plane`): every rational point of the box is mapped;
-    ``cell_cones`` also tries boundary cones on its cells of three or more contacts (:mod:`verify.maps.cell_cones`).
+    (:func:`~verify.maps.line.line_parts`). With two parameters the map is the box cut into exact cells
+    (:mod:`verify.maps.plane`): every rational point of the box is mapped; ``cells=False``, or a number of
+    ``lines``, asks for the grid of lines instead (``cells`` None, the default: cells for two parameters unless
+    ``lines`` is given, lines otherwise). ``cell_cones`` also
+    tries boundary cones on its cells of three or more contacts (:mod:`verify.maps.cell_cones`).
 
     >>> m = eps_map(System([[1, 0], [0, 1]], [[-1, 1]], [1]), ["1", "0"], ["e"], {"e": ("1/2", "1")})
     >>> line = m.lines[0]
     >>> [(str(p.piece), p.stop, str(line.exit_velocity(p)[0])) for p in line.parts]
     [('[1/2, 1]', 'exit', '1/2 - e/2')]
     """
-    if not isinstance(lines, int) or not 2 <= lines <= MAX_LINES:
+    if cells is None:  # two parameters: cells, unless a grid's lines are asked for
+        cells = lines is None and len(parameter_names(list(restitution) if restitution is not None else [])) == 2
+    lines = DEFAULT_LINES if lines is None else lines
+    if isinstance(lines, bool) or not isinstance(lines, int) or not 2 <= lines <= MAX_LINES:
         raise InvalidInput(f"lines must be an integer from 2 to {MAX_LINES}, got {lines!r}")
     if isinstance(max_impulses, bool) or not isinstance(max_impulses, int) or max_impulses < 0:
         raise InvalidInput(f"max_impulses must be a non-negative integer, got {max_impulses!r}")
@@ -369,11 +374,11 @@ def case_map(
     case_id: str | None = None,
     parameters: Mapping[str, Sequence[Any]] | None = None,
     *,
-    lines: int = DEFAULT_LINES,
+    lines: int | None = None,
     max_impulses: int = 40,
     watch: Watch | None = None,
     widen: int = DEFAULT_WIDEN,
-    cells: bool = False,
+    cells: bool | None = None,
     leaving: bool = False,
     cell_cones: bool = False,
 ) -> EpsMap:

@@ -86,12 +86,12 @@ def cradle_map_text(
         *parts_table(cmap.parts, contacts=cradle_system("1", cmap.balls).names),
     ]
     points = [cmap.parts[0].piece.lower] + [p.piece.upper for p in cmap.parts]
-    lines += ["", f"Exact endpoints (polynomials of degree 4 or less; all of them, as CRootOf, in {exact_in}):"]
+    lines += ["", f"Exact endpoints (polynomials of degree 4 or less; all of them, exactly, in {exact_in}):"]
     seen: list[Any] = []
     for x in points:
         if (x.is_rational or x.poly.degree() <= 4) and not any(x is y for y in seen):
             seen.append(x)
-            lines.append(f"  {format_decimal(x, 12):>16} = {x}")
+            lines.append(f"  {format_decimal(x, 12):>16} = {x.words()}")
     t34 = threshold_between(cmap, 4, 3)
     if t34 is not None:
         lines += ["", f"The threshold between 3 and 4 impulses, derived: eps = {t34} = {format_decimal(t34, 20)}"]
@@ -113,17 +113,16 @@ def cradle_map_text(
             how = f"a cone of {gens} generators that {impulses} impulses map into itself"
             if "boundary" in cert:
                 how += f" (built from the period of the repeating impacts {cert['boundary']['pattern']})"
-        checker = "tests/maps/test_boundary.py" if "boundary" in cert else "tests/maps/test_cradle_map.py"
         lines += [
             "",
             f"Never exits for eps in {part.piece}: proved by {how};",
-            f"  the certificate is in {exact_in}; {checker} checks it without the code that found it.",
+            f"  the certificate is in {exact_in}; the test suite checks it without the code that found it.",
         ]
     for bound in bounds:
         lines.append(f"Termination boundary: eps = {bound} = {format_decimal(bound, 20)}")
     lines += boundary_lines(cmap.parts, "eps")
     for part in cmap.unexplored:
-        lines += ["", f"Unexplored {part.piece}: {part.reason}"]
+        lines += ["", f"Unexplored {part.piece.brief()}: {part.reason}"]
     lo, hi = undecided_measure(cmap)
     if hi > 0:
         middle, error = format_decimal((lo + hi) / 2, 12), format_decimal((hi - lo) / 2, 2)
@@ -133,6 +132,10 @@ def cradle_map_text(
         lines += ["", "The paper's AEEV rows (Table 1), read off the map:"]
         for row in aeev_rows:
             lines.append(f"  eps = {row['eps']:<7} printed {row['printed']:<10} -> {row['verdict']}")
+            if "limit" in row:
+                off = format_decimal(row["printed_off"], 2)
+                lines.append(f"    tends to ({', '.join(row['limit'])}) (proved: verify cradle --eps {row['eps']}); "
+                             f"the printed velocities are within {off} of it")  # fmt: skip
     return "\n".join(lines) + "\n"
 
 

@@ -20,7 +20,9 @@ def graded_lines(comparison: Comparison) -> list[str]:
     from verify.numbers.format import format_decimal
     from verify.oracle.grading import PASSING, hardest
 
-    lines = [f"{g.cls.upper()} {g.case_id}: {g.detail}" for g in comparison.grades if g.cls not in PASSING]
+    said = {(m.case_id, m.detail) for m in comparison.mismatches}  # a mismatch already printed is not said again
+    lines = [f"{g.cls.upper()} {g.case_id}: {g.detail}" for g in comparison.grades
+             if g.cls not in PASSING and (g.case_id, g.detail) not in said]  # fmt: skip
     lines += [f"WITHIN_TOLERANCE {g.case_id}: {g.detail}" for g in comparison.grades
               if g.cls == "within_tolerance" and g.detail]  # fmt: skip
     lines += ["", "  class                count"] if lines else ["  class                count"]

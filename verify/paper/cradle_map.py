@@ -22,20 +22,34 @@ def aeev_rows_explained(cmap: CradleMap) -> list[dict[str, Any]]:
     from verify.paper.readings import load_table1, parse_printed_iterations
 
     out = []
-    for eps, *_, printed in load_table1()["rows"]:
+    for eps, *velocity, printed in load_table1()["rows"]:
         if parse_printed_iterations(printed)[0] != "aeev":
             continue
         part = cmap.locate(RealAlgebraic.rational(to_number(eps)))
-        out.append(
-            {
-                "eps": eps,
-                "printed": printed,
-                "stop": part.stop,
-                "iterations": part.iterations,
-                "verdict": verdict(cmap, eps),
-            }
-        )
+        row = {"eps": eps, "printed": printed, "stop": part.stop, "iterations": part.iterations,
+               "verdict": verdict(cmap, eps)}  # fmt: skip
+        if part.stop == "non_terminating":
+            row.update(limit_against(eps, velocity))
+        out.append(row)
     return out
+
+
+def limit_against(eps: str, printed: list[str]) -> dict[str, Any]:
+    """For a row of Table 1 whose run never exits: the velocity the run tends to (proved, exact; three unit
+    balls at v0 = 100) and how far the printed velocities are from it (the largest difference), or nothing
+    when the limit is not proved.
+
+    >>> limit_against("0", ["33.3333335", "33.3333335", "33.33333330"])["limit"]
+    ['100/3', '100/3', '100/3']
+    """
+    from verify.models.cradle import run_cradle
+    from verify.numbers.format import format_exact
+
+    limit = run_cradle(eps).limit
+    if limit is None:
+        return {}
+    off = max(abs(Fraction(to_number(p)) - x) for p, x in zip(printed, limit.velocity))
+    return {"limit": [format_exact(x) for x in limit.velocity], "printed_off": off}
 
 
 @dataclass

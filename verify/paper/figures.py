@@ -6,13 +6,14 @@ from __future__ import annotations
 from collections.abc import Callable
 from concurrent.futures import Executor
 from dataclasses import dataclass
+from fractions import Fraction
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
 from verify.dynamics.policy import JSONObject
 from verify.laws.outcome import Result
 from verify.numbers.format import counted
-from verify.views.figures import load_pyplot, save_figure
+from verify.views.figures import load_pyplot, save_figure, to_float
 
 if TYPE_CHECKING:
     from verify.runner.tasks import TaskRunner
@@ -165,53 +166,64 @@ def _log_norm() -> Any:
     return LogNorm(vmin=0.5, vmax=500)
 
 
+#: the zoomed panel of :func:`draw_multiple_impacts`: where the paper's example and the repeated multiple impacts lie
+ZOOM_EPS1, ZOOM_EPS2 = (Fraction(3, 4), Fraction(1)), (Fraction(0), Fraction(1, 20))
+
+
+def _corner_case(case_id: str, a: str, b: str) -> dict[str, Any]:
+    return {"id": case_id, "alpha": "pi/6", "phi": "pi/12", "eps1": a, "eps2": b, "max_iterations": 2000,
+            "backend": "interval"}  # fmt: skip
+
+
 def multiple_impacts_cases(n: int = 20) -> list[dict[str, Any]]:
-    """The corner cases of :func:`draw_multiple_impacts`: a grid of ``n + 1`` CORs on each wall."""
+    """The corner cases of :func:`draw_multiple_impacts`: a grid of ``n + 1`` CORs on each wall, then a grid of
+    ``n + 1`` by ``n // 2 + 1`` over the corner of the square zoomed (:data:`ZOOM_EPS1` x :data:`ZOOM_EPS2`)."""
     cors = [f"{j}/{n}" for j in range(n + 1)]
-    return [
-        {
-            "id": f"{a}-{b}",
-            "alpha": "pi/6",
-            "phi": "pi/12",
-            "eps1": a,
-            "eps2": b,
-            "max_iterations": 2000,
-            "backend": "interval",
-        }
-        for a in cors
-        for b in cors
+    (a0, a1), (b0, b1), m = ZOOM_EPS1, ZOOM_EPS2, n // 2
+    zoom1 = [str(a0 + (a1 - a0) * j / n) for j in range(n + 1)]
+    zoom2 = [str(b0 + (b1 - b0) * k / m) for k in range(m + 1)]
+    return [_corner_case(f"{a}-{b}", a, b) for a in cors for b in cors] + [
+        _corner_case(f"zoom-{a}-{b}", a, b) for a in zoom1 for b in zoom2
     ]
 
 
 def draw_multiple_impacts(cases: list[dict[str, Any]], results: list[dict[str, Any]], path: str | Path) -> Path:
-    """Draw the runs of :func:`multiple_impacts_cases` (``results``, in order) into ``path``."""
-    import math
-
+    """Draw the runs of :func:`multiple_impacts_cases` (``results``, in order) into ``path``: the whole square of
+    CORs, and its corner where the repeated multiple impacts are, zoomed."""
     plt = load_pyplot()
     import numpy as np
 
-    n = math.isqrt(len(cases)) - 1  # the grid's side, from the number of cases
-    grid = np.zeros((n + 1, n + 1))
-    forever = np.full((n + 1, n + 1), np.nan)
+    whole = [k for k, c in enumerate(cases) if not c["id"].startswith("zoom-")]
+    zoom = [k for k, c in enumerate(cases) if c["id"].startswith("zoom-")]
     most = max(1, *(r["multiple_impacts"] for r in results))  # the colour bar fitted to the data
-    for idx, r in enumerate(results):
-        i, j = divmod(idx, n + 1)
-        grid[j, i] = r["multiple_impacts"]
-        if r["stop"] == "non_terminating":
-            forever[j, i] = 1.0
-    fig, ax = plt.subplots(figsize=(5.8, 4.6), constrained_layout=True)
-    half = 0.5 / n
-    extent = (-half, 1 + half, -half, 1 + half)
-    im = ax.imshow(grid, origin="lower", extent=extent, cmap="magma_r", interpolation="nearest", vmin=0, vmax=most)
-    ax.imshow(
-        forever, origin="lower", extent=extent, cmap="Blues", vmin=0, vmax=1.3, interpolation="nearest", alpha=0.6
-    )
-    ax.plot([0.999], [0.001], "c*", ms=10, label="the paper's example (0.999, 0.001)")
-    ax.set_xlabel("eps1 (wall S1)")
-    ax.set_ylabel("eps2 (wall S2)")
-    ax.set_title("multiple impacts, alpha = pi/6, phi = pi/12 (blue: never exits, proved)")
-    ax.legend(loc="upper right", fontsize=8)
-    fig.colorbar(im, ax=ax, label="number of multiple impacts", ticks=list(range(most + 1)))
+    fig, axes = plt.subplots(1, 2 if zoom else 1, figsize=(10.5 if zoom else 5.8, 4.6), squeeze=False,
+                             constrained_layout=True)  # fmt: skip
+    panels = [(whole, (Fraction(0), Fraction(1)), (Fraction(0), Fraction(1)), "the whole square of CORs")]
+    if zoom:
+        panels.append((zoom, ZOOM_EPS1, ZOOM_EPS2, "zoomed: where the CORs are very different"))
+    im = None
+    for ax, (indices, (a0, a1), (b0, b1), title) in zip(axes[0], panels):
+        columns = len({cases[k]["eps1"] for k in indices})
+        rows = len(indices) // columns
+        grid, forever = np.zeros((rows, columns)), np.full((rows, columns), np.nan)
+        for idx, k in enumerate(indices):
+            i, j = divmod(idx, rows)
+            grid[j, i] = results[k]["multiple_impacts"]
+            if results[k]["stop"] == "non_terminating":
+                forever[j, i] = 1.0
+        dx, dy = to_float(a1 - a0) / (columns - 1) / 2, to_float(b1 - b0) / (rows - 1) / 2
+        extent = (to_float(a0) - dx, to_float(a1) + dx, to_float(b0) - dy, to_float(b1) + dy)
+        im = ax.imshow(grid, origin="lower", extent=extent, cmap="magma_r", interpolation="nearest", vmin=0,
+                       vmax=most, aspect="auto")  # fmt: skip
+        ax.imshow(forever, origin="lower", extent=extent, cmap="Blues", vmin=0, vmax=1.3, interpolation="nearest",
+                  alpha=0.6, aspect="auto")  # fmt: skip
+        ax.plot([0.999], [0.001], "c*", ms=10, label="the paper's example (0.999, 0.001)")
+        ax.set_xlabel("eps1 (wall S1)")
+        ax.set_ylabel("eps2 (wall S2)")
+        ax.set_title(title, fontsize=9)
+    axes[0][0].legend(loc="upper right", fontsize=8)
+    fig.suptitle("Multiple impacts in the corner alpha = pi/6, phi = pi/12 (blue: never exits, proved)", fontsize=10)
+    fig.colorbar(im, ax=axes[0].tolist(), label="number of multiple impacts", ticks=list(range(most + 1)))
     return save_figure(fig, path)
 
 

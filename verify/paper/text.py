@@ -41,7 +41,24 @@ def _iters(result: Result) -> str:
 
 
 def table1_text(table: Table1) -> str:
-    """Table 1: printed against recomputed, every entry marked, with reasons."""
+    """Table 1: printed against recomputed, every entry marked, with reasons; then the readings."""
+    lines = [*table1_lines(table), "", *entries_explained_text(table)]
+    lines += ["", *aeev_text(table.identification)]
+    return "\n".join(lines + table1_differs(table)) + "\n"
+
+
+def table1_differs(table: Table1) -> list[str]:
+    """The rows where the exact run ends otherwise than in paper mode (none: no lines)."""
+    differs = [r for r in table.rows if (r.exact.stop, r.exact.iterations) != (r.paper.stop, r.paper.iterations)]
+    if not differs:
+        return []
+    return ["", "Where the exact run differs from paper mode:"] + [
+        f"  eps = {r.eps}: paper mode {_iters(r.paper)}, exact {_iters(r.exact)}" for r in differs
+    ]
+
+
+def table1_lines(table: Table1) -> list[str]:
+    """Table 1 printed against recomputed, every entry marked; the entries that disagree, with reasons."""
     lines = [
         "Table 1 of Pasquero (2021): Newton's cradle with three unit balls, v0 = 100",
         f"source: {table.source}",
@@ -68,26 +85,20 @@ def table1_text(table: Table1) -> str:
     lines += ["", f"Entries that disagree with the computation under every reading and arithmetic ({n_bad}):"]
     if not bad:
         lines.append("  none")
+    tried = {"; ".join(c.tried) for row in bad for c in row.checks if not c.explained and c.tried}
+    if len(tried) == 1:  # the same readings for every entry: said once
+        lines.append(f"  each tried under: {tried.pop()} (final state and every state of the run)")
     for row in bad:
         for c in row.checks:
             if not c.explained:
                 lines.append(
                     f"  eps = {row.eps}, {c.column}: printed {c.printed}, computed {c.computed[:14]}: {c.reason}"
                 )
-                if c.tried:
+                if c.tried and tried:
                     lines.append(f"    tried: {'; '.join(c.tried)} (final state and every state of the run)")
         for note in row.row_notes:
             lines.append(f"    row {row.eps}: {note}")
-    lines += ["", *entries_explained_text(table)]
-    lines += ["", *aeev_text(table.identification)]
-    rows_exit_differs = [
-        r for r in table.rows if (r.exact.stop, r.exact.iterations) != (r.paper.stop, r.paper.iterations)
-    ]
-    if rows_exit_differs:
-        lines += ["", "Where the exact run differs from paper mode:"]
-        for r in rows_exit_differs:
-            lines.append(f"  eps = {r.eps}: paper mode {_iters(r.paper)}, exact {_iters(r.exact)}")
-    return "\n".join(lines) + "\n"
+    return lines
 
 
 def _explained_by(c: EntryCheck) -> str:
@@ -300,7 +311,8 @@ def corner_claims_text(found: CornerFindings) -> str:
         if c.counterexample:
             lines.append(f"      counterexample: {c.counterexample}")
         for e in c.examples[:3]:
-            lines.append(f"      example: slope {e['slope']}, velocity {e['velocity']}, eps {e['eps1']}, {e['eps2']}")
+            velocity = ", ".join(e["velocity"])
+            lines.append(f"      example: slope {e['slope']}, velocity ({velocity}), eps {e['eps1']}, {e['eps2']}")
     k_star, alpha_star = boundary
     lines += [
         "",
@@ -316,13 +328,16 @@ def corner_claims_text(found: CornerFindings) -> str:
     lines += [
         "",
         f"Float against exact ({floats['cases']} random rational cases, the paper's eq. (10) in Python floats):",
-        f"  {floats['differing']} cases take another branch; reasons: {floats['reasons']}; "
+        f"  {floats['differing']} cases take another branch; reasons: "
+        + ", ".join(f"{why} on {n}" for why, n in floats["reasons"].items())
+        + "; "
         f"{floats['differing_with_a_cor_of_0']} of them have a COR of 0",
     ]
     for e in floats["examples"][:3]:
         case = e["case"]
+        velocity = ", ".join(case["velocity"])
         lines.append(
-            f"  e.g. slope {case['slope']}, velocity {case['velocity']}, eps {case['eps1']}, {case['eps2']}: "
+            f"  e.g. slope {case['slope']}, velocity ({velocity}), eps {case['eps1']}, {case['eps2']}: "
             f"exact {'-'.join(e['exact_zones'])}, float {'-'.join(e['float_zones'])} ({e['reason']})"
         )
     return "\n".join(lines) + "\n"
@@ -365,13 +380,16 @@ def corner_summary(example: CornerRun, claims: Sequence[Claim]) -> str:
 def corner_map_text(found: CornerMaps) -> str:
     """The paper's corner mapped over its CORs (:func:`verify.paper.corner_map.corner_maps`): the line
     eps2 = 1/1000, where its runs have repeated multiple impacts, and the area of the square where they do."""
+    from sympy import total_degree
+
     from verify.maps.plane import describe_area
 
     pieces = " and ".join(str(p) for p in found.repeated_pieces()) or "no value"
     velocity = ", ".join(format_exact(v) for v in found.plane.velocity)
     plane = found.cells
-    curves = sorted({plane.P.show(side.poly, plane.names) for p in found.repeated_plane
-                     for side in (p.cell.y_lo, p.cell.y_hi) if getattr(side, "poly", None) is not None})  # fmt: skip
+    sides = [side.poly for p in found.repeated_plane for side in (p.cell.y_lo, p.cell.y_hi)
+             if getattr(side, "poly", None) is not None]  # fmt: skip
+    curves = sorted({(plane.P.show(q, plane.names), total_degree(plane.P.expr(q, plane.names))) for q in sides})
     return (
         eps_map_text(found.line, exact_in="the --json of verify map")
         + f"\nRepeated multiple impacts (the first two impulses both on both walls) on this line: exactly for eps1 in "
@@ -383,7 +401,13 @@ def corner_map_text(found: CornerMaps) -> str:
         f"them, of area {describe_area(found.repeated_area())} (exact bounds), for eps1 from "
         f"{min((p.cell.x_lo for p in found.repeated_plane), default='-')} to "
         f"{max((p.cell.x_hi for p in found.repeated_plane), default='-')}, bounded below and above by "
-        + ("; ".join(f"{c} = 0" for c in curves) or "the box")
+        + (
+            "; ".join(
+                f"{c} = 0" if len(c) <= 80 else f"a curve of degree {d} (its polynomial in the --json of verify map)"
+                for c, d in curves
+            )
+            or "the box"
+        )
         + ".\n\n"
         + "\n".join(behaviour_lines(plane, found.plane.system.names))
         + "\n"

@@ -97,7 +97,7 @@ def energy_does_not_increase(run: Any, d: Drawn, extra: Any) -> Answer:
             v = q(r, r.velocity_in) if w == 1 else q(r, r.steps[w - 2].velocity)
             lhs, rhs = energy_increase_criterion(_inputs(d.record), v, step.impact_set)
             return (
-                f"impulse {w} (impact set {list(step.impact_set)}, CORs {[str(e[j]) for j in step.impact_set]}) "
+                f"impulse {w} (impact set {list(step.impact_set)}, CORs {_show(e[j] for j in step.impact_set)}) "
                 f"raises the kinetic energy from {K.to_exact(before)} to {K.to_exact(after)}; as the criterion "
                 f"beta ||sum (1 + e_j) V_j||^2 > 2 sum (1 + e_j) p(F_j)^2 / G_jj predicts: {lhs} > {rhs}"
             )
@@ -147,9 +147,10 @@ def simultaneous_energy_rises(r: Any, d: Drawn) -> Answer:
         else f"{r.sequential}, accumulated impulses on {[i for i, x in enumerate(lam) if x]}"
     )
     return (
-        f"{what} (lambda = {_show(lam)}, CORs {[str(x) for x in e]}) raises the "
+        f"{what} (lambda = {_show(lam)}, CORs {_show(e)}) raises the "
         f"kinetic energy from {K.to_exact(before)} to {K.to_exact(after)}; as Delta K = 1/2 sum lambda_i (w_i + w'_i) "
-        f"predicts: the constraints {pushed} that are not incoming (rates {rates}) take impulses and add {gain}, "
+        f"predicts: the constraints {pushed} that are not incoming (rates {_show(rates)}) take impulses and add "
+        f"{gain}, "
         f"the incoming ones add {loss}, in all {gain + loss}" + ("" if gain + loss == change else f", not {change}")
     )
 
@@ -494,7 +495,7 @@ def covariant(run: Any, d: Drawn, factors: tuple[Any, ...]) -> Answer:
     n = len(d.record["velocity"])
     A = _matrix_from_factors(n, *factors)
     other = _transformed(d.record, A=A)
-    label = f"the change of coordinates x = A x', A = {[[str(x) for x in row] for row in A]}"
+    label = f"the change of coordinates x = A x', A = {_show(_show(row) for row in A)}"
     return _same_outcome(run(d.record, d.rule), run(other, d.rule), label, lambda v: formulas.solve_linear(A, v))
 
 
@@ -602,6 +603,8 @@ class Property:
     sequential_explain: str | None = None
     #: the cap of impulses of its runs, if not the drawn records' (``strategies.MAX_ITERATIONS``)
     max_iterations: int | None = None
+    #: what one check covers: each impulse of a run, or the run as a whole (its exit, or every step of it)
+    scope: str = "over the run"
 
     def statement(self, law: str) -> tuple[str | None, str | None]:
         """The proof and the explanation of a failure for the law (names or a sentence)."""
@@ -624,6 +627,7 @@ PROPERTIES: tuple[Property, ...] = (
     Property(
         "kinetic energy does not increase",
         energy_does_not_increase,
+        scope="per impulse",
         proof="energy",
         explain="energy_change",
         laws=ALL,
@@ -638,25 +642,34 @@ PROPERTIES: tuple[Property, ...] = (
         laws=ALL,
         sequential_explain="a sweep's later impulses make an earlier constraint incoming again, and the sweeps end",
     ),
-    Property("each impulse is eq. (8) as printed", follows_eq8),
+    Property("each impulse is eq. (8) as printed", follows_eq8, scope="per impulse"),
     Property(
         "the simultaneous impulses satisfy restitution and complementarity",
         solves_complementarity,
+        scope="per impulse",
         laws=("simultaneous",),
     ),
-    Property("a single impact gives eq. (4)", single_impact_is_eq4, proof="single", laws=BOTH),
-    Property("beta = 1 for one constraint", beta_is_one_for_one_constraint, proof="beta_one"),
-    Property("all CORs 1 give the ideal rule (5)", ideal_is_eq5, rules=("ideal",), proof="ideal"),
-    Property("equal CORs give the symmetric rule (6)", symmetric_is_eq6, rules=("symmetric",), proof="symmetric"),
+    Property("a single impact gives eq. (4)", single_impact_is_eq4, proof="single", laws=BOTH, scope="per impulse"),
+    Property("beta = 1 for one constraint", beta_is_one_for_one_constraint, proof="beta_one", scope="per impulse"),
+    Property("all CORs 1 give the ideal rule (5)", ideal_is_eq5, rules=("ideal",), proof="ideal", scope="per impulse"),
+    Property(
+        "equal CORs give the symmetric rule (6)",
+        symmetric_is_eq6,
+        rules=("symmetric",),
+        proof="symmetric",
+        scope="per impulse",
+    ),
     Property(
         "two constraints: eq. (8) is the asymmetric rule (7)",
         asymmetric_is_eq7,
+        scope="per impulse",
         rules=("asymmetric",),
         proof="asymmetric",
     ),
     Property(
         "orthogonal constraints give the codimension > 1 rule (Prop. 1)",
         orthogonal_is_codimension_rule,
+        scope="per impulse",
         proof="orthogonal",
         laws=BOTH,
     ),

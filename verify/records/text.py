@@ -12,7 +12,7 @@ from collections.abc import Sequence
 from typing import TYPE_CHECKING, Any
 
 from verify.dynamics.system import default_names
-from verify.laws.outcome import Result, stop_words
+from verify.laws.outcome import Result, energy_words, stop_words
 from verify.numbers.backends.base import Backend
 from verify.numbers.format import counted, format_exact
 from verify.records.results import value_string
@@ -46,6 +46,16 @@ def cradle_text(result: Result, *, eps: list[str], mode: str, full_trace: bool =
     if K.is_exact:
         lines.append(f"{label} (exact): {join_values([short_exact(K, x) for x in result.exit_velocity])}")
     lines.append(f"{label} ({decimal_label(K)}): {join_values([K.to_decimal(x, 30) for x in result.exit_velocity])}")
+    limit = result.limit
+    if limit is not None:
+        if K.is_exact:
+            lines.append(f"limit velocity (exact): {join_values([short_exact(K, x) for x in limit.velocity])}")
+        lines.append(
+            f"limit velocity ({decimal_label(K)}): {join_values([K.to_decimal(x, 30) for x in limit.velocity])}"
+        )
+        lines.append(
+            f"limit proved: {limit.statement(lambda x: short_exact(K, x) if K.is_exact else K.to_decimal(x, 12))}"
+        )
     stop = {
         "exit": "exit (no constraint is hit any more)",
         "aeev": "aeev (the paper's almost-equal-exit-velocities stop)",
@@ -72,9 +82,9 @@ def impulses_words(result: Result) -> str:
 def energy_line(result: Result) -> str:
     """The kinetic energy in and out; for a run that never exits, in and when it was proved (there is no out)."""
     K = result.backend
-    before, after = K.to_decimal(result.kinetic_energy_in, 12), K.to_decimal(result.kinetic_energy_out, 12)
     if result.stop == "non_terminating":
-        return f"kinetic energy: {before} in, {after} when proved never to exit"
+        return f"kinetic energy: {energy_words(result, 12)}"
+    before, after = K.to_decimal(result.kinetic_energy_in, 12), K.to_decimal(result.kinetic_energy_out, 12)
     return f"kinetic energy: {before} -> {after}"
 
 

@@ -105,6 +105,10 @@ class Findings:
 
         return cradle_motion_runs()
 
+    def computed(self, name: str) -> bool:
+        """Whether the finding ``name`` (a cached property, such as ``verdicts``) has been computed already."""
+        return name in vars(self)
+
     @cached_property
     def verdicts(self) -> list[Verdict]:
         return self._rows.result() if self._rows is not None else self._verdicts()

@@ -45,7 +45,13 @@ GLOSSARY: tuple[tuple[str, str], ...] = (
         "never exits",
         "a run proved to go on with infinitely many impulses: a certificate (below) shows that its "
         "rates stay where an impact always remains. There is no exit velocity; the pages show the velocity when "
-        "it was proved.",
+        "it was proved and, where that is proved too, the limit velocity.",
+    ),
+    (
+        "limit velocity",
+        "where a run that never exits tends: proved when the rates fall geometrically (over a period of "
+        "impulses they are mapped by a matrix whose spectral radius is below 1, decided exactly); for the cradle, "
+        "the common velocity (100/3, 100/3, 100/3) of the inelastic collapse.",
     ),
     (
         "certificate",
@@ -81,7 +87,8 @@ GLOSSARY: tuple[tuple[str, str], ...] = (
     (
         "verdict",
         "a property's result on a row: proved (a SymPy identity; the drawn cases still test the code), "
-        "holds (no counterexample in the cases drawn), refuted (a shrunk exact counterexample).",
+        "holds N (no counterexample in the N cases drawn), no case (none of the cases drawn met the property's "
+        "premise), refuted (a shrunk exact counterexample). A property is checked per impulse or over the run.",
     ),
     (
         "row, family",
@@ -96,6 +103,17 @@ GLOSSARY: tuple[tuple[str, str], ...] = (
         "wall, Z0 none (the disk leaves).",
     ),
     (
+        "relative distance",
+        "between two velocities a and b of a run from v_in: max_i |a_i - b_i| / max_i |v_in_i|; two agree when "
+        "it is at most 0.001.",
+    ),
+    (
+        "explained",
+        "an engine's answer is explained when an exact model of its own algorithm (the rule, the simultaneous "
+        "law, or the sequential law with the engine's sweeps, order and threshold) is within the engine's "
+        "precision of it: 1e-5 of the speed in float32, 1e-9 in float64.",
+    ),
+    (
         "backend",
         "the arithmetic of a run: exact (rationals and algebraic numbers), interval (certified "
         "enclosures), mp and float (not rigorous).",
@@ -105,11 +123,13 @@ GLOSSARY: tuple[tuple[str, str], ...] = (
 
 def glossary_page() -> str:
     """The glossary as a page."""
+    from verify.views.pages import wrapped
+
     lines = [
         "# Glossary",
         "",
         "The terms the pages use, in the paper's notation (S. Pasquero, J. Nonlinear Sci. 2021).",
         "",
     ]
-    lines += [f"- **{term}**: {meaning}" for term, meaning in GLOSSARY]
+    lines += [line for term, meaning in GLOSSARY for line in wrapped(f"**{term}**: {meaning}", bullet="- ")]
     return "\n".join(lines) + "\n"

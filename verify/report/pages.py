@@ -7,6 +7,7 @@
 
 from __future__ import annotations
 
+import os
 from collections.abc import Callable
 from pathlib import Path
 from typing import TYPE_CHECKING
@@ -18,7 +19,8 @@ from verify.paper.pages import corner_page, cradle_map_page, fig1_page, table1_m
 from verify.properties.pages import properties_page
 from verify.report.findings import Findings
 from verify.report.glossary import glossary_page
-from verify.views.pages import block
+from verify.report.html import html_report
+from verify.views.pages import block, literal_products
 
 if TYPE_CHECKING:
     from collections.abc import Sequence
@@ -85,6 +87,7 @@ def write_reports(out: str | Path = "reports", *, profile: str = "ci", workers: 
     from verify.records.files import write_all_atomic
 
     require("matplotlib", "the reports' figures")  # before anything is computed or written
+    require("markdown_it", "the HTML of the reports", "figures")
     out = Path(out)
     out.mkdir(parents=True, exist_ok=True)
     from verify.runner.tasks import TaskRunner
@@ -100,10 +103,24 @@ def write_reports(out: str | Path = "reports", *, profile: str = "ci", workers: 
         index = index_page(findings)  # on the same pool: what the pages did not compute, it does
     numbered(texts, [name for name, _ in PAGES])
     texts["README.md"] = index
-    for name in texts:
-        texts[name] += f"\n---\n\n{provenance()}\n"
-    write_all_atomic({out / name: text for name, text in texts.items()})
+    for name, text in list(texts.items()):
+        texts[name] = literal_products(text) + f"\n---\n\n{provenance()}\n"
+    files: dict[str | os.PathLike[str], str | bytes] = {out / name: text for name, text in texts.items()}
+    if findings.computed("verdicts"):  # the property page's record, beside it
+        files[out / "properties.json"] = properties_record(findings)
+    images = {p.name: p.read_bytes() for p in sorted(out.glob("*.png"))}
+    files[out / "index.html"] = html_report(texts, ["README.md", *[name for name, _ in PAGES]], images)
+    write_all_atomic(files)
     return findings
+
+
+def properties_record(found: Findings) -> str:
+    """``properties.json``: the property page's record (``verify properties --json``), every counterexample in
+    it as an exact case file."""
+    from verify.properties.verdicts import report
+    from verify.records.results import dumps
+
+    return dumps(report(found.profile, list(found.verdicts)))
 
 
 #: the works the reports cite, with their DOIs
@@ -142,7 +159,7 @@ def index_page(found: Findings) -> str:
         "",
         "## The summary of `verify all`",
         "",
-        block("\n".join(wrapped(line) for line in summary.strip("\n").splitlines())).rstrip("\n"),
+        block(summary.strip("\n")).rstrip("\n"),
         "",
         "## The pages",
         "",
@@ -153,18 +170,6 @@ def index_page(found: Findings) -> str:
         *[f"- {ref}" for ref in REFERENCES],
     ]
     return "\n".join(lines) + "\n"
-
-
-def wrapped(line: str, width: int = 118) -> str:
-    """A long line of the summary folded at ``width``, its continuation indented (a page holds no line over 300).
-
-    >>> print(wrapped("a " * 5, width=6))
-    a a a
-        a a
-    """
-    import textwrap
-
-    return "\n".join(textwrap.wrap(line, width, subsequent_indent="    ", break_long_words=False)) or line
 
 
 def provenance() -> str:

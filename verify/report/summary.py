@@ -5,7 +5,7 @@ from __future__ import annotations
 import textwrap
 from typing import TYPE_CHECKING
 
-from verify.numbers.format import counted
+from verify.numbers.format import counted, format_exact
 from verify.paper.table1 import (
     Table1,
 )
@@ -76,19 +76,27 @@ def abstract(found: Findings) -> list[str]:
     claims = found.corner.claims
     held = sum(c.verdict == "holds" for c in claims)
     found_where = sum(c.verdict == "found" for c in claims)
-    proved = sum(v.verdict == "proved" for v in found.verdicts)
-    holds = sum(v.verdict == "holds" for v in found.verdicts)
-    refuted = sum(v.verdict == "refuted" for v in found.verdicts)
+    rule = [v for v in found.verdicts if v.law == "rule"]
+    proved, holds, refuted = (sum(v.verdict == k for v in rule) for k in ("proved", "holds", "refuted"))
+    laws = [v for v in found.verdicts if v.law != "rule"]
+    failing = "; ".join(dict.fromkeys(v.property for v in rule if v.verdict == "refuted"))
+    endless = [row for row in table.rows if row.exact.stop == "non_terminating" and row.exact.limit is not None]
+    limit = ""
+    if endless:
+        first = endless[0].exact.limit
+        assert first is not None
+        velocity = ", ".join(format_exact(x) for x in first.velocity)
+        limit = f" They tend, as proved here, to the common velocity ({velocity}), which the printed values approach."
     text = (
         "The paper's rule (eqs. 4-8) runs here in exact arithmetic. Table 1 is reproduced: every row that exits, "
         f"to every printed digit, and the threshold eps = {threshold_between(cmap, 4, 3)} between 3 and 4 impulses, "
         f"derived. {counted(len(bad), 'printed entry').capitalize()} of Table 1 are no rounding of any state of the "
         f"run. The AEEV rows 0.01 and 0 are runs that never end: every eps in [0, {boundary}] never exits, the "
         "three-ball inelastic collapse (McNamara and Young 1992), so their printed velocities are where the paper's "
-        f"stop cut the run. The corner's example is reproduced; {held} of its {len(claims)} claims hold on every "
-        f"exact case sampled, and {found_where} (repeated multiple impacts where the CORs differ) is found where the "
-        f"paper says. Of the rule's properties (profile {found.profile}), {proved} rows are "
-        f"proved, {holds} hold and {refuted} are refuted, among them the kinetic energy per impulse under eq. (7) "
-        "with unequal CORs (below, and properties.md)."
+        f"stop cut the run.{limit} The corner's example is reproduced; {held} of its {len(claims)} claims hold on "
+        f"every exact case sampled, and {found_where} (repeated multiple impacts where the CORs differ) is found where "
+        f"the paper says. Of the properties of the paper's rule (profile {found.profile}), {proved} rows are "
+        f"proved, {holds} hold and {refuted} are refuted ({failing}: below, and properties.md); of the "
+        f"{len(laws)} rows of the two laws engines run, {sum(v.verdict == 'refuted' for v in laws)} are refuted."
     )
     return textwrap.wrap(text, 110, break_long_words=False, break_on_hyphens=False)

@@ -94,6 +94,17 @@ class Piece:
             return f"{{{self.lower}}}"
         return f"{'[' if self.lower_closed else '('}{self.lower}, {self.upper}{']' if self.upper_closed else ')'}"
 
+    def brief(self) -> str:
+        """As ``str``, with a long endpoint written short (:meth:`RealAlgebraic.brief`): what a page prints.
+
+        >>> print(Piece.closed(0, Fraction(1, 2)).brief())
+        [0, 1/2]
+        """
+        lo, hi = self.lower.brief(), self.upper.brief()
+        if self.is_point:
+            return f"{{{lo}}}"
+        return f"{'[' if self.lower_closed else '('}{lo}, {hi}{']' if self.upper_closed else ')'}"
+
 
 class RootCache:
     """Real roots of polynomials, computed once per polynomial and shared by every run of a map; and the

@@ -1,0 +1,66 @@
+"""Where a run that never exits tends (verify.proofs.limits): the cradle's collapse to the common velocity.
+
+The limit is checked against the run itself: the rule's single impulses, applied alternately by hand (eq. 4
+written out here, not the package's loop), approach it geometrically.
+"""
+
+from __future__ import annotations
+
+from fractions import Fraction
+
+import pytest
+
+from tests.helpers import Poison, assert_exact_vector, exact_value
+from verify.laws.rule import solve
+from verify.models.cradle import cradle_system
+from verify.proofs.limits import alternation_limit
+
+
+@pytest.mark.parametrize("eps", ["0", "1/100", "7/100"])
+def test_three_balls_tend_to_the_common_velocity(eps: str) -> None:
+    system = cradle_system(eps)
+    run = solve(system, [Poison(100), Poison(0), Poison(0)])
+    assert run.stop == "non_terminating"
+    limit = run.limit
+    assert limit is not None
+    assert_exact_vector([Fraction(100, 3)] * 3, system.backend, limit.velocity)
+    assert exact_value(system.backend, limit.kinetic_energy) == Fraction(5000, 3)
+    assert exact_value(system.backend, limit.determinant) == Fraction(eps) ** 2
+
+
+def _impulse(v: list[Fraction], j: int, e: Fraction) -> list[Fraction]:
+    """Eq. (4) for unit balls j and j + 1 (written out: the relative velocity reversed and scaled by e)."""
+    w = v[j + 1] - v[j]
+    if w >= 0:
+        return v
+    out = list(v)
+    out[j] += (1 + e) * w / 2
+    out[j + 1] -= (1 + e) * w / 2
+    return out
+
+
+def test_the_run_approaches_its_limit_geometrically() -> None:
+    e = Fraction(1, 100)
+    v = [Fraction(100), Fraction(0), Fraction(0)]
+    limit = solve(cradle_system(e), v).limit
+    assert limit is not None
+    target = [Fraction(x) for x in limit.velocity]
+    gaps = []
+    for k in range(40):
+        v = _impulse(v, k % 2, e)
+        gaps.append(max(abs(a - b) for a, b in zip(v, target)))
+    assert all(b < a for a, b in zip(gaps[1::2], gaps[3::2])), "the gap falls every period"
+    assert gaps[-1] < Fraction(1, 10**6) < gaps[0]
+
+
+def test_no_limit_is_claimed_without_a_proof() -> None:
+    cone = {"kind": "alternating invariant cone"}
+    elastic = cradle_system("1")  # det P = e0 e1 = 1: the rates need not fall
+    assert alternation_limit(elastic, elastic.velocity(["100", "0", "0"]), cone) is None
+    assert solve(elastic, ["100", "0", "0"]).limit is None, "a run that exits has no limit"
+    inelastic = cradle_system("1/100")
+    v = inelastic.velocity(["100", "0", "0"])
+    assert alternation_limit(inelastic, v, None) is None
+    assert alternation_limit(inelastic, v, {"kind": "repeating direction"}) is None
+    floats = cradle_system("1/100", backend="mp")
+    assert solve(floats, ["100", "0", "0"]).limit is None, "signs on a backend that is not rigorous prove nothing"
