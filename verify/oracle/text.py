@@ -20,9 +20,7 @@ def graded_lines(comparison: Comparison) -> list[str]:
     from verify.numbers.format import format_decimal
     from verify.oracle.grading import PASSING, hardest
 
-    said = {(m.case_id, m.detail) for m in comparison.mismatches}  # a mismatch already printed is not said again
-    lines = [f"{g.cls.upper()} {g.case_id}: {g.detail}" for g in comparison.grades
-             if g.cls not in PASSING and (g.case_id, g.detail) not in said]  # fmt: skip
+    lines = [f"{g.cls.upper()} {g.case_id}: {g.detail}" for g in comparison.grades if g.cls not in PASSING]
     lines += [f"WITHIN_TOLERANCE {g.case_id}: {g.detail}" for g in comparison.grades
               if g.cls == "within_tolerance" and g.detail]  # fmt: skip
     lines += ["", "  class                count"] if lines else ["  class                count"]
@@ -65,16 +63,18 @@ def error_table_text(rows: Sequence[TableRow]) -> str:
 def oracle_text(comparison: Comparison, report: Mapping[str, str] | None = None) -> str:
     """Every mismatch of ``verify oracle check``, then a summary table; the last lines count the cases as
     ``--junit`` reports them (``report``: its ``--junit-as``)."""
+    from verify.oracle.grading import PASSING
     from verify.oracle.junit import junit_counts
 
-    lines = []
-    for m in comparison.mismatches:
-        lines.append(f"MISMATCH {m.case_id}: {m.field}: {m.detail}")
+    said = {(g.case_id, g.detail) for g in comparison.grades if g.cls not in PASSING}
+    # a mismatch that its grade's line below says (class, case, detail) is not said twice
+    lines = [f"MISMATCH {m.case_id}: {m.field}: {m.detail}" for m in comparison.mismatches
+             if (m.case_id, m.detail) not in said]  # fmt: skip
     fields: dict[str, int] = {}
     for m in comparison.mismatches:
         key = m.field.split("[")[0]
         fields[key] = fields.get(key, 0) + 1
-    lines += ["", "  what                 count", f"  cases checked        {comparison.checked}",
+    lines += [*([""] if lines else []), "  what                 count", f"  cases checked        {comparison.checked}",
               f"  cases agreeing       {comparison.agreeing}"]  # fmt: skip
     lines += [f"  {k:20} {v}" for k, v in sorted(fields.items())]
     if comparison.skipped:
