@@ -127,6 +127,10 @@ def test_every_case_of_the_record_is_printed_from_it(capsys) -> None:
     assert main(["engines", "--from", "README.md"]) == 2
     captured = capsys.readouterr()
     assert "--from README.md: not an engines record" in captured.err and not captured.out
+    out_dir = RECORD.parent / "never-written"
+    assert main(["engines", "--from", str(RECORD), "--engine", "box2d", "--report", "--out", str(out_dir)]) == 2
+    captured = capsys.readouterr()
+    assert "--report cannot go with it" in captured.err and not captured.out and not out_dir.exists()
 
 
 @pytest.mark.slow(seconds=11)

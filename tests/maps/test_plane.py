@@ -238,6 +238,8 @@ def test_cells_from_the_command_line(tmp_path, capsys) -> None:
     assert main(["map", "docs/examples/balls-2112-cors.json", "--cell-cones", "--grid"]) == 2
     captured = capsys.readouterr()
     assert "--cell-cones is for a map of cells" in captured.err and not captured.out
+    assert main(["map", str(one), "--cell-cones"]) == 2, "one parameter: no cells to try cones on"
+    assert "cell cones are tried on a map of cells" in capsys.readouterr().err
     assert main(["map", "docs/examples/corner-map.json", "--cells", "--lines", "3"]) == 2
     captured = capsys.readouterr()
     assert "--cells and --grid (or --lines)" in captured.err and not captured.out

@@ -11,6 +11,7 @@ from fractions import Fraction
 import pytest
 
 from tests.helpers import Poison, assert_exact_vector, exact_value
+from verify.dynamics.system import System
 from verify.laws.rule import solve
 from verify.models.cradle import cradle_system
 from verify.proofs.limits import alternation_limit
@@ -28,15 +29,38 @@ def test_three_balls_tend_to_the_common_velocity(eps: str) -> None:
     assert exact_value(system.backend, limit.determinant) == Fraction(eps) ** 2
 
 
-def _impulse(v: list[Fraction], j: int, e: Fraction) -> list[Fraction]:
-    """Eq. (4) for unit balls j and j + 1 (written out: the relative velocity reversed and scaled by e)."""
+def _impulse(v: list[Fraction], j: int, e: Fraction, masses: tuple[int, ...] = (1, 1, 1), *, forced: bool = False):
+    """Eq. (4) for balls j and j + 1 of these masses, written out: the impulse that turns their relative velocity
+    w into -e w (none when they separate, unless ``forced``: then it is the linear map of one impact)."""
     w = v[j + 1] - v[j]
-    if w >= 0:
+    if w >= 0 and not forced:
         return v
+    impulse = -(1 + e) * w / (Fraction(1, masses[j]) + Fraction(1, masses[j + 1]))
     out = list(v)
-    out[j] += (1 + e) * w / 2
-    out[j + 1] -= (1 + e) * w / 2
+    out[j] -= impulse / masses[j]
+    out[j + 1] += impulse / masses[j + 1]
     return out
+
+
+def test_unequal_masses_and_cors_tend_to_their_common_velocity() -> None:
+    """Masses 1, 2, 3, CORs 1/100 and 3/100: the limit is the velocity of the centre of mass, and the period map's
+    trace and determinant are the ones of the period written out here (two impacts applied to two velocities)."""
+    masses, e = (1, 2, 3), (Fraction(1, 100), Fraction(3, 100))
+    system = System([[1, 0, 0], [0, 2, 0], [0, 0, 3]], [[-1, 1, 0], [0, -1, 1]], [str(x) for x in e])
+    limit = solve(system, ["100", "0", "0"]).limit
+    assert limit is not None
+    assert_exact_vector([Fraction(50, 3)] * 3, system.backend, limit.velocity)
+
+    def rates(v: list[Fraction]) -> tuple[Fraction, Fraction]:
+        return v[1] - v[0], v[2] - v[1]
+
+    def period(v: list[Fraction]) -> tuple[Fraction, Fraction]:
+        return rates(_impulse(_impulse(v, 0, e[0], masses, forced=True), 1, e[1], masses, forced=True))
+
+    (a, c), (b, d) = period([Fraction(-1), Fraction(0), Fraction(0)]), period([Fraction(0), Fraction(0), Fraction(1)])
+    # the velocities above have rates (1, 0) and (0, 1): the columns of P
+    assert exact_value(system.backend, limit.trace) == a + d
+    assert exact_value(system.backend, limit.determinant) == a * d - b * c
 
 
 def test_the_run_approaches_its_limit_geometrically() -> None:

@@ -6,7 +6,7 @@ import argparse
 import sys
 from typing import Any
 
-from verify.cli.common import WORKERS, OutputDir, writing
+from verify.cli.common import WORKERS, OutputDir, UsageError, writing
 
 
 def engines_options(p: argparse.ArgumentParser) -> None:
@@ -55,6 +55,10 @@ def cmd_engines(args: argparse.Namespace) -> int:
             print(f"verify engines: {line}", file=sys.stderr, flush=True)
 
     if args.record is not None:
+        ran = [flag for flag, given in (("--report", args.report), ("--python", args.python),
+                                        ("--workers", args.workers)) if given]  # fmt: skip
+        if ran:  # they run engines or write a new record: a saved record is only read
+            raise UsageError(f"--from reads a saved record and runs no engine: {', '.join(ran)} cannot go with it")
         record = read_record(args.record, args.engine)
     else:
         record = engines_record(args.engine, progress=progress, workers=args.workers or 2, pythons=dict(args.python))
@@ -81,8 +85,6 @@ def read_record(path: str, names: list[str] | None) -> dict[str, Any]:
     not such a record is a usage error."""
     import json
     from pathlib import Path
-
-    from verify.cli.common import UsageError
 
     try:
         record: dict[str, Any] = json.loads(Path(path).read_text(encoding="utf-8"))

@@ -38,7 +38,7 @@ def explained_table(record: dict[str, Any]) -> list[str]:
     return lines
 
 
-def departures_table(record: dict[str, Any]) -> list[str]:
+def _departures_table(record: dict[str, Any]) -> list[str]:
     """Per engine, one row of where it departs: from both laws, in kinetic energy, with the speed, on the small
     COR, and under its other settings."""
     from verify.engines.run import AGREES, SLOW_TWINS, energy_gains, moved, off_both, small_cor, speed_twins
@@ -68,7 +68,7 @@ def departures_table(record: dict[str, Any]) -> list[str]:
     return lines
 
 
-def engines_list(record: dict[str, Any]) -> list[str]:
+def _engines_list(record: dict[str, Any]) -> list[str]:
     """Each engine: its version, how it combines two restitutions, how one COR per contact is set, its settings."""
     from verify.views.pages import wrapped
 
@@ -108,8 +108,9 @@ def case_tables(record: dict[str, Any]) -> list[str]:
     return lines
 
 
-def found(record: dict[str, Any]) -> list[str]:
+def _found(record: dict[str, Any]) -> list[str]:
     """The page's opening: what the engines run, as exact models explain it, and where they depart."""
+    from verify.engines.explain import GAIN
     from verify.engines.run import AGREES, energy_gains, nearer_law, speed_twins
     from verify.numbers.format import format_decimal
     from verify.views.pages import wrapped
@@ -136,12 +137,18 @@ def found(record: dict[str, Any]) -> list[str]:
     text = [
         f"**What was found.** Of the {len(engines)} engines, {len(sim)} are nearer the simultaneous law than the "
         f"paper's rule on most cases where both exit ({', '.join(sim) or 'none'}); {len(rule)} nearer the paper's "
-        f"rule ({', '.join(rule) or 'none'}). No engine is within {format_decimal(AGREES)} of the paper's rule on "
-        f"every case where the rule exits; the most is {best['name']}, on {on_rule(best)} of {len(ruled(best))}.",
+        f"rule ({', '.join(rule) or 'none'})."
+        + (
+            f" No engine is within {format_decimal(AGREES)} of the paper's rule on every case where the rule exits; "
+            f"the most is {best['name']}, on {on_rule(best)} of {len(ruled(best))}."
+            if on_rule(best) < len(ruled(best))
+            else f" {best['name']} is within {format_decimal(AGREES)} of the paper's rule on every case where it exits."
+        ),
         "Exact models of the engines' own algorithms explain (to the engine's precision) "
         + "; ".join(top(e) for e in engines)
         + ".",
-        f"{len(gainers)} engines gain kinetic energy on some case: {', '.join(gainers) or 'none'} (relative rise). "
+        f"{len(gainers)} engines gain kinetic energy (by more than {format_decimal(GAIN)}, relative) on some case: "
+        f"{', '.join(gainers) or 'none'}. "
         f"{len(speed)} answer differently at a low speed, scaled (a restitution velocity threshold, or a soft "
         f"contact): {', '.join(speed) or 'none'}.",
     ]
@@ -157,12 +164,13 @@ def engines_page_text(record: dict[str, Any]) -> str:
     names = ", ".join(e["name"] for e in record["engines"]) or "none"
     how = (
         "Each engine runs through an adapter (the protocol of `verify oracle check --impl`) with gravity and "
-        "friction off, on cradles of 3 to 5 balls, wall chains and corners. Its exit velocity is compared with "
+        f"friction off, on the {len(record['cases'])} cases of the record. Its exit velocity is compared with "
         "the exact ones of the paper's rule and of the simultaneous law (Newton's restitution with "
         "complementarity, all contacts at once: `verify solve --law simultaneous`), and with exact models of "
-        "its own algorithm: the simultaneous law (also with the engine's documented restitution threshold) and "
-        "the sequential law (`verify solve --law sequential`: projected Gauss-Seidel sweeps, exactly) with the "
-        "engine's documented sweeps, the neighbouring counts, both contact orders and its threshold. An answer "
+        "its own algorithm: the paper's rule, the simultaneous law (also with the engine's documented "
+        "restitution threshold) and the sequential law (`verify solve --law sequential`: projected "
+        "Gauss-Seidel sweeps, exactly) with the engine's documented sweeps, the neighbouring counts, both "
+        "contact orders and its threshold. An answer "
         "is explained when a model is within the engine's precision (float32: 1e-5 of the speed; float64: "
         "1e-9). Distances are relative, `max_i |engine_i - exact_i| / max_i |v_in_i|`; an engine agrees with a "
         f"law when the distance is at most {format_decimal(AGREES)}. Floats of an engine are read exactly as "
@@ -171,7 +179,7 @@ def engines_page_text(record: dict[str, Any]) -> str:
     )
     lines = ["# Physics engines against the paper's rule and the simultaneous law", ""]
     if record["engines"]:
-        lines += found(record)
+        lines += _found(record)
     lines += [*wrapped(how), "", f"Engines that ran: {names}.", ""]
     if record["engines"]:
         lines += [
@@ -190,10 +198,10 @@ def engines_page_text(record: dict[str, Any]) -> str:
             "without a velocity threshold or a soft contact gives the same answer. On the paper's corner, the COR",
             "0.001 of S2 is either kept or dropped (the answer nearer the simultaneous law with that COR set to 0).",
             "",
-            *departures_table(record),
+            *_departures_table(record),
             "",
         ]
-    lines += ["## The engines", "", *engines_list(record), "", "## Every case", ""]
+    lines += ["## The engines", "", *_engines_list(record), "", "## Every case", ""]
     lines += wrapped(
         "Each engine's answer on every case, beside the exact answers of both laws and the nearest exact model, is "
         "in the record `engines.json`: `verify engines --from reports/engines.json --cases` prints the tables "

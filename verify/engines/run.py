@@ -311,7 +311,12 @@ def _d(x: Fraction) -> str:
 
 
 def both_exit(entry: dict[str, Any]) -> list[dict[str, Any]]:
-    """An engine's cases where both laws exit: the one case set its medians are taken over."""
+    """An engine's cases where both laws exit: the one case set its medians are taken over.
+
+    >>> both_exit({"cases": [{"distance_to_rule": "0.1", "distance_to_simultaneous": "0"},
+    ...                      {"distance_to_rule": None, "distance_to_simultaneous": "0"}]})
+    [{'distance_to_rule': '0.1', 'distance_to_simultaneous': '0'}]
+    """
     return [
         c for c in entry["cases"] if c["distance_to_rule"] is not None and c["distance_to_simultaneous"] is not None
     ]
@@ -346,7 +351,11 @@ def closest_law(entry: dict[str, Any]) -> str:
 
 
 def nearer_law(entry: dict[str, Any]) -> str:
-    """``simultaneous law``, ``paper's rule`` or ``neither law``: nearer on most cases where both laws exit."""
+    """``simultaneous law``, ``paper's rule`` or ``neither law``: nearer on most cases where both laws exit.
+
+    >>> nearer_law({"cases": [{"distance_to_rule": "0.3", "distance_to_simultaneous": "0.01"}]})
+    'simultaneous law'
+    """
     both = both_exit(entry)
     sim = sum(Fraction(c["distance_to_simultaneous"]) < Fraction(c["distance_to_rule"]) for c in both)
     return "simultaneous law" if 2 * sim > len(both) else "paper's rule" if 2 * sim < len(both) else "neither law"
@@ -362,13 +371,24 @@ def _off_both(c: dict[str, Any]) -> Fraction:
 
 
 def off_both(entry: dict[str, Any]) -> tuple[int, dict[str, Any] | None]:
-    """How many cases the engine departs from both laws on (by more than :data:`AGREES`), and the farthest."""
+    """How many cases the engine departs from both laws on (by more than :data:`AGREES`), and the farthest.
+
+    >>> rows = [{"id": "a", "distance_to_rule": "0.5", "distance_to_simultaneous": "0.2"},
+    ...         {"id": "b", "distance_to_rule": None, "distance_to_simultaneous": "0.0001"}]
+    >>> n, row = off_both({"cases": rows}); n, row["id"]
+    (1, 'a')
+    """
     off = [(_off_both(c), c) for c in entry["cases"] if _off_both(c) > AGREES]
     return len(off), (max(off, key=lambda sc: sc[0])[1] if off else None)
 
 
 def energy_gains(entry: dict[str, Any]) -> tuple[int, dict[str, Any] | None]:
-    """How many cases the engine gains kinetic energy on (a relative rise above GAIN), and the largest gain."""
+    """How many cases the engine gains kinetic energy on (a relative rise above GAIN), and the largest gain.
+
+    >>> n, row = energy_gains({"cases": [{"id": "a", "energy_change": "0.02"}, {"id": "b", "energy_change": None}]})
+    >>> n, row["id"]
+    (1, 'a')
+    """
     gains = [(Fraction(c["energy_change"]), c) for c in entry["cases"]
              if c["energy_change"] and Fraction(c["energy_change"]) > GAIN]  # fmt: skip
     return len(gains), (max(gains, key=lambda sc: sc[0])[1] if gains else None)
@@ -452,7 +472,13 @@ SLOW_TWINS = (
 
 def speed_twins(entry: dict[str, Any]) -> list[tuple[str, str, int, Fraction]]:
     """The slow cases against their fast twins, scaled: (slow, fast, ratio, relative difference); a
-    difference shows a velocity threshold."""
+    difference shows a velocity threshold.
+
+    >>> rows = [{"id": "slow-cradle-3-eps-1-v0-1/2", "engine_exit_velocity": ["0", "0", "0.5"]},
+    ...         {"id": "cradle-3-eps-1", "engine_exit_velocity": ["0", "0", "100"]}]
+    >>> speed_twins({"cases": rows})
+    [('slow-cradle-3-eps-1-v0-1/2', 'cradle-3-eps-1', 200, Fraction(0, 1))]
+    """
     rows = {c["id"]: c for c in entry["cases"]}
     out = []
     for slow, fast, ratio in SLOW_TWINS:
@@ -467,7 +493,13 @@ def speed_twins(entry: dict[str, Any]) -> list[tuple[str, str, int, Fraction]]:
 
 def moved(entry: dict[str, Any], variant: dict[str, Any], cases: dict[str, dict[str, Any]]) -> tuple[Fraction, str]:
     """How far another setting moves the engine's answers from its default run: the largest relative move
-    and its case (``""`` when nothing moves)."""
+    and its case (``""`` when nothing moves).
+
+    >>> entry = {"cases": [{"id": "c", "engine_exit_velocity": ["1", "0"]}]}
+    >>> variant = {"cases": [{"id": "c", "engine_exit_velocity": ["1/2", "0"]}]}
+    >>> moved(entry, variant, {"c": {"velocity": ["2", "0"]}})
+    (Fraction(1, 4), 'c')
+    """
     base = {c["id"]: c for c in entry["cases"]}
     worst, where = Fraction(0), ""
     for c in variant["cases"]:

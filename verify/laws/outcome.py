@@ -71,7 +71,13 @@ def stop_words(stop: Stop, impulses: int, unit: str = "impulse") -> str:
 
 
 def energy_words(result: Result, digits: int) -> str:
-    """The kinetic energy of a run that never exits: in, when proved, and the limit's when that is proved."""
+    """The kinetic energy of a run that never exits: in, when proved, and the limit's when that is proved.
+
+    >>> from verify.laws.rule import solve
+    >>> from verify.models.cradle import cradle_system
+    >>> energy_words(solve(cradle_system("1/100"), ["100", "0", "0"]), 6)
+    '5000 in, 5000 when proved never to exit, tends to 1666.67'
+    """
     K = result.backend
     before, after = K.to_decimal(result.kinetic_energy_in, digits), K.to_decimal(result.kinetic_energy_out, digits)
     limit = result.limit

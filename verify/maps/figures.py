@@ -7,7 +7,7 @@ from fractions import Fraction
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
-from verify.numbers.format import counted
+from verify.numbers.format import counted, format_decimal
 from verify.views.figures import load_pyplot, save_figure, to_float
 
 if TYPE_CHECKING:
@@ -313,7 +313,8 @@ def plane_legend(m: EpsMap) -> list[tuple[tuple[Any, ...], str]]:
             what = "never exits (proved)"
         else:
             what = f"unexplored: still impacting after {counted(m.max_impulses, 'impulse')}"
-        area = "on a curve" if high == 0 else f"area {to_float(low):.3g}-{to_float(high):.3g}"
+        area = "on a curve" if high == 0 else (f"area {format_decimal(low, 3, rounding='floor')}-"
+                                               f"{format_decimal(high, 3, rounding='ceiling')}")  # fmt: skip
         out.append((key, f"{what}, {area}"))
     return out
 

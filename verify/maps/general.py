@@ -251,6 +251,8 @@ def eps_map(
             raise InvalidSystem(f"a map needs algebraic numbers: {where} = {format_exact(x)} is not algebraic")
     number_field = exact_for([x for _, x in numbers])
     field_of = number_field if isinstance(number_field, NumberFieldBackend) else None
+    if cell_cones and not cells:
+        raise InvalidInput("cell cones are tried on a map of cells: two parameters, without a grid of lines")
     if cells:
         if len(names) != 2:
             raise InvalidInput(f"a map of cells takes two parameters; the CORs use {len(names)} ({', '.join(names)})")

@@ -302,7 +302,7 @@ def describe_area(bounds: tuple[Fraction, Fraction]) -> str:
     lo, hi = bounds
     if lo == hi:
         return format_exact(lo)
-    return f"between {format_decimal(lo, 6)} and {format_decimal(hi, 6)}"
+    return f"between {format_decimal(lo, 6, rounding='floor')} and {format_decimal(hi, 6, rounding='ceiling')}"
 
 
 __all__ = ["CellPart", "PlaneMap", "describe_area", "plane_json", "plane_parts"]

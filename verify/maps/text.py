@@ -133,7 +133,7 @@ def cradle_map_text(
         for row in aeev_rows:
             lines.append(f"  eps = {row['eps']:<7} printed {row['printed']:<10} -> {row['verdict']}")
             if "limit" in row:
-                off = format_decimal(row["printed_off"], 2)
+                off = format_decimal(row["printed_off"], 2, rounding="ceiling")
                 lines.append(f"    tends to ({', '.join(row['limit'])}) (proved: verify cradle --eps {row['eps']}); "
                              f"the printed velocities are within {off} of it")  # fmt: skip
     return "\n".join(lines) + "\n"

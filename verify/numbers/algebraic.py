@@ -392,26 +392,6 @@ class RealAlgebraic:
         nth = {1: "first", 2: "second", 3: "third", 4: "fourth", 5: "fifth"}.get(k, f"{k}th")
         return f"the {nth} real root of {self.poly.as_expr()} = 0"
 
-    def brief(self, limit: int = 72) -> str:
-        """:meth:`words` when they are short, else 12 significant digits and the degree of its polynomial (the
-        closed form stays in the JSON records): what a page prints.
-
-        >>> RealAlgebraic.roots_in(poly_from_coeffs([1, 0, -2]))[1].brief()
-        'sqrt(2)'
-        >>> RealAlgebraic.roots_in(poly_from_coeffs([-1, -1, 0, 1]))[0].brief(limit=10)
-        '0.754877666247 (a root of degree 3)'
-        """
-        text = self.words()
-        if len(text) <= limit:
-            return text
-        import decimal
-
-        lo, hi = self.narrowed(Fraction(1, 10**16))
-        middle = (lo + hi) / 2
-        with decimal.localcontext(prec=12):  # a division of two exact integers, rounded once: no float
-            digits = decimal.Decimal(middle.numerator) / decimal.Decimal(middle.denominator)
-        return f"{digits:f} (a root of degree {self.poly.degree()})"
-
     def __repr__(self) -> str:
         return f"RealAlgebraic({self})"
 

@@ -333,3 +333,20 @@ def counted(n: int, word: str) -> str:
     ('1 mismatch', '0 cases')
     """
     return f"{n} {plural(n, word)}"
+
+
+def brief(x: Any, limit: int = 72) -> str:
+    """A real algebraic number as a page prints it: its words (:meth:`RealAlgebraic.words`: a rational, radicals,
+    or which real root of which polynomial) when they are short, else 12 certified significant digits and the
+    degree of its polynomial (the closed form stays in the JSON records).
+
+    >>> from verify.numbers.algebraic import RealAlgebraic, poly_from_coeffs
+    >>> brief(RealAlgebraic.roots_in(poly_from_coeffs([1, 0, -2]))[1])
+    'sqrt(2)'
+    >>> brief(RealAlgebraic.roots_in(poly_from_coeffs([-1, -1, 0, 1]))[0], limit=10)
+    '0.754877666247 (a root of degree 3)'
+    """
+    text: str = x.words()
+    if len(text) <= limit:
+        return text
+    return f"{format_decimal(x, 12)} (a root of degree {x.poly.degree()})"

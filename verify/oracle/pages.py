@@ -14,7 +14,7 @@ def oracle_page(found: OracleFindings) -> str:
 
     lines = [
         "# The reference oracle\n",
-        *found_lines(found),
+        *_found_lines(found),
         "The golden dataset (`golden/`, written by `verify oracle export golden`): what it contains.\n",
         oracle.dataset_description(found.cases, found.results, found.skipped),
         "Self-check: the exact results compared with themselves at zero tolerance "
@@ -32,7 +32,7 @@ def oracle_page(found: OracleFindings) -> str:
     return "\n".join(lines + error_tables(found))
 
 
-def found_lines(found: OracleFindings) -> list[str]:
+def _found_lines(found: OracleFindings) -> list[str]:
     """The page's opening: the golden dataset, its self-check, and how the float example and the engines fare."""
     from verify.views.pages import wrapped
 

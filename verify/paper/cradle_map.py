@@ -44,12 +44,12 @@ def limit_against(eps: str, printed: list[str]) -> dict[str, Any]:
     """
     from verify.models.cradle import run_cradle
     from verify.numbers.format import format_exact
+    from verify.paper.table1 import off_limit
 
     limit = run_cradle(eps).limit
     if limit is None:
         return {}
-    off = max(abs(Fraction(to_number(p)) - x) for p, x in zip(printed, limit.velocity))
-    return {"limit": [format_exact(x) for x in limit.velocity], "printed_off": off}
+    return {"limit": [format_exact(x) for x in limit.velocity], "printed_off": off_limit(printed, limit)}
 
 
 @dataclass

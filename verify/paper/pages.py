@@ -32,18 +32,18 @@ CORNER_EXAMPLE: dict[str, Any] = {
 }
 
 
-def table1_found(table: Table1) -> list[str]:
+def _table1_found(table: Table1) -> list[str]:
     """The opening of Table 1's page: how many entries agree, which do not and by how much, the AEEV stop
     identified, and where the rows that never exit tend."""
     from verify.models.paper import PAPER_SIGMA_STATED
     from verify.numbers.format import format_decimal, format_exact
-    from verify.numbers.parse import to_number
+    from verify.paper.table1 import off_limit
     from verify.views.pages import wrapped
 
     entries = [(row, c) for row in table.rows for c in row.checks]
     bad = [(row, c) for row, c in entries if not c.explained]
     agree = sum(c.agrees for _, c in entries)
-    some = sum(c.only_some for _, c in entries)
+    some = sum(c.agrees and c.only_some for _, c in entries)
     search = table.identification
     good = [w.reading.name for w in search.reproducing]
     endless = [row for row in table.rows if row.exact.stop == "non_terminating"]
@@ -71,14 +71,14 @@ def table1_found(table: Table1) -> list[str]:
         for row in endless:
             limit = row.exact.limit
             if limit is not None:
-                off = max(abs(Fraction(to_number(p)) - x) for p, x in zip(row.printed[:3], limit.velocity))
-                limits.append(f"eps = {row.eps} within {format_decimal(off, 2)}")
+                off = off_limit(row.printed[:3], limit)
+                limits.append(f"eps = {row.eps} within {format_decimal(off, 2, rounding='ceiling')}")
         first = endless[0].exact.limit
         velocity = ", ".join(format_exact(x) for x in first.velocity) if first is not None else ""
         text.append(
             f"The rows eps = {', '.join(row.eps for row in endless)} never exit: the exact run applies infinitely many "
-            "impulses (proved; the three-particle inelastic collapse below eps = 7 - 4*sqrt(3), see the cradle "
-            "map), so the paper's AEEV stop cut an endless run there"
+            "impulses (proved; the three-particle inelastic collapse, whose boundary the cradle map gives), so the "
+            "paper's AEEV stop cut an endless run there"
             + (
                 f". Such a run tends to the common velocity ({velocity}) (proved), and the printed velocities are "
                 f"close to that limit: {'; '.join(limits)}."
@@ -95,7 +95,7 @@ def table1_page(table: Table1) -> str:
 
     return (
         "# Table 1: Newton's cradle (Sect. 4.1)\n\n"
-        + "\n".join(table1_found(table))
+        + "\n".join(_table1_found(table))
         + "\nThe paper's Table 1 beside the exact results and the paper-mode results (the paper's own termination: a\n"
         "cap of 10^4 impulses and the AEEV stop). Every printed entry is marked as agreeing or not, with the\n"
         "reason. Command: `verify table1` (`--json` for exact values).\n\n"
@@ -113,34 +113,44 @@ def table1_marks(table: Table1) -> list[tuple[Fraction, int]]:
     return [(Fraction(parse_number(row.eps)), parse_printed_iterations(row.printed[-1])[1]) for row in table.rows]
 
 
-def cradle_map_found(report: MapReport) -> list[str]:
+def _cradle_map_found(report: MapReport) -> list[str]:
     """The opening of the cradle map's page: the collapse boundary and how it meets the literature, the
     thresholds, how the counts grow near the boundary, and what stays undecided."""
+    import sympy as sp
+
     from verify.maps.cradle import termination_boundaries, threshold_between, undecided_measure
-    from verify.numbers.format import format_decimal
+    from verify.numbers.algebraic import RealAlgebraic
+    from verify.numbers.format import brief, format_decimal, format_exact
     from verify.views.pages import wrapped
 
     cmap = report.cmap
     bounds = termination_boundaries(cmap)
     t34 = threshold_between(cmap, 4, 3)
     _, hi = undecided_measure(cmap)
-    text = ["**What was found.** For three unit balls (one COR eps for both contacts, ball 1 entering)"]
+    masses = ", ".join(format_exact(m) for m in cmap.masses)
+    text = [f"**What was found.** For {cmap.balls} balls of masses {masses} (one COR eps for every contact, the "
+            "first ball entering)"]  # fmt: skip
     if bounds:
         b = bounds[0]
         text[0] += (
-            f", every eps in [0, {b.brief()}] never exits: one certificate (invariant cones) proves it for the whole "
-            f"interval, and above eps = {b.brief()} = {format_decimal(b, 12)} every run exits. This is the "
-            "three-particle inelastic collapse, and its boundary is the known one (McNamara and Young 1992; Zhou and "
-            "Kadanoff 1996): the map meets the literature exactly. A run that never exits tends to the common "
-            "velocity of the three balls (proved for Table 1's rows: see there)."
+            f", every eps in [0, {brief(b)}] never exits: one certificate (invariant cones) proves it for the whole "
+            f"interval"
+            + (f", and above eps = {brief(b)} = {format_decimal(b, 12)} every run exits" if hi == 0 else "")
+            + ". This is the inelastic collapse of the balls"
         )
+        known = RealAlgebraic.from_number(7 - 4 * sp.sqrt(3))  # McNamara and Young's threshold for three balls
+        if len(cmap.masses) == 3 and len(set(cmap.masses)) == 1 and b.cmp(known) == 0:
+            text[0] += (", and its boundary is the known one, 7 - 4*sqrt(3) (McNamara and Young 1992; Zhou and "
+                        "Kadanoff 1996): the map meets the literature exactly")  # fmt: skip
+        text[0] += ". A run that never exits tends to the common velocity of the balls (proved for Table 1's rows)."
     if t34 is not None:
-        text[0] += f" The paper's threshold between 3 and 4 impulses is derived: eps = {t34.brief()}."
+        text[0] += f" The paper's threshold between 3 and 4 impulses is derived: eps = {brief(t34)}."
     if report.approach:
         eps, count = report.approach[-1]
         text[0] += (f" Just above the boundary the count of impulses grows without bound ({count} at eps = "
                     f"{format_decimal(eps, 8)}; the table below).")  # fmt: skip
-    text[0] += (f" What the map leaves undecided is a set of eps of length at most {format_decimal(hi, 2)}."
+    text[0] += (f" What the map leaves undecided is a set of eps of length at most "
+                f"{format_decimal(hi, 2, rounding='ceiling')}."
                 if hi > 0 else " The map decides every eps in [0, 1].")  # fmt: skip
     return [*wrapped(text[0]), ""]
 
@@ -154,7 +164,7 @@ def cradle_map_page(out: Path, report: MapReport, marks: Sequence[tuple[Fraction
     cradle_staircase(report.cmap, out / "cradle-staircase.png", marks)
     return (
         "# The cradle for every eps in [0, 1]\n\n"
-        + "\n".join(cradle_map_found(report))
+        + "\n".join(_cradle_map_found(report))
         + "\neps runs as a symbol; the interval is cut at the exact roots wherever a sign changes. Thresholds are\n"
         "exact algebraic numbers (with decimals); the termination boundary comes with its certificate\n"
         "(`verify cradle-map --json`); the AEEV rows of Table 1 are read off the map. Command: `verify cradle-map`.\n\n"
@@ -164,7 +174,7 @@ def cradle_map_page(out: Path, report: MapReport, marks: Sequence[tuple[Fraction
     )
 
 
-def corner_found(example: CornerRun, findings: CornerFindings, maps: CornerMaps | None) -> list[str]:
+def _corner_found(example: CornerRun, findings: CornerFindings, maps: CornerMaps | None) -> list[str]:
     """The opening of the corner's page: the paper's example, its claims, the symmetric corner's boundary, the
     CORs where repeated multiple impacts occur, and float against exact."""
     from verify.maps.plane import describe_area
@@ -190,7 +200,8 @@ def corner_found(example: CornerRun, findings: CornerFindings, maps: CornerMaps 
         lo = min(p.cell.x_lo for p in maps.repeated_plane)
         text += (f" Over both CORs, the first two impulses are multiple impacts on an area "
                  f"{describe_area(maps.repeated_area())} of the square of CORs, all with eps1 above "
-                 f"{format_decimal(lo, 3)}: the paper's \"very different CORs\" (the figure below).")  # fmt: skip
+                 f"{format_decimal(lo, 3, rounding='floor')}: the paper's \"very different CORs\" (the figure "
+                 "below).")  # fmt: skip
     text += (f" A plain float implementation of eq. (10) takes another branch than the exact one on "
              f"{floats['differing']} of {floats['cases']} random cases.")  # fmt: skip
     return [*wrapped(text), ""]
@@ -214,7 +225,7 @@ def corner_page(
     pictures = "".join(f"\n![{f.figure.caption}]({f.figure.file})\n" for f in figures)
     return (
         "# The disk in a corner (Sect. 4.2)\n\n"
-        + "\n".join(corner_found(example, findings, maps))
+        + "\n".join(_corner_found(example, findings, maps))
         + "\nThe paper's example traced impulse by impulse (`verify corner --alpha pi/6 --phi pi/12 --eps1 0.999 "
         "--eps2 0.001`):\n\n" + block(corner_text(example, **CORNER_EXAMPLE)) + "\n"
         f"The paper's claims on {CORNER_CASES} exact rational cases, the termination boundary, the rebounds as the\n"

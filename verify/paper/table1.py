@@ -31,7 +31,7 @@ text leaves the test loosely described.
 
 from __future__ import annotations
 
-from collections.abc import Iterable
+from collections.abc import Iterable, Sequence
 from dataclasses import dataclass, field
 from fractions import Fraction
 
@@ -43,6 +43,7 @@ from verify.numbers.format import counted, format_decimal, ilog10, int_to_str
 from verify.numbers.numeric import mpf_to_fraction
 from verify.numbers.parse import to_number
 from verify.paper.readings import Search, load_table1, parse_printed_iterations, search_readings
+from verify.proofs.limits import Limit
 
 DEFAULT_EXACT_CAP = 10_000
 
@@ -232,6 +233,17 @@ class Table1:
     def disagreeing(self) -> list[tuple[str, str]]:
         """(eps, column) of every printed entry that disagrees with the exact run."""
         return [(row.eps, c.column) for row in self.rows for c in row.checks if not c.agrees]
+
+
+def off_limit(printed: Sequence[str], limit: Limit) -> Fraction:
+    """How far printed velocities (strings, read exactly) are from a proved limit velocity: the largest
+    difference of a component.
+
+    >>> from verify.models.cradle import run_cradle
+    >>> off_limit(["33.3333335", "33.3333335", "33.33333330"], run_cradle("0").limit)
+    Fraction(1, 6000000)
+    """
+    return max(abs(Fraction(to_number(p)) - Fraction(x)) for p, x in zip(printed, limit.velocity))
 
 
 def _velocities(result: Result) -> list[Fraction]:

@@ -32,13 +32,38 @@ class Limit:
     determinant: Any
 
     def statement(self, show: Any = str) -> str:
-        """How the limit is proved, in words (``show`` writes a number)."""
+        """How the limit is proved, in words (``show`` writes a number).
+
+        >>> Limit((), 0, "1/4", "0").statement()[:96]
+        'the rates of the two constraints fall geometrically: over a period (an impulse on each) they are'
+        """
         return (
             "the rates of the two constraints fall geometrically: over a period (an impulse on each) they are "
             f"mapped by P with det P = {show(self.determinant)}, tr P = {show(self.trace)}, so |det P| < 1 and "
             "|tr P| < 1 + det P (Jury): its spectral radius is below 1, and the velocity tends to the one with "
             "both rates 0"
         )
+
+
+def jury(K: Any, trace: Any, det: Any) -> bool:
+    """Whether a real 2 x 2 matrix of this trace and determinant (numbers of the backend ``K``) has both
+    eigenvalues inside the unit circle (Jury's test: ``|det| < 1`` and ``|trace| < 1 + det``), decided by
+    exact (or certified) signs; a sign the backend cannot decide answers False (nothing is claimed).
+
+    >>> from fractions import Fraction as F
+    >>> from verify.numbers.backends import get_backend
+    >>> K = get_backend("exact")
+    >>> [jury(K, F(t), F(d)) for t, d in [("1/2", "2/5"), ("3/2", "2/5"), ("-3/2", "2/5"), ("0", "1"), ("0", "-1")]]
+    [True, False, False, False, False]
+    """
+    from verify.errors import Undecided
+    from verify.numbers.backends.symbolic import Split
+
+    one = K.one
+    try:
+        return all(K.sign(x) > 0 for x in (one - det, one + det, one + det - trace, one + det + trace))
+    except (Undecided, Split):  # a sign that is not one sign on the whole: no claim
+        return False
 
 
 def alternation_limit(system: System, velocity: Sequence[Any], certificate: dict[str, Any] | None) -> Limit | None:
@@ -68,9 +93,7 @@ def alternation_limit(system: System, velocity: Sequence[Any], certificate: dict
     n1 = ((one, -(one + e[1]) * G[0][1] / G[1][1]), (K.zero, -e[1]))
     p = [[sum((n1[i][k] * n0[k][j] for k in range(2)), K.zero) for j in range(2)] for i in range(2)]
     trace, det = p[0][0] + p[1][1], p[0][0] * p[1][1] - p[0][1] * p[1][0]
-    contracts = K.sign(one - det) > 0 and K.sign(one + det) > 0
-    contracts = contracts and K.sign(one + det - trace) > 0 and K.sign(one + det + trace) > 0
-    if not contracts:
+    if not jury(K, trace, det):
         return None
     b = system.rates(velocity)
     # G c = -b, for the two constraints

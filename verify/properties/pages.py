@@ -35,7 +35,7 @@ def _verdict(v: Verdict) -> str:
     return f"holds {v.cases}" if v.cases else "no case"
 
 
-def grid(found: Sequence[Verdict], law: str) -> list[str]:
+def _grid(found: Sequence[Verdict], law: str) -> list[str]:
     """The verdicts of one law: a row per property (with its scope), a column per kind of CORs."""
     from verify.properties.catalogue import property_named
 
@@ -52,8 +52,9 @@ def grid(found: Sequence[Verdict], law: str) -> list[str]:
     return lines
 
 
-def summary(found: Sequence[Verdict]) -> list[str]:
+def _summary(found: Sequence[Verdict]) -> list[str]:
     """The page's opening: the count of each verdict by law, and the properties refuted under it."""
+    from verify.properties.verdicts import verdict_counts
     from verify.views.pages import wrapped
 
     out = []
@@ -61,7 +62,7 @@ def summary(found: Sequence[Verdict]) -> list[str]:
         rows = [v for v in found if v.law == law]
         if not rows:
             continue
-        counts = ", ".join(f"{sum(v.verdict == k for v in rows)} {k}" for k in ("proved", "holds", "refuted"))
+        counts = ", ".join(f"{n} {k}" for k, n in verdict_counts(rows).items())
         refuted = list(dict.fromkeys(v.property for v in rows if v.verdict == "refuted"))
         failing = "; ".join(
             f"{p} ({sum(v.property == p and v.verdict == 'refuted' for v in rows)} of "
@@ -80,7 +81,7 @@ def _parts(note: str) -> tuple[str, str, str]:
     return what, why, command
 
 
-def refutations(found: Sequence[Verdict]) -> list[str]:
+def _refutations(found: Sequence[Verdict]) -> list[str]:
     """Every refuted row, grouped by property; why the property fails is said once for the rows that share it."""
     from verify.views.pages import wrapped
 
@@ -119,7 +120,8 @@ def properties_page(profile: str, found: Sequence[Verdict]) -> str:
     from verify.properties.text import census_lines
     from verify.views.pages import block, wrapped
 
-    lines = ["# Properties of the rule and of the simultaneous law", "", "**What was found.**", "", *summary(found), ""]
+    lines = ["# Properties of the rule and of the simultaneous law", "", "**What was found.**", ""]
+    lines += [*_summary(found), ""]
     lines += wrapped(
         "Each property the paper states in Sects. 2-3 (and a few a reader expects of an impact law) is checked on "
         "exact rational cases drawn at random: general systems, cradles and corners, under four kinds of CORs, for "
@@ -129,7 +131,7 @@ def properties_page(profile: str, found: Sequence[Verdict]) -> str:
         "either per impulse or over the run; the column says which."
     )
     for law, words in LAWS.items():
-        table = grid(found, law)
+        table = _grid(found, law)
         if table:
             lines += ["", f"## {words[0].upper()}{words[1:]}", "", *table]
     census = census_lines(found)
@@ -141,5 +143,5 @@ def properties_page(profile: str, found: Sequence[Verdict]) -> str:
         f"(`verify properties --profile {profile} --counterexamples DIR` writes them as files); rerun one with "
         "`verify solve CASE.json --rule RULE` (add `--law simultaneous` or `--law sequential` for those laws)."
     )
-    lines += refutations(found)
+    lines += _refutations(found)
     return "\n".join(lines).rstrip("\n") + "\n"

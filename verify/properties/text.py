@@ -33,7 +33,9 @@ def properties_text(profile: str, found: Sequence[Verdict]) -> str:
     lines.append(f"  {'property':{width}}  {'law':12}  {'rule':10}  {'family':7}  {'verdict':8}  cases")
     for v in found:
         lines.append(f"  {v.property:{width}}  {v.law:12}  {v.rule:10}  {v.family:7}  {v.verdict:8}  {v.cases}")
-    counts = {k: sum(v.verdict == k for v in found) for k in ("proved", "holds", "refuted")}
+    from verify.properties.verdicts import verdict_counts
+
+    counts = verdict_counts(found)
     lines += ["", "  " + ", ".join(f"{n} {k}" for k, n in counts.items())]
     lines += census_lines(found)
     for v in found:

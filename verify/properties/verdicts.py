@@ -39,6 +39,7 @@ import sys
 import threading
 import warnings
 from collections import Counter, OrderedDict
+from collections.abc import Sequence
 from concurrent.futures import Executor
 from dataclasses import dataclass, field
 from typing import Any, Literal
@@ -757,6 +758,16 @@ def verdicts(
     return list(run.results)
 
 
+def verdict_counts(found: Sequence[Any]) -> dict[str, int]:
+    """How many rows are proved, hold and are refuted (the counts the texts and pages print).
+
+    >>> from types import SimpleNamespace as Row
+    >>> verdict_counts([Row(verdict="holds"), Row(verdict="refuted"), Row(verdict="holds")])
+    {'proved': 0, 'holds': 2, 'refuted': 1}
+    """
+    return {k: sum(v.verdict == k for v in found) for k in ("proved", "holds", "refuted")}
+
+
 def report(profile: str, found: list[Verdict]) -> dict[str, Any]:
     """The JSON of ``verify properties --json`` (contracts)."""
     return {"profile": profile, "properties": [v.record() for v in found]}
@@ -772,5 +783,6 @@ __all__ = [
     "run_record",
     "run_verdicts",
     "search",
+    "verdict_counts",
     "verdicts",
 ]

@@ -106,7 +106,11 @@ class Findings:
         return cradle_motion_runs()
 
     def computed(self, name: str) -> bool:
-        """Whether the finding ``name`` (a cached property, such as ``verdicts``) has been computed already."""
+        """Whether the finding ``name`` (a cached property, such as ``verdicts``) has been computed already.
+
+        >>> Findings(verdicts=[]).computed("verdicts")
+        False
+        """
         return name in vars(self)
 
     @cached_property

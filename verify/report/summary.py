@@ -9,6 +9,7 @@ from verify.numbers.format import counted, format_exact
 from verify.paper.table1 import (
     Table1,
 )
+from verify.properties.verdicts import verdict_counts
 
 if TYPE_CHECKING:
     from collections.abc import Sequence
@@ -77,7 +78,7 @@ def abstract(found: Findings) -> list[str]:
     held = sum(c.verdict == "holds" for c in claims)
     found_where = sum(c.verdict == "found" for c in claims)
     rule = [v for v in found.verdicts if v.law == "rule"]
-    proved, holds, refuted = (sum(v.verdict == k for v in rule) for k in ("proved", "holds", "refuted"))
+    proved, holds, refuted = verdict_counts(rule).values()
     laws = [v for v in found.verdicts if v.law != "rule"]
     failing = "; ".join(dict.fromkeys(v.property for v in rule if v.verdict == "refuted"))
     endless = [row for row in table.rows if row.exact.stop == "non_terminating" and row.exact.limit is not None]

@@ -8,11 +8,8 @@ def block(text: str, *, width: int = 200) -> str:
     """A command's output as a text block of a page; a line longer than ``width`` is folded at ``width`` (its
     continuation indented four more than it), so that no line of a page runs long.
 
-    >>> print(block("  one two three", width=10), end="")
-    ```text
-      one two
-          three
-    ```
+    >>> block("  one two three", width=10)  # doctest: -NORMALIZE_WHITESPACE
+    '```text\\n  one two\\n      three\\n```\\n'
     """
     import textwrap
 
@@ -22,7 +19,7 @@ def block(text: str, *, width: int = 200) -> str:
         if len(line) <= width:
             lines.append(line)
             continue
-        lines += textwrap.wrap(line, width, initial_indent=indent, subsequent_indent=indent + "    ",
+        lines += textwrap.wrap(line.lstrip(" "), width, initial_indent=indent, subsequent_indent=indent + "    ",
                                break_long_words=False, break_on_hyphens=False)  # fmt: skip
     return "```text\n" + "\n".join(lines) + "\n```\n"
 

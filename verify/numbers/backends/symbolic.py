@@ -100,7 +100,9 @@ class Piece:
         >>> print(Piece.closed(0, Fraction(1, 2)).brief())
         [0, 1/2]
         """
-        lo, hi = self.lower.brief(), self.upper.brief()
+        from verify.numbers.format import brief
+
+        lo, hi = brief(self.lower), brief(self.upper)
         if self.is_point:
             return f"{{{lo}}}"
         return f"{'[' if self.lower_closed else '('}{lo}, {hi}{']' if self.upper_closed else ')'}"
