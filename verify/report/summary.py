@@ -9,7 +9,6 @@ from verify.numbers.format import counted, format_exact
 from verify.paper.table1 import (
     Table1,
 )
-from verify.properties.verdicts import verdict_counts
 
 if TYPE_CHECKING:
     from collections.abc import Sequence
@@ -77,6 +76,8 @@ def abstract(found: Findings) -> list[str]:
     claims = found.corner.claims
     held = sum(c.verdict == "holds" for c in claims)
     found_where = sum(c.verdict == "found" for c in claims)
+    from verify.properties.verdicts import verdict_counts  # its strategies need hypothesis: asked for here only
+
     rule = [v for v in found.verdicts if v.law == "rule"]
     proved, holds, refuted = verdict_counts(rule).values()
     laws = [v for v in found.verdicts if v.law != "rule"]
