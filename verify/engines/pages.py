@@ -128,8 +128,10 @@ def _found(record: dict[str, Any]) -> list[str]:
 
     def top(e: dict[str, Any]) -> str:
         s = e.get("explained") or {"models": {}, "explained": 0, "cases": len(e["cases"])}
-        label = max(s["models"].items(), key=lambda kv: (kv[1], kv[0]))[0] if s["models"] else "no model"
-        return f"{e['name']} ({label}: {s['explained']} of {s['cases']})"
+        if not s["models"]:
+            return f"{e['name']} (0 of {s['cases']})"
+        label, n = max(s["models"].items(), key=lambda kv: (kv[1], kv[0]))
+        return f"{e['name']} ({s['explained']} of {s['cases']}; {n} of them by {label})"
 
     gains = [(e["name"], energy_gains(e)[1]) for e in engines]
     gainers = [f"{name} (up to {row['energy_change']})" for name, row in gains if row is not None]

@@ -203,6 +203,8 @@ def verdict(cmap: CradleMap, eps: Any) -> str:
         return f"exits after {counted(part.iterations, 'impulse')}"
     if part.stop == "non_terminating":
         return "never exits (a certificate covers the whole interval)"
+    if part.exits_beyond_bound:
+        return f"exits after more than {counted(part.iterations, 'impulse')} (proved): {part.reason}"
     return f"unexplored: {part.reason}"
 
 

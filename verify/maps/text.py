@@ -121,8 +121,9 @@ def cradle_map_text(
     for bound in bounds:
         lines.append(f"Termination boundary: eps = {bound} = {format_decimal(bound, 20)}")
     lines += boundary_lines(cmap.parts, "eps")
-    for part in cmap.unexplored:
-        lines += ["", f"Unexplored {part.piece.brief()}: {part.reason}"]
+    for part in cmap.unexplored:  # a part proved to exit later is decided: said so, with the proof
+        label = f"Exits after more than {part.iterations} impulses" if part.exits_beyond_bound else "Unexplored"
+        lines += ["", f"{label} {part.piece.brief()}: {part.reason}"]
     lo, hi = undecided_measure(cmap)
     if hi > 0:
         middle, error = format_decimal((lo + hi) / 2, 12), format_decimal((hi - lo) / 2, 2)
@@ -155,6 +156,8 @@ def parts_table(parts: Sequence[Part], name: str = "eps", contacts: Sequence[str
             what = "never exits (certificate: dominant growth)"
         elif part.stop == "non_terminating":
             what = "never exits (certificate: invariant cones)"
+        elif getattr(part, "exits_beyond_bound", False):
+            what = f"exits after more than {part.iterations} impulses (proved)"
         else:
             what = "unexplored"
         count = str(part.iterations) if part.stop == "exit" else "-"

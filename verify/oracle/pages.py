@@ -16,7 +16,7 @@ def oracle_page(found: OracleFindings) -> str:
         "# The reference oracle\n",
         *_found_lines(found),
         "The golden dataset (`golden/`, written by `verify oracle export golden`): what it contains.\n",
-        oracle.dataset_description(found.cases, found.results, found.skipped),
+        oracle.dataset_description(found.cases, found.results, found.skipped).split("\n", 1)[1],  # not its banner
         "Self-check: the exact results compared with themselves at zero tolerance "
         "(`verify oracle check golden/cases.json golden/results.json --rtol 0 --floor 0`):\n",
         block(oracle_text(found.self_check)),

@@ -75,10 +75,16 @@ def _summary(found: Sequence[Verdict]) -> list[str]:
 
 
 def _parts(note: str) -> tuple[str, str, str]:
-    """A refuted row's note as (what the counterexample does, where the property fails, the command to rerun)."""
-    note, _, command = note.partition(_RERUN)
+    """A refuted row's note as (what the counterexample does, where the property fails, the command to rerun);
+    what the note says after the command (a census row's census) goes with what the counterexample does.
+
+    >>> _parts("impulse 1 raises K. Where it fails: beta; reproduce with: verify solve CASE.json; a census: 3")
+    ('impulse 1 raises K; a census: 3', 'beta', 'verify solve CASE.json')
+    """
+    note, _, rerun = note.partition(_RERUN)
+    command, _, more = rerun.partition("; ")
     what, _, why = note.partition(_WHY)
-    return what, why, command
+    return what + (f"; {more}" if more else ""), why, command
 
 
 def _refutations(found: Sequence[Verdict]) -> list[str]:
@@ -106,9 +112,11 @@ def _refutations(found: Sequence[Verdict]) -> list[str]:
                     (f"{v.rule} CORs" if v.law == "rule" else f"{LAWS[v.law]}, {v.rule} CORs") + f", {v.family}"
                     for v in group
                 )
-                cases = " and ".join(str(v.cases) for v in group)
+                counts = list(dict.fromkeys(v.cases for v in group))
+                each = len(counts) == 1 and len(group) > 1
+                cases = f"{counts[0]} cases each" if each else " and ".join(map(str, counts)) + " cases"
                 rerun = "; ".join(f"`{c}`" for c in dict.fromkeys(_parts(v.note)[2] for v in group) if c)
-                text = f"**{which}** (after {cases} cases): {what}." + (f" Rerun: {rerun}." if rerun else "")
+                text = f"**{which}** (after {cases}): {what}." + (f" Rerun: {rerun}." if rerun else "")
                 lines += wrapped(text, bullet="- ")
             lines.append("")
     return lines
@@ -136,7 +144,13 @@ def properties_page(profile: str, found: Sequence[Verdict]) -> str:
             lines += ["", f"## {words[0].upper()}{words[1:]}", "", *table]
     census = census_lines(found)
     if census:
-        lines += ["", "## How the runs end (termination census)", "", block("\n".join(census[2:])).rstrip("\n")]
+        lines += ["", "## How the runs end (termination census)", ""]
+        lines += wrapped(
+            "Every case drawn for a termination row of the paper's rule, by how its run ends. A row is refuted by "
+            "the first run its search proves never to exit; the census is a separate sample of the same row, so a "
+            "refuted row may show none there."
+        )
+        lines += ["", block("\n".join(census[3:])).rstrip("\n")]
     lines += ["", "## The refutations", ""]
     lines += wrapped(
         "Each refutation's counterexample is an exact case file in the record `properties.json` beside this page "
