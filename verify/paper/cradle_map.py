@@ -46,10 +46,11 @@ def limit_against(eps: str, printed: list[str]) -> dict[str, Any]:
     from verify.numbers.format import format_exact
     from verify.paper.table1 import off_limit
 
-    limit = run_cradle(eps).limit
-    if limit is None:
+    run = run_cradle(eps)
+    off = off_limit(printed, run)
+    if run.limit is None or off is None:
         return {}
-    return {"limit": [format_exact(x) for x in limit.velocity], "printed_off": off_limit(printed, limit)}
+    return {"limit": [format_exact(x) for x in run.limit.velocity], "printed_off": off}
 
 
 @dataclass

@@ -32,6 +32,16 @@ CORNER_EXAMPLE: dict[str, Any] = {
 }
 
 
+def corner_example_command() -> str:
+    """The command that traces the paper's corner example (:data:`CORNER_EXAMPLE`).
+
+    >>> corner_example_command()
+    'verify corner --alpha pi/6 --phi pi/12 --eps1 0.999 --eps2 0.001'
+    """
+    e = CORNER_EXAMPLE
+    return f"verify corner --alpha {e['alpha']} --phi {e['phi']} --eps1 {e['eps1']} --eps2 {e['eps2']}"
+
+
 def _table1_found(table: Table1) -> list[str]:
     """The opening of Table 1's page: how many entries agree, which do not and by how much, the AEEV stop
     identified, and where the rows that never exit tend."""
@@ -60,7 +70,7 @@ def _table1_found(table: Table1) -> list[str]:
         + f"; {len(bad)} disagree under every reading and arithmetic tried: "
         + ", ".join(f"{c.column} at eps = {row.eps} ({c.reason.split(' (')[0]})" for row, c in bad)
         + ".",
-        f'The paper\'s AEEV stop ("approximately equal exit velocities": the run stops once the velocities '
+        f'The paper\'s AEEV stop ("almost equal exit velocities": the run stops once the velocities '
         f"differ by less than sigma = c ||v||) is identified: of the {len(search.windows)} readings of that sentence "
         f"tried, the printed c = {format_decimal(PAPER_SIGMA_STATED)} reproduces every printed impulse count under "
         + (" and ".join(good) if good else "none")
@@ -69,9 +79,8 @@ def _table1_found(table: Table1) -> list[str]:
     if endless:
         limits = []
         for row in endless:
-            limit = row.exact.limit
-            if limit is not None:
-                off = off_limit(row.printed[:3], limit)
+            off = off_limit(row.printed[:3], row.exact)
+            if off is not None:
                 limits.append(f"eps = {row.eps} within {format_decimal(off, 2, rounding='ceiling')}")
         first = endless[0].exact.limit
         velocity = ", ".join(format_exact(x) for x in first.velocity) if first is not None else ""
@@ -226,8 +235,9 @@ def corner_page(
     return (
         "# The disk in a corner (Sect. 4.2)\n\n"
         + "\n".join(_corner_found(example, findings, maps))
-        + "\nThe paper's example traced impulse by impulse (`verify corner --alpha pi/6 --phi pi/12 --eps1 0.999 "
-        "--eps2 0.001`):\n\n" + block(corner_text(example, **CORNER_EXAMPLE)) + "\n"
+        + f"\nThe paper's example traced impulse by impulse (`{corner_example_command()}`):\n\n"
+        + block(corner_text(example, **CORNER_EXAMPLE))
+        + "\n"
         f"The paper's claims on {CORNER_CASES} exact rational cases, the termination boundary, the rebounds as the\n"
         f"corner narrows, and float against exact (`verify corner-claims --cases {CORNER_CASES}`):\n\n"
         + block(corner_claims_text(findings))

@@ -43,7 +43,6 @@ from verify.numbers.format import counted, format_decimal, ilog10, int_to_str
 from verify.numbers.numeric import mpf_to_fraction
 from verify.numbers.parse import to_number
 from verify.paper.readings import Search, load_table1, parse_printed_iterations, search_readings
-from verify.proofs.limits import Limit
 
 DEFAULT_EXACT_CAP = 10_000
 
@@ -235,15 +234,20 @@ class Table1:
         return [(row.eps, c.column) for row in self.rows for c in row.checks if not c.agrees]
 
 
-def off_limit(printed: Sequence[str], limit: Limit) -> Fraction:
-    """How far printed velocities (strings, read exactly) are from a proved limit velocity: the largest
-    difference of a component.
+def off_limit(printed: Sequence[str], result: Result) -> Fraction | None:
+    """How far printed velocities (strings, read exactly) are from the limit velocity a run that never exits is
+    proved to tend to: the largest difference of a component (None when no limit is proved). The limit's
+    components are read through the run's backend, whatever rationals it holds.
 
     >>> from verify.models.cradle import run_cradle
-    >>> off_limit(["33.3333335", "33.3333335", "33.33333330"], run_cradle("0").limit)
+    >>> off_limit(["33.3333335", "33.3333335", "33.33333330"], run_cradle("0"))
     Fraction(1, 6000000)
     """
-    return max(abs(Fraction(to_number(p)) - Fraction(x)) for p, x in zip(printed, limit.velocity))
+    limit = result.limit
+    if limit is None:
+        return None
+    K = result.backend
+    return max(abs(Fraction(to_number(p)) - _value(K, x)) for p, x in zip(printed, limit.velocity))
 
 
 def _velocities(result: Result) -> list[Fraction]:

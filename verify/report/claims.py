@@ -11,6 +11,8 @@ from __future__ import annotations
 from dataclasses import dataclass
 from typing import TYPE_CHECKING, Literal
 
+from verify.paper.pages import CORNER_CASES
+
 if TYPE_CHECKING:
     from collections.abc import Sequence
 
@@ -25,12 +27,10 @@ ClaimStatus = Literal[
     "reproduced", "reproduced under one reading", "disagrees", "refuted", "proved", "holds", "found", "new"
 ]
 
-#: the paper, as the rows cite it
-PAPER = "Pasquero (2021)"
 #: where the AEEV rows' findings stand: what the exact rule does where the paper's own stop cut the run
 BEYOND_AEEV = "Sect. 4.1, Table 1: beyond its AEEV stop"
 #: the command that prints the corner's claims (the corner page quotes its output whole)
-CORNER_CLAIMS = "verify corner-claims --cases 2000"
+CORNER_CLAIMS = f"verify corner-claims --cases {CORNER_CASES}"
 
 
 @dataclass(frozen=True)
@@ -112,12 +112,13 @@ def _limit_rows(table: Table1) -> list[ClaimRow]:
 
 
 def _corner_rows(found: Findings) -> list[ClaimRow]:
-    run = found.corner_example
-    zones = " -> ".join(run.zones)
+    from verify.paper.pages import CORNER_EXAMPLE, corner_example_command
+
+    e, zones = CORNER_EXAMPLE, " -> ".join(found.corner_example.zones)
     rows = [
         ClaimRow("The disk in the corner: repeated multiple impacts for very different CORs", "Sect. 4.2, example",
-                 "reproduced", f"alpha = pi/6, phi = pi/12, eps = 0.999, 0.001: zones **{zones}**, exact",
-                 "corner.md", "verify corner --alpha pi/6 --phi pi/12 --eps1 0.999 --eps2 0.001"),
+                 "reproduced", f"alpha = {e['alpha']}, phi = {e['phi']}, eps = {e['eps1']}, {e['eps2']}: zones "
+                 f"**{zones}**, exact", "corner.md", corner_example_command()),
     ]  # fmt: skip
     for c in found.corner.claims:
         status: ClaimStatus = "holds" if c.verdict == "holds" else "refuted" if c.verdict == "refuted" else "found"
