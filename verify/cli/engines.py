@@ -26,6 +26,9 @@ def engines_options(p: argparse.ArgumentParser) -> None:
     p.add_argument("--from", dest="record", default=None, metavar="RECORD",
                    help="read this record (engines.json of --report, or --json's output) instead of running the "
                         "engines, e.g. reports/engines.json")  # fmt: skip
+    p.add_argument("--explain", action="store_true",
+                   help="with --from: explain the saved answers again by the exact models of the engines' "
+                        "algorithms (no engine runs); --report then writes the record anew")  # fmt: skip
     p.add_argument("--cases", action="store_true",
                    help="also print each engine's answer on every case, beside both laws' exact answers")  # fmt: skip
     p.add_argument("--json", action="store_true", help="print the record (JSON)")
@@ -54,12 +57,18 @@ def cmd_engines(args: argparse.Namespace) -> int:
         if not args.quiet:
             print(f"verify engines: {line}", file=sys.stderr, flush=True)
 
+    if args.explain and args.record is None:
+        raise UsageError("--explain explains a saved record again: it goes with --from")
     if args.record is not None:
-        ran = [flag for flag, given in (("--report", args.report), ("--python", args.python),
+        ran = [flag for flag, given in (("--report", args.report and not args.explain), ("--python", args.python),
                                         ("--workers", args.workers)) if given]  # fmt: skip
         if ran:  # they run engines or write a new record: a saved record is only read
             raise UsageError(f"--from reads a saved record and runs no engine: {', '.join(ran)} cannot go with it")
         record = read_record(args.record, args.engine)
+        if args.explain:
+            from verify.engines.run import explain_again
+
+            explain_again(record, progress)
     else:
         record = engines_record(args.engine, progress=progress, workers=args.workers or 2, pythons=dict(args.python))
     if args.report:

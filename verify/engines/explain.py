@@ -9,7 +9,10 @@ An engine's exit velocity on a case is compared with exact models, each computed
   gets the COR 0: what the engine's target then is);
 - the sequential law (:mod:`verify.laws.sequential`) with the engine's documented number of
   sweeps and the neighbouring counts (K - 1, K, K + 1), the contacts in the order given and
-  reversed, and the engine's threshold and floor.
+  reversed, and the engine's threshold and floor;
+- for an engine whose step loop has an exact model (its ``solver.step_model``,
+  :mod:`verify.engines.models`: DART's, Bullet's), that model with the engine's own settings, first, in
+  each of its variants (the solve and the order of the contacts, which the engines do not document).
 
 The engine documents these in its adapter's ``solver`` description
 (:class:`verify.engines.protocol.Adapter`): the setting holding the sweeps, the threshold (on the
@@ -75,6 +78,9 @@ class Model:
     cors: tuple[str, ...]
     law: Law
     thresholds: tuple[str, ...] | None = None
+    #: an engine's step model (:mod:`verify.engines.models`) and its variant, run instead of ``law``
+    steps: Any = None
+    variant: Any = None
 
 
 def _setting(description: dict[str, Any], value: Any) -> Any:
@@ -82,7 +88,7 @@ def _setting(description: dict[str, Any], value: Any) -> Any:
     return description["settings"].get(value) if isinstance(value, str) else value
 
 
-def _speed_scale(case: dict[str, Any]) -> list[Any]:
+def speed_scale(case: dict[str, Any]) -> list[Any]:
     """Per constraint, the rate of a unit normal speed (1 for a cradle; sqrt(1 + k^2) for a corner's walls)."""
     scene = scene_of(case)
     if isinstance(scene, Corner):
@@ -102,7 +108,7 @@ def models(description: dict[str, Any], case: dict[str, Any]) -> list[Model]:
     floor = documented(solver.get("cor_floor", 0) or 0)
     exact_cors = [_number(x) for x in cors]
     floored = tuple("0" if floor > 0 and _at_most(e, floor) else str(x) for e, x in zip(exact_cors, cors))
-    scale = _speed_scale(case)
+    scale = speed_scale(case)
     # the threshold on each contact's rate: T (or T / e on the COR times the speed, e after the floor), times the
     # rate of a unit speed
     per = []
@@ -135,7 +141,19 @@ def models(description: dict[str, Any], case: dict[str, Any]) -> list[Model]:
     # the engine's own kind first: among models within its precision the first is named (they are the same answer
     # to that precision); the paper's rule last
     first, then = (sequential, simultaneous) if solver.get("kind") == "sequential" else (simultaneous, sequential)
-    return [*first, *then, Model("the paper's rule", tuple(cors), "rule")]
+    return [*step_models(description, case), *first, *then, Model("the paper's rule", tuple(cors), "rule")]
+
+
+def step_models(description: dict[str, Any], case: dict[str, Any]) -> list[Model]:
+    """The engine's step model (its ``solver.step_model``) with the engine's settings, in each variant."""
+    from verify.engines.models import STEP_MODELS
+
+    name = (description.get("solver") or {}).get("step_model")
+    if name not in STEP_MODELS:
+        return []
+    model = STEP_MODELS[name](description.get("settings") or {})
+    cors = tuple(str(x) for x in case["restitution"])
+    return [Model(model.label(v), cors, "simultaneous", None, model, v) for v in model.variants(len(case["normals"]))]
 
 
 def _sympy(x: Any) -> Any:
@@ -167,7 +185,10 @@ class Explainer:
         from verify.records.results import case_from_record, result_record
 
         cors = model.cors if model.thresholds is None else _threshold_cors(case, model)
-        key = (case["id"], cors, str(model.law))
+        key = (case["id"], cors, model.label if model.steps is not None else str(model.law))
+        if key not in self.memo and model.steps is not None:
+            velocity = [Fraction(x) for x in model.steps.run(case, model.variant)]
+            self.memo[key] = (velocity, _energy(case, velocity), True)
         if key not in self.memo:
             c = case_from_record(dict(case, restitution=list(cors)), f"case {case['id']}")
             r = solve(c.system, c.velocity_source, law=model.law, max_iterations=c.max_iterations, trace=False)
@@ -277,6 +298,11 @@ def _why(
             if _distance(v, exit_velocity, scale) <= tol:
                 return f"a dropped COR (COR {case['restitution'][small[0]]} acts as 0: {m.label})"
     kind = (description.get("solver") or {}).get("kind")
+    if step_models(description, case):
+        return (
+            "no model within the engine's precision: its step model is the nearest it has tried (the record "
+            "holds the exit velocities only, so the step where the engine departs is not measured)"
+        )
     if kind == "soft":
         return "soft contact: the engine has no coefficient of restitution, no exact model"
     if kind not in ("sequential", "simultaneous"):

@@ -188,7 +188,8 @@ class Adapter:
     #: (0: none; a number, or the name of the setting that holds it), compared with the COR times that speed
     #: when ``threshold_of`` is "cor_times_speed"; ``cor_floor``: a COR at or below it acts as 0;
     #: ``precision`` is "float32" or "float64" (the tolerance of an explanation: 1e-5 or 1e-9 of the speed);
-    #: ``source`` cites where the engine documents it
+    #: ``source`` cites where the engine documents it; ``step_model`` names the exact model of its step loop
+    #: (:data:`verify.engines.models.STEP_MODELS`), when there is one
     solver: ClassVar[dict[str, Any]] = {
         "kind": "?",
         "iterations": "",

@@ -294,6 +294,16 @@ def explain(entries: list[dict[str, Any]], cases: list[dict[str, Any]], progress
             progress(f"{entry['name']}: {s['explained']} of {s['cases']} cases explained by an exact model")
 
 
+def explain_again(record: dict[str, Any], progress: Callable[[str], None] | None = None) -> None:
+    """A saved record's answers explained again (:func:`explain`), each engine's ``solver`` description first
+    brought up to date from ``engines.toml`` (its exact models may have changed since the engines ran)."""
+    from verify.engines.protocol import Adapter, description
+
+    for entry in record["engines"]:
+        entry["solver"] = {**Adapter.solver, **(description(entry["name"]).get("solver") or {})}
+    explain(record["engines"], record["cases"], progress)
+
+
 # -- the findings, measured on the record ---------------------------------------------------------
 
 

@@ -7,7 +7,10 @@ exact models computed by :func:`verify.laws.rule.solve`:
 - the sequential law over a grid: every number of sweeps of ``sweeps``, the contacts in the order
   given and reversed, every restitution threshold of ``thresholds``. One exact run per order and
   per distinct set of restituting contacts gives the velocity after each number of sweeps (the run
-  with K sweeps is the first K sweeps of a longer one).
+  with K sweeps is the first K sweeps of a longer one);
+- on a cradle or a corner, the exact models of physics engines' own step loops
+  (:mod:`verify.engines.models`: DART's, Bullet's) with each engine's default settings, in each variant:
+  the same models, named the same way, as ``verify engines`` names for the engines' answers.
 
 A model **explains** a case when its velocity is within ``tolerance`` of the implementation's
 (``max_i |got_i - model_i| / max_i |v_in_i|``, exact on the printed numbers and 30-digit decimals of
@@ -50,6 +53,8 @@ class Grid:
     thresholds: tuple[Fraction, ...] = DEFAULT_THRESHOLDS
     orders: tuple[str, ...] = ("as given", "reversed")
     tolerance: Fraction = DEFAULT_TOLERANCE
+    #: whether the engines' step models (:mod:`verify.engines.models`) are tried too
+    engines: bool = True
 
 
 @dataclass(frozen=True)
@@ -61,6 +66,8 @@ class Settings:
     sweeps: int | None = None
     order: str | None = None
     threshold: Fraction | None = None
+    #: for ``law == "engine"``: the engine step model's label, settings and variant included
+    model: str | None = None
 
     def label(self) -> str:
         """The model in words.
@@ -68,12 +75,16 @@ class Settings:
         >>> Settings("sequential", 10, "as given", Fraction(1, 2)).label()
         'the sequential law, 10 sweeps, order as given, threshold 1/2'
         """
+        if self.law == "engine":
+            return self.model or ""
         if self.law != "sequential":
             return RULE if self.law == "rule" else SIMULTANEOUS
         return f"the sequential law, {_plural(self.sweeps or 0)}, order {self.order}, threshold {self.threshold}"
 
     def flags(self) -> str:
         """The options of ``verify oracle check`` that grade against this model."""
+        if self.law == "engine":
+            return ""  # an engine's step model: no law of verify oracle check grades against it
         if self.law != "sequential":
             return f"--law {self.law}"
         order = " --order reversed" if self.order == "reversed" else ""
@@ -161,6 +172,29 @@ def _model_velocities(case_text: str, grid: Grid) -> dict[Settings, list[Fractio
         run = solve(c.system, c.velocity_source, law=law, max_iterations=c.max_iterations, trace=False)
         out[Settings(law)] = _decimals(run.backend, run.exit_velocity) if run.stop == "exit" else None
     out.update(_sequential_velocities(case, grid))
+    if grid.engines:
+        out.update(_engine_velocities(case))
+    return out
+
+
+def _engine_velocities(case: dict[str, Any]) -> dict[Settings, list[Fraction] | None]:
+    """Each engine step model's exit velocity, with the engine's default settings, in each variant (none on a
+    case that is not a cradle or a corner)."""
+    from verify.engines.models import STEP_MODELS
+    from verify.engines.protocol import descriptions
+    from verify.engines.scene import Unsupported, scene_of
+
+    try:
+        scene_of(case)
+    except Unsupported:
+        return {}
+    out: dict[Settings, list[Fraction] | None] = {}
+    for table in descriptions().values():
+        name = (table.get("solver") or {}).get("step_model")
+        if name in STEP_MODELS:
+            model = STEP_MODELS[name](table.get("settings") or {})
+            for v in model.variants(len(case["normals"])):
+                out[Settings("engine", model=model.label(v))] = [Fraction(x) for x in model.run(case, v)]
     return out
 
 
@@ -288,5 +322,5 @@ def explain(cases: list[dict[str, Any]], results: list[dict[str, Any]], grid: Gr
 
 def _order(s: Settings) -> tuple[int, int, str, Fraction]:
     """Ties broken for reading: the rule, the simultaneous law, then the fewest sweeps, order given first."""
-    rank = {"rule": 0, "simultaneous": 1}.get(s.law, 2)
+    rank = {"rule": 0, "simultaneous": 1, "engine": 3}.get(s.law, 2)
     return rank, s.sweeps or 0, s.order or "", s.threshold or Fraction(0)

@@ -37,7 +37,8 @@ def explanation_text(result: Explanation) -> str:
     if result.best:
         count = result.ranking[0][0]
         lines.append(f"Explained: {count} of {n} cases by {'; '.join(describe_settings(result.best))}")
-        lines.append(f"  (verify oracle check {result.best[0].flags()})")
+        if result.best[0].flags():
+            lines.append(f"  (verify oracle check {result.best[0].flags()})")
         if len(result.best) > 1:
             lines.append(f"  {len(result.best)} settings explain exactly these cases: the cases cannot tell them apart")
     else:
