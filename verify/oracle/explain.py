@@ -9,7 +9,7 @@ exact models computed by :func:`verify.laws.rule.solve`:
   per distinct set of restituting contacts gives the velocity after each number of sweeps (the run
   with K sweeps is the first K sweeps of a longer one);
 - on a cradle or a corner, the exact models of physics engines' own step loops
-  (:mod:`verify.engines.models`: DART's, Bullet's) with each engine's default settings, in each variant:
+  (:mod:`verify.engines.models`: DART's, Bullet's, Box2D's) with each engine's default settings, in each variant:
   the same models, named the same way, as ``verify engines`` names for the engines' answers.
 
 A model **explains** a case when its velocity is within ``tolerance`` of the implementation's

@@ -30,14 +30,16 @@ The solver's order of the points is that of the dispatcher's manifolds (not docu
 from __future__ import annotations
 
 import math
+from collections.abc import Sequence
 from fractions import Fraction
 from typing import Any
 
-from verify.engines.models.steps import contacts_of
+from verify.engines.models.steps import Contacts, contacts_of
 
 ERP2 = Fraction(2, 25)  #: pybullet's m_erp2 (0.08)
 WARM = Fraction(1, 10)  #: pybullet's m_warmstartingFactor
 RESIDUAL = Fraction(1, 10**7)  #: pybullet's m_leastSquaresResidualThreshold
+SPLIT = Fraction(-4, 100)  #: Bullet's m_splitImpulsePenetrationThreshold (m_splitImpulse is on)
 RADIUS = math.sqrt(2.5)  #: the adapter's spheres (verify.engines.adapters.pybullet.RADIUS)
 #: gContactBreakingThreshold (0.02) times the sphere's angular motion disc (its radius), squared, exactly
 BREAKING_SQUARED = Fraction(2, 100) ** 2 * Fraction(5, 2)
@@ -65,13 +67,13 @@ class Bullet:
         from verify.numbers.format import format_decimal
 
         return (
-            f"{self.name}: sequential impulses, {self.sweeps} sweeps, slop {format_decimal(self.slop, 6)}, warm "
-            f"start 0.1, residual 1e-7, threshold {format_decimal(self.threshold, 6)}, time step "
-            f"{format_decimal(self.dt, 6)}, contact order {', '.join(map(str, variant))}"
+            f"{self.name}: sequential impulses, {self.sweeps} sweeps, slop {format_decimal(self.slop, 6)}, split "
+            f"impulse, warm start 0.1 on planes, residual 1e-7, threshold {format_decimal(self.threshold, 6)}, "
+            f"time step {format_decimal(self.dt, 6)}, contact order {', '.join(map(str, variant))}"
         )
 
     def variants(self, r: int) -> list[Order]:
-        """The solver orders to try on ``r`` contacts (every order up to 4 contacts; given and reversed beyond)."""
+        """The solver orders to try on ``r`` contacts (:func:`~verify.engines.models.orders`)."""
         from verify.engines.models import orders
 
         return orders(r)
@@ -96,42 +98,68 @@ class Bullet:
                     impulse[i] = K.zero
             points = [i for i in variant if held[i]]
             rates = s.rates(v)
-            w = v
-            rhs, inverse = {}, {}
+            rhs, push_rhs = {}, {}
             for i in points:
-                target = self._target(K, s.restitution[i], rates[i], c.gaps[i] + cv(self.slop))
-                inverse[i] = K.one / s.gram[i][i]
-                rhs[i] = (target - rates[i]) * inverse[i]
-                impulse[i] = impulse[i] * cv(WARM)
+                velocity_target, push_target = self._targets(K, s.restitution[i], rates[i], c.gaps[i] + cv(self.slop))
+                rhs[i] = (velocity_target - rates[i]) / s.gram[i][i]
+                if push_target is not None:
+                    push_rhs[i] = push_target / s.gram[i][i]
+            # the split impulse first: deep penetrations are pushed out in position only, by sweeps of their own
+            still = (K.zero,) * s.n
+            push = _sweeps(
+                c, [i for i in points if i in push_rhs], still, still, rhs=push_rhs, impulse={}, sweeps=self.sweeps
+            )
+            w = v
+            for i in points:  # warm starting
+                impulse[i] = impulse[i] * cv(WARM) if c.planes[i] else K.zero  # measured: none between balls
                 if K.sign(impulse[i]) != 0:
                     w = c.push(w, i, impulse[i])
-            for _ in range(self.sweeps):
-                worst = K.zero
-                for i in points:
-                    change = s.rates(w)[i] - rates[i]
-                    delta = rhs[i] - change * inverse[i]
-                    if K.sign(impulse[i] + delta) < 0:
-                        delta = K.zero - impulse[i]
-                    impulse[i] = impulse[i] + delta
-                    if K.sign(delta) != 0:
-                        w = c.push(w, i, delta)
-                    residual = delta * s.gram[i][i]
-                    worst = residual * residual if K.sign(residual * residual - worst) > 0 else worst
-                if K.sign(worst - cv(RESIDUAL)) <= 0:
-                    break
+            w = _sweeps(c, points, v, w, rhs=rhs, impulse=impulse, sweeps=self.sweeps)
             changed = any(K.sign(a - b) != 0 for a, b in zip(w, v))
             v = w
-            c.move(v, dt)
+            c.move(tuple(a + b for a, b in zip(v, push)), dt)
             if not changed and all(K.sign(x) >= 0 for x in s.rates(v)):
                 break
         return [K.to_decimal(x, 30) for x in v]
 
-    def _target(self, K: Any, e: Any, rate: Any, depth: Any) -> Any:
-        """A point's target normal speed: restitution, less the speculative gap or plus the error reduction."""
+    def _targets(self, K: Any, e: Any, rate: Any, depth: Any) -> tuple[Any, Any]:
+        """A point's target normal speed (restitution, less the speculative gap or plus the error reduction),
+        and, for a penetration deeper than the split impulse's threshold, the push speed that corrects it in
+        position only (None otherwise)."""
         cv = K.convert
         speed = rate if K.sign(rate) >= 0 else K.zero - rate
         bounce = e * (K.zero - rate) if K.sign(speed - cv(self.threshold)) >= 0 else K.zero
         bounce = bounce if K.sign(bounce) > 0 else K.zero
         if K.sign(depth) > 0:
-            return bounce - depth / cv(self.dt)
-        return bounce - depth * cv(ERP2) / cv(self.dt)
+            return bounce - depth / cv(self.dt), None
+        correction = (K.zero - depth) * cv(ERP2) / cv(self.dt)
+        if K.sign(depth - cv(SPLIT)) > 0:
+            return bounce + correction, None
+        return bounce, correction
+
+
+def _sweeps(
+    c: Contacts, points: list[int], base: Sequence[Any], start: Sequence[Any], *, rhs: dict[int, Any],
+    impulse: dict[int, Any] | list[Any], sweeps: int,
+) -> tuple[Any, ...]:  # fmt: skip
+    """Bullet's Gauss-Seidel sweeps from the velocity ``start``: each point's impulse (accumulated in
+    ``impulse``, clamped at 0) moves its rate, measured from ``base``, towards ``rhs`` times its Delassus
+    entry; they stop when a sweep's largest squared residual is at most ``RESIDUAL``, or after ``sweeps``."""
+    K, s = c.K, c.system
+    before = s.rates(base)
+    w = tuple(start)
+    for _ in range(sweeps):
+        worst = K.zero
+        for i in points:
+            delta = rhs[i] - (s.rates(w)[i] - before[i]) / s.gram[i][i]
+            held = impulse[i] if isinstance(impulse, list) or i in impulse else K.zero
+            if K.sign(held + delta) < 0:
+                delta = K.zero - held
+            impulse[i] = held + delta
+            if K.sign(delta) != 0:
+                w = c.push(w, i, delta)
+            residual = delta * s.gram[i][i]
+            worst = residual * residual if K.sign(residual * residual - worst) > 0 else worst
+        if K.sign(worst - K.convert(RESIDUAL)) <= 0:
+            break
+    return w

@@ -78,8 +78,8 @@ class Dart:
         return f"{self.name}: boxed LCP, CFM 1e-5, ERP 0.01, time step {dt}, {how[solver]}{where}"
 
     def variants(self, r: int) -> list[Variant]:
-        """The solves to try on ``r`` contacts: pivoting, and PGS in each order (every order up to 4
-        contacts; given and reversed beyond)."""
+        """The solves to try on ``r`` contacts: pivoting, and PGS in each order
+        (:func:`~verify.engines.models.orders`)."""
         from verify.engines.models import orders
 
         return [("dantzig", None)] + [(s, o) for o in orders(r) for s in self.solvers[1:]]
