@@ -477,8 +477,10 @@ def oracle_explain(args: argparse.Namespace) -> int:
         case_text, records, dataset = checked_cases(args, "oracle explain")
         status = StatusLine.for_args(args)
         got, _ = oracle.load_result_file(*other_results(args, case_text, status), dataset)
+    from verify.engines.explain import engine_velocities
+
     grid = Grid(tuple(args.sweeps or DEFAULT_SWEEPS), tuple(args.thresholds or DEFAULT_THRESHOLDS),
-                tolerance=args.tolerance)  # fmt: skip
+                tolerance=args.tolerance, more=(engine_velocities,))  # fmt: skip
     status.show("verify oracle explain: running the exact models", now=True)
     try:
         result = explain(records, got, grid)

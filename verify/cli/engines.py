@@ -59,6 +59,8 @@ def cmd_engines(args: argparse.Namespace) -> int:
 
     if args.explain and args.record is None:
         raise UsageError("--explain explains a saved record again: it goes with --from")
+    if args.explain and args.report and args.engine:
+        raise UsageError("--explain --report writes the whole record anew: --engine cannot go with it")
     if args.record is not None:
         ran = [flag for flag, given in (("--report", args.report and not args.explain), ("--python", args.python),
                                         ("--workers", args.workers)) if given]  # fmt: skip

@@ -77,6 +77,16 @@ def in_order(items: Iterable[T], reverse: float) -> list[T]:
     return out[::-1] if reverse else out
 
 
+def step_count(max_time: float, time_step: float, *, slack: float = 1e-9) -> int:
+    """The steps an adapter runs at most: ``max_time / time_step`` rounded up (less ``slack``, so that a whole
+    count of floats like 0.2 / (1/240) is not rounded past), at least 1.
+
+    >>> step_count(1.0, 1 / 60), step_count(0.2, 1 / 240, slack=0.0)
+    (60, 48)
+    """
+    return max(1, math.ceil(max_time / time_step - slack))
+
+
 def settle(
     step: Callable[[], object],
     read: Velocities,
@@ -205,7 +215,7 @@ class ContactAdapter(Adapter):
         v, over = settle(
             lambda: log.step(step),
             read,
-            steps=max(1, math.ceil(c["max_time"] / c["time_step"] - 1e-9)),
+            steps=step_count(c["max_time"], c["time_step"]),
             still=lambda _before, _after: log.impulse <= tol * momentum,
             approaching=lambda v: not closing(v) <= tol * speed,  # a NaN closing speed never ends a case
         )

@@ -42,7 +42,7 @@ from typing import Any
 
 import sympy as sp
 
-from verify.engines.scene import Corner, Unsupported, scene_of
+from verify.engines.scene import Unsupported, documented, scene_of, speed_scale
 from verify.laws.sequential import Law, Sequential
 from verify.numbers.format import format_decimal
 
@@ -58,15 +58,6 @@ GAIN = Fraction(1, 10**6)
 def tolerance_of(solver: dict[str, Any]) -> Fraction:
     """The tolerance of an explanation for an engine's ``solver`` description."""
     return TOLERANCES.get(str(solver.get("precision")), TOLERANCES["float32"])
-
-
-def documented(x: Any) -> Fraction:
-    """An engine description's number (a JSON float, as the engine documents it: 0.2 is 1/5) exactly.
-
-    >>> documented(0.2), documented(8)
-    (Fraction(1, 5), Fraction(8, 1))
-    """
-    return Fraction(repr(x)) if isinstance(x, float) else Fraction(x)
 
 
 @dataclass(frozen=True)
@@ -86,16 +77,6 @@ class Model:
 def _setting(description: dict[str, Any], value: Any) -> Any:
     """A solver entry that is a number, or the name of the setting holding it."""
     return description["settings"].get(value) if isinstance(value, str) else value
-
-
-def speed_scale(case: dict[str, Any]) -> list[Any]:
-    """Per constraint, the rate of a unit normal speed (1 for a cradle; sqrt(1 + k^2) for a corner's walls)."""
-    scene = scene_of(case)
-    if isinstance(scene, Corner):
-        k = scene.slope
-        k = sp.Rational(k.numerator, k.denominator) if isinstance(k, Fraction) else k
-        return [sp.sqrt(1 + k**2)] * 2
-    return [1] * len(case["normals"])
 
 
 def models(description: dict[str, Any], case: dict[str, Any]) -> list[Model]:
@@ -185,7 +166,8 @@ class Explainer:
         from verify.records.results import case_from_record, result_record
 
         cors = model.cors if model.thresholds is None else _threshold_cors(case, model)
-        key = (case["id"], cors, model.label if model.steps is not None else str(model.law))
+        law = str(model.law) if model.steps is None else f"{model.label} {sorted(vars(model.steps).items())}"
+        key = (case["id"], cors, law)
         if key not in self.memo and model.steps is not None:
             velocity = [Fraction(x) for x in model.steps.run(case, model.variant)]
             self.memo[key] = (velocity, _energy(case, velocity), True)
@@ -271,7 +253,26 @@ def explain_case(
     }
     if distance > tol:
         row["why"] = _why(explainer, description, case, v, scale=scale, tol=tol, model_energy=model_energy)
+        if nearest.steps is not None:
+            row["why"] = f"{row['why']}: {STEP_NEAREST}"
     return row
+
+
+#: what an answer no model explains gets when the nearest model is the engine's step model
+STEP_NEAREST = (
+    "its step model is the nearest (the record holds the exit velocities only, so the step where the engine "
+    "departs is not measured)"
+)
+
+
+def within(explainer: Explainer, description: dict[str, Any], case: dict[str, Any], row: dict[str, Any]) -> list[str]:
+    """The models (labels, in :func:`models`' order) within the engine's precision of a row's answer, from the
+    explainer's runs (:func:`explain_case` ran them): the engine's summary picks among them the one that
+    explains most of its answers (a contact order the engine does not document is then named once)."""
+    v = [Fraction(x) for x in row["engine_exit_velocity"]]
+    scale = max(abs(_approx(x)) for x in case["velocity"]) or Fraction(1)
+    tol = tolerance_of(description.get("solver") or {})
+    return [m.label for m in models(description, case) if _distance(v, explainer.exit_of(case, m)[0], scale) <= tol]
 
 
 def _why(
@@ -300,15 +301,12 @@ def _why(
             if _distance(v, exit_velocity, scale) <= tol:
                 return f"a dropped COR (COR {case['restitution'][small[0]]} acts as 0: {m.label})"
     kind = (description.get("solver") or {}).get("kind")
-    if step_models(description, case):
-        return (
-            "no model within the engine's precision: its step model is the nearest it has tried (the record "
-            "holds the exit velocities only, so the step where the engine departs is not measured)"
-        )
     if kind == "soft":
         return "soft contact: the engine has no coefficient of restitution, no exact model"
     if kind not in ("sequential", "simultaneous"):
         return f"a {kind} solver: no exact model of its algorithm here"
+    if step_models(description, case):
+        return "no model within the engine's precision"
     return (
         "no model within the engine's precision (the models are one solve: the engine's later steps, "
         "position correction and warm starting are not in them)"
@@ -334,3 +332,31 @@ def explained_summary(description: dict[str, Any], rows: Sequence[dict[str, Any]
         "models": dict(sorted(by_model.items(), key=lambda kv: -kv[1])),
         "unexplained": dict(sorted(why.items(), key=lambda kv: -kv[1])),
     }
+
+
+def engine_velocities(case: dict[str, Any]) -> dict[Any, list[Fraction] | None]:
+    """Each engine step model's exit velocity on a case, with the engine's default settings, in each variant,
+    keyed as :mod:`verify.oracle.explain` keys its models (none on a case that is not a cradle or a corner):
+    what ``verify oracle explain`` adds to its grid.
+
+    >>> from verify.oracle.reference import golden_cases
+    >>> case = next(c for c in golden_cases() if c["id"] == "paper-table1-eps-1")
+    >>> any(s.label().startswith("DART's steps") for s in engine_velocities(case))
+    True
+    """
+    from verify.engines.models import STEP_MODELS
+    from verify.engines.protocol import descriptions
+    from verify.oracle.explain import Settings
+
+    try:
+        scene_of(case)
+    except Unsupported:
+        return {}
+    out: dict[Any, list[Fraction] | None] = {}
+    for table in descriptions().values():
+        name = (table.get("solver") or {}).get("step_model")
+        if name in STEP_MODELS:
+            model = STEP_MODELS[name](table.get("settings") or {})
+            for v in model.variants(len(case["normals"])):
+                out[Settings("engine", model=model.label(v))] = [Fraction(x) for x in model.run(case, v)]
+    return out

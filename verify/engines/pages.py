@@ -157,6 +157,46 @@ def _found(record: dict[str, Any]) -> list[str]:
     return [line for paragraph in text for line in [*wrapped(paragraph), ""]]
 
 
+def per_engine_tables(record: dict[str, Any]) -> list[str]:
+    """One table per engine: how many of its default answers each exact model explains (the contact orders a
+    model was found in counted, not listed), the answers left and what the record says of them, and the kinetic
+    energy its answers gain."""
+    from verify.engines.explain import GAIN, tolerance_of
+    from verify.numbers.format import format_decimal
+
+    lines: list[str] = []
+    for e in record["engines"]:
+        s = e.get("explained") or {"explained": 0, "cases": len(e["cases"])}
+        tolerance = format_decimal(tolerance_of(e.get("solver") or {}), 3)
+        head = f"**{e['name']}** ({s.get('precision', '?')}, within {tolerance} of the speed)"
+        lines += [f"{head}: {s['explained']} of {s['cases']} answers explained.", "", "| answers | explained by |"]
+        lines.append("|---|---|")
+        models: dict[str, list[str]] = {}
+        left: dict[str, list[str]] = {}
+        for row in e["cases"]:
+            if row.get("model"):
+                name, _, order = row["model"].partition(", contact order ")
+                models.setdefault(name, []).append(order)
+            else:
+                left.setdefault((row.get("why") or "no model").split(" (")[0], []).append(f"`{row['id']}`")
+        for name, found in sorted(models.items(), key=lambda kv: -len(kv[1])):
+            orders = len({o for o in found if o})
+            where = f" (in {orders} contact order{'s' if orders > 1 else ''})" if orders else ""
+            lines.append(f"| {len(found)} | {name}{where} |")
+        for why, ids in sorted(left.items(), key=lambda kv: -len(kv[1])):
+            named = ", ".join(ids[:3]) + (f" and {len(ids) - 3} more" if len(ids) > 3 else "")
+            lines.append(f"| {len(ids)} left | {why}: {named} |")
+        gains = [Fraction(r["energy_change"]) for r in e["cases"] if r.get("energy_change") is not None]
+        gained = [g for g in gains if g > GAIN]
+        energy = (
+            f"Kinetic energy: gained on {len(gained)} answers, up to {format_decimal(max(gained), 3)} of it."
+            if gained
+            else "Kinetic energy: no answer gains it."
+        )
+        lines += ["", energy, ""]
+    return lines
+
+
 def engines_page_text(record: dict[str, Any]) -> str:
     """The engines page for a record of :func:`verify.engines.run.engines_record`."""
     from verify.engines.run import AGREES
@@ -188,6 +228,13 @@ def engines_page_text(record: dict[str, Any]) -> str:
     lines += [*wrapped(how), "", f"Engines that ran: {names}.", ""]
     if record["engines"]:
         lines += [
+            "## How each engine's answers are explained",
+            "",
+            "Each engine's answers at its default settings, by the exact model that reproduces them within the "
+            "engine's precision (`verify engines --from reports/engines.json --explain` recomputes them), and "
+            "those no model reproduces, with what the record says of them.",
+            "",
+            *per_engine_tables(record),
             "## What each engine runs",
             "",
             "The medians are over the cases where both laws exit (their number is given); the last column is over",

@@ -29,9 +29,9 @@ from fractions import Fraction
 from typing import Any
 
 from verify.engines import ENGINES
-from verify.engines.explain import GAIN, Explainer, documented, explain_case, explained_summary
+from verify.engines.explain import GAIN, Explainer, explain_case, explained_summary, within
 from verify.engines.protocol import NOT_INSTALLED
-from verify.engines.scene import Unsupported, scene_of
+from verify.engines.scene import Unsupported, documented, scene_of
 from verify.models.corner import corner_geometry, slope_of, velocity_of
 from verify.models.cradle import cradle_geometry
 from verify.numbers.format import format_decimal
@@ -288,10 +288,31 @@ def explain(entries: list[dict[str, Any]], cases: list[dict[str, Any]], progress
             continue
         for row in entry["cases"]:
             row.update(explain_case(explainer, entry, by_id[row["id"]], row["engine_exit_velocity"]))
+        _name_the_common_variant(explainer, entry, by_id)
         entry["explained"] = explained_summary(entry, entry["cases"])
         if progress:
             s = entry["explained"]
             progress(f"{entry['name']}: {s['explained']} of {s['cases']} cases explained by an exact model")
+
+
+def _name_the_common_variant(explainer: Explainer, entry: dict[str, Any], by_id: dict[str, Any]) -> None:
+    """Among the contact orders of the named model that explain an answer (the engines do not document theirs,
+    and several orders often give the same answer), the one that explains most of the engine's answers is
+    named; which model is named is :func:`~verify.engines.explain.explain_case`'s choice."""
+    found = {row["id"]: within(explainer, entry, by_id[row["id"]], row) for row in entry["cases"] if row.get("model")}
+    counts: dict[str, int] = {}
+    for labels in found.values():
+        for label in labels:
+            counts[label] = counts.get(label, 0) + 1
+    for row in entry["cases"]:
+        if row["id"] in found:
+            same = [label for label in found[row["id"]] if _unordered(label) == _unordered(row["model"])]
+            row["model"] = row["nearest_model"] = max(same, key=lambda label: counts[label])
+
+
+def _unordered(label: str) -> str:
+    """A model's label without its contact order."""
+    return label.partition(", contact order ")[0]
 
 
 def explain_again(record: dict[str, Any], progress: Callable[[str], None] | None = None) -> None:
@@ -300,7 +321,8 @@ def explain_again(record: dict[str, Any], progress: Callable[[str], None] | None
     from verify.engines.protocol import Adapter, description
 
     for entry in record["engines"]:
-        entry["solver"] = {**Adapter.solver, **(description(entry["name"]).get("solver") or {})}
+        table = description(entry["name"]).get("solver") or {}
+        entry["solver"] = {**Adapter.solver, **(entry.get("solver") or {}), **table}
     explain(record["engines"], record["cases"], progress)
 
 

@@ -122,3 +122,24 @@ def scene_of(case: dict[str, Any]) -> Scene:
         if certified_sign(k) > 0 and _same_matrix(g, corner_g) and _same_matrix(normals, corner_normals):
             return Corner(k, (cors[0], cors[1]), (velocity[0], velocity[1], velocity[2]))
     raise Unsupported("neither a cradle nor a corner: an engine needs bodies, and only these two are built")
+
+
+def documented(x: Any) -> Fraction:
+    """An engine description's number (a JSON float, as the engine documents it: 0.2 is 1/5) exactly.
+
+    >>> documented(0.2), documented(8)
+    (Fraction(1, 5), Fraction(8, 1))
+    """
+    return Fraction(repr(x)) if isinstance(x, float) else Fraction(x)
+
+
+def speed_scale(case: dict[str, Any]) -> list[Any]:
+    """Per constraint, the rate of a unit normal speed (1 for a cradle; sqrt(1 + k^2) for a corner's walls)."""
+    import sympy as sp
+
+    scene = scene_of(case)
+    if isinstance(scene, Corner):
+        k = scene.slope
+        k = sp.Rational(k.numerator, k.denominator) if isinstance(k, Fraction) else k
+        return [sp.sqrt(1 + k**2)] * 2
+    return [1] * len(case["normals"])

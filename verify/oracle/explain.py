@@ -8,9 +8,10 @@ exact models computed by :func:`verify.laws.rule.solve`:
   given and reversed, every restitution threshold of ``thresholds``. One exact run per order and
   per distinct set of restituting contacts gives the velocity after each number of sweeps (the run
   with K sweeps is the first K sweeps of a longer one);
-- on a cradle or a corner, the exact models of physics engines' own step loops
-  (:mod:`verify.engines.models`: DART's, Bullet's, Box2D's) with each engine's default settings, in each variant:
-  the same models, named the same way, as ``verify engines`` names for the engines' answers.
+- any models the grid is given (``more``): ``verify oracle explain`` gives it, on a cradle or a corner, the
+  exact models of physics engines' own step loops (DART's, Bullet's, Box2D's) with each engine's default
+  settings, in each variant: the same models, named the same way, as ``verify engines`` names for the
+  engines' answers.
 
 A model **explains** a case when its velocity is within ``tolerance`` of the implementation's
 (``max_i |got_i - model_i| / max_i |v_in_i|``, exact on the printed numbers and 30-digit decimals of
@@ -28,7 +29,7 @@ can tell settings apart (settings that explain the same cases are named together
 from __future__ import annotations
 
 import functools
-from collections.abc import Sequence
+from collections.abc import Callable, Sequence
 from dataclasses import dataclass, field
 from fractions import Fraction
 from typing import Any
@@ -53,8 +54,9 @@ class Grid:
     thresholds: tuple[Fraction, ...] = DEFAULT_THRESHOLDS
     orders: tuple[str, ...] = ("as given", "reversed")
     tolerance: Fraction = DEFAULT_TOLERANCE
-    #: whether the engines' step models (:mod:`verify.engines.models`) are tried too
-    engines: bool = True
+    #: more models, from the layers above (``verify oracle explain`` passes the physics engines' step models,
+    #: :func:`verify.engines.explain.engine_velocities`): each maps a case to its models' velocities
+    more: tuple[Callable[[dict[str, Any]], dict[Settings, list[Fraction] | None]], ...] = ()
 
 
 @dataclass(frozen=True)
@@ -172,29 +174,8 @@ def _model_velocities(case_text: str, grid: Grid) -> dict[Settings, list[Fractio
         run = solve(c.system, c.velocity_source, law=law, max_iterations=c.max_iterations, trace=False)
         out[Settings(law)] = _decimals(run.backend, run.exit_velocity) if run.stop == "exit" else None
     out.update(_sequential_velocities(case, grid))
-    if grid.engines:
-        out.update(_engine_velocities(case))
-    return out
-
-
-def _engine_velocities(case: dict[str, Any]) -> dict[Settings, list[Fraction] | None]:
-    """Each engine step model's exit velocity, with the engine's default settings, in each variant (none on a
-    case that is not a cradle or a corner)."""
-    from verify.engines.models import STEP_MODELS
-    from verify.engines.protocol import descriptions
-    from verify.engines.scene import Unsupported, scene_of
-
-    try:
-        scene_of(case)
-    except Unsupported:
-        return {}
-    out: dict[Settings, list[Fraction] | None] = {}
-    for table in descriptions().values():
-        name = (table.get("solver") or {}).get("step_model")
-        if name in STEP_MODELS:
-            model = STEP_MODELS[name](table.get("settings") or {})
-            for v in model.variants(len(case["normals"])):
-                out[Settings("engine", model=model.label(v))] = [Fraction(x) for x in model.run(case, v)]
+    for models in grid.more:
+        out.update(models(case))
     return out
 
 

@@ -133,7 +133,7 @@ class PyBulletAdapter(Adapter):
         v, _ = common.settle(
             lambda: p.stepSimulation(physicsClientId=cid),
             read,
-            steps=max(1, math.ceil(self.config["max_time"] / self.config["time_step"])),
+            steps=common.step_count(self.config["max_time"], self.config["time_step"], slack=0.0),
             still=lambda before, after: after == before,
             approaching=lambda v: closing(v) > 0,
         )

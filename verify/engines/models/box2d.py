@@ -15,6 +15,8 @@ What ``b2World::Step`` does at each step (``Box2D/Dynamics/b2Island.cpp``,
 - the loop ends when a step applies no impulse and no contact approaches, or after ``max_time``.
 
 The island's order of the contacts (built from the world's lists, newest first) is named by the model.
+Box2D's cap on a step's translation (``b2_maxTranslation = 2``, which scales a faster body's velocity) is
+not modelled: the record's speeds stay below it (100 m/s moves 1.67 m in a step of 1/60 s).
 With ``bullet`` (the adapter's default) each step ends with Box2D's continuous collision
 (:mod:`~verify.engines.models.toi`): a pair that the step took deeper than ``3 b2_linearSlop`` is stopped at
 its time of impact and solved again over the rest of the step.
@@ -32,7 +34,7 @@ from __future__ import annotations
 from fractions import Fraction
 from typing import Any
 
-from verify.engines.models.steps import Contacts, contacts_of
+from verify.engines.models.steps import Contacts, contacts_of, orders
 from verify.engines.models.toi import MAX_CORRECTION, SLOP, Bodies
 from verify.engines.scene import Corner, scene_of
 
@@ -47,7 +49,8 @@ class Box2D:
     name = "Box2D's steps"
 
     def __init__(self, settings: dict[str, Any] | None = None):
-        from verify.engines.explain import documented
+        from verify.engines.common import step_count
+        from verify.engines.scene import documented
 
         s = settings or {}
         self.dt = documented(s.get("time_step", 1 / 60))
@@ -55,7 +58,9 @@ class Box2D:
         self.corrections = int(s.get("position_iterations", 3))
         self.warm = bool(s.get("warm_starting", 1))
         self.bullet = bool(s.get("bullet", 1))
-        self.steps = int(documented(s.get("max_time", 1.0)) / self.dt + Fraction(1, 2))
+        self.steps = step_count(float(s.get("max_time", 1.0)), float(s.get("time_step", 1 / 60)))
+        self.radius = float(s.get("radius", 1.0))
+        self.overlap = float(s.get("overlap", 0.0))
 
     def label(self, variant: Order) -> str:
         """The model in words, with its settings."""
@@ -70,15 +75,13 @@ class Box2D:
 
     def variants(self, r: int) -> list[Order]:
         """The island orders to try on ``r`` contacts."""
-        from verify.engines.models import orders
-
         return orders(r)
 
     def run(self, case: dict[str, Any], variant: Order) -> list[str]:
         """The exit velocity (30-digit decimals of the exact one) of the model on a case record."""
         from verify.engines.models.toi import solve_toi, velocity_sweeps
 
-        c = contacts_of(case, radius=1.0)
+        c = contacts_of(case, radius=self.radius, overlap=self.overlap)
         K, s = c.K, c.system
         cv = K.convert
         bodies = _bodies(case, c)

@@ -6,12 +6,14 @@ What ``btSequentialImpulseConstraintSolver`` does at each step, with pybullet's 
 ``m_numIterations = 50``, ``m_warmstartingFactor = 0.1``, ``m_leastSquaresResidualThreshold = 1e-7``) and
 Bullet's own (``gContactBreakingThreshold = 0.02`` times the sphere's radius, ``restitutionCurve``):
 
-- a ball-ball contact point is made when the gap is at most 0 and kept while it is at most the breaking
-  threshold; a ball-plane point exists while the gap is below it (a speculative contact);
+- a ball-ball contact point exists while the gap is at most 0, and only for that step: Bullet clears a
+  sphere-sphere manifold every step (``#define CLEAR_MANIFOLD 1`` in ``btSphereSphereCollisionAlgorithm.cpp``,
+  "it disables warmstarting"); a ball-plane point exists while the gap is below the breaking threshold (a
+  speculative contact) and keeps its impulse from step to step;
 - each point's target: ``e * (-v_n)`` when ``|v_n|`` is at least ``restitution_velocity_threshold`` (else 0,
   and never below 0), minus ``(gap + slop) / time_step`` when that is positive, or plus ``ERP2 / time_step``
   times the penetration beyond the slop;
-- warm starting applies ``0.1`` of the point's last impulse first; then sweeps over the points in the
+- warm starting applies ``0.1`` of a kept point's last impulse first; then sweeps over the points in the
   solver's order, each impulse accumulated and clamped at 0, stop when the largest squared residual of a
   sweep is at most ``1e-7`` (or after ``solver_iterations`` sweeps);
 - the bodies move by ``time_step`` times their velocities; the loop ends when a step changes no velocity and
@@ -29,20 +31,19 @@ The solver's order of the points is that of the dispatcher's manifolds (not docu
 
 from __future__ import annotations
 
-import math
 from collections.abc import Sequence
 from fractions import Fraction
 from typing import Any
 
-from verify.engines.models.steps import Contacts, contacts_of
+from verify.engines.adapters.pybullet import RADIUS
+from verify.engines.models.steps import Contacts, contacts_of, orders
 
 ERP2 = Fraction(2, 25)  #: pybullet's m_erp2 (0.08)
 WARM = Fraction(1, 10)  #: pybullet's m_warmstartingFactor
 RESIDUAL = Fraction(1, 10**7)  #: pybullet's m_leastSquaresResidualThreshold
 SPLIT = Fraction(-4, 100)  #: Bullet's m_splitImpulsePenetrationThreshold (m_splitImpulse is on)
-RADIUS = math.sqrt(2.5)  #: the adapter's spheres (verify.engines.adapters.pybullet.RADIUS)
-#: gContactBreakingThreshold (0.02) times the sphere's angular motion disc (its radius), squared, exactly
-BREAKING_SQUARED = Fraction(2, 100) ** 2 * Fraction(5, 2)
+#: gContactBreakingThreshold (0.02) times the sphere's angular motion disc (the adapter's float radius), squared
+BREAKING_SQUARED = (Fraction(2, 100) * Fraction(RADIUS)) ** 2
 
 Order = tuple[int, ...]
 
@@ -53,14 +54,16 @@ class Bullet:
     name = "Bullet's steps"
 
     def __init__(self, settings: dict[str, Any] | None = None):
-        from verify.engines.explain import documented
+        from verify.engines.common import step_count
+        from verify.engines.scene import documented
 
         s = settings or {}
         self.dt = documented(s.get("time_step", 1 / 240))
         self.sweeps = int(s.get("solver_iterations", 50))
         self.threshold = documented(s.get("restitution_velocity_threshold", 0.2))
         self.slop = documented(s.get("contact_slop", 1e-05))
-        self.steps = int(documented(s.get("max_time", 0.2)) / self.dt)
+        self.steps = step_count(float(s.get("max_time", 0.2)), float(s.get("time_step", 1 / 240)), slack=0.0)
+        self.overlap = float(s.get("overlap", 0.0))
 
     def label(self, variant: Order) -> str:
         """The model in words, with its settings."""
@@ -74,33 +77,31 @@ class Bullet:
 
     def variants(self, r: int) -> list[Order]:
         """The solver orders to try on ``r`` contacts (:func:`~verify.engines.models.orders`)."""
-        from verify.engines.models import orders
-
         return orders(r)
 
     def run(self, case: dict[str, Any], variant: Order) -> list[str]:
         """The exit velocity (30-digit decimals of the exact one) of the model on a case record."""
-        c = contacts_of(case, radius=RADIUS)
+        c = contacts_of(case, radius=RADIUS, overlap=self.overlap)
         K, s = c.K, c.system
         cv = K.convert
-        dt, r = cv(self.dt), s.r
-        held = [False] * r
-        impulse = [K.zero] * r
+        dt = cv(self.dt)
+        impulse = dict.fromkeys(range(s.r), K.zero)
         v = c.velocity
         for _ in range(self.steps):
-            for i, gap in enumerate(c.gaps):
-                inside = K.sign(gap * gap - cv(BREAKING_SQUARED))  # against the breaking threshold
-                if c.planes[i]:  # a plane's point exists while the gap is below the threshold
-                    held[i] = K.sign(gap) <= 0 or inside < 0
-                else:  # a ball's is made at gap 0 and kept up to the threshold
-                    held[i] = K.sign(gap) <= 0 or (held[i] and inside <= 0)
-                if not held[i]:
+            points = []
+            for i in variant:
+                gap = c.gaps[i]
+                # a plane's point exists while the gap is below the breaking threshold; a ball's while it is <= 0
+                near = c.planes[i] and K.sign(gap * gap - cv(BREAKING_SQUARED)) < 0
+                if K.sign(gap) <= 0 or near:
+                    points.append(i)
+                else:
                     impulse[i] = K.zero
-            points = [i for i in variant if held[i]]
             rates = s.rates(v)
             rhs, push_rhs = {}, {}
             for i in points:
-                velocity_target, push_target = self._targets(K, s.restitution[i], rates[i], c.gaps[i] + cv(self.slop))
+                penetration = c.gaps[i] + cv(self.slop)  # Bullet's name: positive when apart
+                velocity_target, push_target = self._targets(K, s.restitution[i], rates[i], penetration)
                 rhs[i] = (velocity_target - rates[i]) / s.gram[i][i]
                 if push_target is not None:
                     push_rhs[i] = push_target / s.gram[i][i]
@@ -111,7 +112,7 @@ class Bullet:
             )
             w = v
             for i in points:  # warm starting
-                impulse[i] = impulse[i] * cv(WARM) if c.planes[i] else K.zero  # measured: none between balls
+                impulse[i] = impulse[i] * cv(WARM) if c.planes[i] else K.zero  # a ball's point is new every step
                 if K.sign(impulse[i]) != 0:
                     w = c.push(w, i, impulse[i])
             w = _sweeps(c, points, v, w, rhs=rhs, impulse=impulse, sweeps=self.sweeps)
@@ -122,7 +123,7 @@ class Bullet:
                 break
         return [K.to_decimal(x, 30) for x in v]
 
-    def _targets(self, K: Any, e: Any, rate: Any, depth: Any) -> tuple[Any, Any]:
+    def _targets(self, K: Any, e: Any, rate: Any, penetration: Any) -> tuple[Any, Any]:
         """A point's target normal speed (restitution, less the speculative gap or plus the error reduction),
         and, for a penetration deeper than the split impulse's threshold, the push speed that corrects it in
         position only (None otherwise)."""
@@ -130,17 +131,17 @@ class Bullet:
         speed = rate if K.sign(rate) >= 0 else K.zero - rate
         bounce = e * (K.zero - rate) if K.sign(speed - cv(self.threshold)) >= 0 else K.zero
         bounce = bounce if K.sign(bounce) > 0 else K.zero
-        if K.sign(depth) > 0:
-            return bounce - depth / cv(self.dt), None
-        correction = (K.zero - depth) * cv(ERP2) / cv(self.dt)
-        if K.sign(depth - cv(SPLIT)) > 0:
+        if K.sign(penetration) > 0:
+            return bounce - penetration / cv(self.dt), None
+        correction = (K.zero - penetration) * cv(ERP2) / cv(self.dt)
+        if K.sign(penetration - cv(SPLIT)) > 0:
             return bounce + correction, None
         return bounce, correction
 
 
 def _sweeps(
     c: Contacts, points: list[int], base: Sequence[Any], start: Sequence[Any], *, rhs: dict[int, Any],
-    impulse: dict[int, Any] | list[Any], sweeps: int,
+    impulse: dict[int, Any], sweeps: int,
 ) -> tuple[Any, ...]:  # fmt: skip
     """Bullet's Gauss-Seidel sweeps from the velocity ``start``: each point's impulse (accumulated in
     ``impulse``, clamped at 0) moves its rate, measured from ``base``, towards ``rhs`` times its Delassus
@@ -152,7 +153,7 @@ def _sweeps(
         worst = K.zero
         for i in points:
             delta = rhs[i] - (s.rates(w)[i] - before[i]) / s.gram[i][i]
-            held = impulse[i] if isinstance(impulse, list) or i in impulse else K.zero
+            held = impulse.get(i, K.zero)
             if K.sign(held + delta) < 0:
                 delta = K.zero - held
             impulse[i] = held + delta

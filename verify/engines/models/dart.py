@@ -3,7 +3,9 @@
 What DART 6 does at each step (``dart/constraint/ContactConstraint.cpp``, ``BoxedLcpConstraintSolver.cpp``,
 ``PgsBoxedLcpSolver.cpp``), with its compile-time constants:
 
-- every contact whose gap is at most 0 is in the step's LCP ``A x = b + w``, ``x >= 0``, ``w >= 0``,
+- every contact whose gap is at most 0 is in the step's LCP (DART solves one LCP per group of connected
+  skeletons: on a cradle or a corner, whose touching contacts form one chain, that is one LCP; where they
+  fall apart into groups the model still solves one) ``A x = b + w``, ``x >= 0``, ``w >= 0``,
   ``x . w = 0``, ``A`` the contacts' Delassus matrix with each diagonal entry times ``1 + CFM``
   (``DART_CFM = 1e-5``, ``getVelocityChange(..., withCfm)``);
 - ``b`` is the approach speed plus a target: ``ERP / time_step`` times the penetration, at most
@@ -36,7 +38,8 @@ from fractions import Fraction
 from itertools import combinations
 from typing import Any
 
-from verify.engines.models.steps import Contacts, contacts_of
+from verify.engines.adapters.dartpy import RADIUS
+from verify.engines.models.steps import Contacts, contacts_of, orders
 from verify.numbers.linalg import ldl, solve_spd
 
 CFM = Fraction(1, 10**5)  #: DART_CFM
@@ -48,7 +51,6 @@ BOUNCE_MAX = Fraction(100)  #: DART_MAX_BOUNCING_VELOCITY
 #: PgsBoxedLcpSolver::Option's defaults but the sweeps (the adapter's pgs_iterations): first-sweep change,
 #: relative change, and the diagonal below which a row is skipped
 PGS_DELTA, PGS_RELATIVE, PGS_EPSILON = Fraction(1, 10**6), Fraction(1, 1000), Fraction(1, 10**9)
-RADIUS = 1.0  #: the adapter's balls (verify.engines.adapters.dartpy.RADIUS)
 
 Variant = tuple[str, tuple[int, ...] | None]
 
@@ -60,12 +62,13 @@ class Dart:
     solvers = ("dantzig", "pgs first", "pgs 3+")
 
     def __init__(self, settings: dict[str, Any] | None = None):
-        from verify.engines.explain import documented
+        from verify.engines.scene import documented
 
         s = settings or {}
         self.dt = documented(s.get("time_step", 0.001))
         self.sweeps = int(s.get("pgs_iterations", 30))
         self.max_steps = int(s.get("max_steps", 1000))
+        self.overlap = float(s.get("overlap", 0.0))
 
     def label(self, variant: Variant) -> str:
         """The model in words, with its settings."""
@@ -80,13 +83,12 @@ class Dart:
     def variants(self, r: int) -> list[Variant]:
         """The solves to try on ``r`` contacts: pivoting, and PGS in each order
         (:func:`~verify.engines.models.orders`)."""
-        from verify.engines.models import orders
-
-        return [("dantzig", None)] + [(s, o) for o in orders(r) for s in self.solvers[1:]]
+        solvers = self.solvers[1:] if r >= 3 else self.solvers[1:2]  # "pgs 3+" is Dantzig below 3 contacts
+        return [("dantzig", None)] + [(s, o) for o in orders(r) for s in solvers]
 
     def run(self, case: dict[str, Any], variant: Variant) -> list[str]:
         """The exit velocity (30-digit decimals of the exact one) of the model on a case record."""
-        c = contacts_of(case, radius=RADIUS)
+        c = contacts_of(case, radius=RADIUS, overlap=self.overlap)
         K = c.K
         v = c.velocity
         for step in range(self.max_steps):

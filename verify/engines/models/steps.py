@@ -1,11 +1,12 @@
-"""What every engine's step loop shares: the contacts of a case in physical units, their gaps, and the loop.
+"""What every engine's step model starts from: the contacts of a case in physical units and their gaps.
 
 An engine steps time: at each step it detects the contacts (a gap at or below its own threshold), solves
 them for impulses, then moves the bodies by ``time_step`` times their velocities. A model of an engine
 does the same exactly: the case's constraints with unit normals (a rate is then a normal speed, in the
-engine's units), the gaps start where the adapter puts the bodies (touching; for a cradle, the engine's
-own float positions read exactly, since ``i * 2r`` rounds for an irrational ``r``), and each step moves
-every gap by ``time_step`` times its rate. Every sign is decided exactly, in the number field of the case.
+engine's units), the gaps start where the adapter puts the bodies (touching, less the ``overlap`` setting;
+for a cradle, the engine's own float positions read exactly, since ``i * (2r - overlap)`` rounds for an
+irrational ``r``), and each step moves every gap by ``time_step`` times its rate. Every sign is decided
+exactly, in the number field of the case.
 
 >>> from verify.models.cradle import cradle_geometry
 >>> from verify.records.results import case_record
@@ -20,9 +21,10 @@ from __future__ import annotations
 from collections.abc import Sequence
 from dataclasses import dataclass
 from fractions import Fraction
+from itertools import permutations
 from typing import Any
 
-from verify.engines.scene import Corner, Cradle, scene_of
+from verify.engines.scene import Corner, Cradle, scene_of, speed_scale
 
 
 @dataclass
@@ -45,11 +47,11 @@ class Contacts:
         self.gaps = [g + dt * w for g, w in zip(self.gaps, self.system.rates(v))]
 
 
-def contacts_of(case: dict[str, Any], *, radius: float | None = None) -> Contacts:
+def contacts_of(case: dict[str, Any], *, radius: float | None = None, overlap: float = 0.0) -> Contacts:
     """The contacts of a cradle or corner case (:func:`~verify.engines.scene.scene_of`); ``radius``: the
-    adapter's ball radius (a float), whose layout ``i * 2r`` gives a cradle's first gaps exactly."""
+    adapter's ball radius (a float), whose layout ``i * (2r - overlap)`` gives a cradle's first gaps exactly;
+    ``overlap``: the adapter's setting (every gap starts at minus it otherwise)."""
     from verify.dynamics.system import System
-    from verify.engines.explain import speed_scale
     from verify.numbers.backends import exact_for
     from verify.numbers.parse import to_number
 
@@ -62,22 +64,37 @@ def contacts_of(case: dict[str, Any], *, radius: float | None = None) -> Contact
     K = exact_for([x for row in normals for x in row] + velocity + cors)
     system = System(g, normals, cors, None, backend=K)
     r = system.r
-    gaps = [K.zero] * r
+    gaps = [K.convert(-Fraction(overlap))] * r
     planes = [isinstance(scene, Corner)] * r
     if isinstance(scene, Cradle):
         planes[-1] = scene.wall
         if radius is not None:
-            gaps = [K.convert(x) for x in _cradle_gaps(len(scene.masses), radius, scene.wall)]
+            gaps = [K.convert(x) for x in _cradle_gaps(len(scene.masses), radius, scene.wall, overlap)]
     return Contacts(K, system, system.velocity(velocity), gaps, planes)
 
 
-def _cradle_gaps(n: int, radius: float, wall: bool) -> list[Fraction]:
-    """The first gaps of an adapter's cradle, exactly: ball ``i`` at the float ``i * (2 r)``, the wall's face
-    at the float ``(n - 1) * (2 r) + r`` (what the adapters build with overlap 0)."""
-    pitch = 2 * radius
+def _cradle_gaps(n: int, radius: float, wall: bool, overlap: float = 0.0) -> list[Fraction]:
+    """The first gaps of an adapter's cradle, exactly: ball ``i`` at the float ``i * (2 r - overlap)``, the
+    wall's face at the float ``(n - 1) * (2 r - overlap) + r - overlap`` (what the adapters build)."""
+    pitch = 2 * radius - overlap
     x = [Fraction(i * pitch) for i in range(n)]
     r = Fraction(radius)
     gaps = [x[i + 1] - x[i] - 2 * r for i in range(n - 1)]
     if wall:
-        gaps.append(Fraction((n - 1) * pitch + radius) - x[-1] - r)
+        gaps.append(Fraction((n - 1) * pitch + radius - overlap) - x[-1] - r)
     return gaps
+
+
+#: up to this many contacts every order of the solver is tried; beyond, the order given and its reverse
+ALL_ORDERS = 5
+
+
+def orders(r: int) -> list[tuple[int, ...]]:
+    """The contact orders a model tries on ``r`` contacts (the engines do not document theirs).
+
+    >>> len(orders(5)), orders(6)[1]
+    (120, (5, 4, 3, 2, 1, 0))
+    """
+    if r <= ALL_ORDERS:
+        return list(permutations(range(r)))
+    return [tuple(range(r)), tuple(reversed(range(r)))]

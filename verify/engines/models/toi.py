@@ -3,13 +3,14 @@
 After the discrete step every body has swept from ``c0`` (at its time ``alpha0`` of the step, 0 at first)
 to ``c``. For each contact with a bullet (every dynamic body of the adapters is one) the time of impact is
 when the gap, linear along the two sweeps, reaches ``-3 b2_linearSlop`` (``b2TimeOfImpact``'s target; the
-engine finds it to within ``b2_linearSlop / 4``, the model exactly); a gap already within that of the target
-at the start is an impact at once. The earliest impact (before ``1 - 10 b2_epsilon``, at most
-``b2_maxSubSteps`` per contact) moves its two bodies back to it; if the contact then touches, an island of
-those two bodies, the contact and each other touching contact of theirs (their other bodies moved back too)
-gets a sub-step over the rest of the step: position correction of the two bodies (``b2_toiBaugarte = 0.75``,
-up to 20 sweeps), then the restitution targets and ``velocity_iterations`` sweeps without warm starting,
-then the island's bodies move on. The search repeats until no impact is left.
+engine finds it to within ``b2_linearSlop / 4``, the model exactly); a gap already within that of the
+target at the start is an impact at once, one still within it at the end is none. The earliest impact
+(before ``1 - 10 b2_epsilon``, at most ``b2_maxSubSteps`` per contact) moves its two bodies back to it; if
+the contact then touches, an island of those two bodies, the contact and each other touching contact of
+theirs (their other bodies moved back too) gets a sub-step over the rest of the step: position correction
+of the two bodies (``b2_toiBaugarte = 0.75``, up to 20 sweeps), then the restitution targets and
+``velocity_iterations`` sweeps without warm starting, then the island's bodies move on. The search repeats
+until no impact is left.
 
 >>> TOI_TARGET, TOLERANCE
 (Fraction(-3, 200), Fraction(1, 800))
@@ -178,7 +179,7 @@ def _time_of_impact(bodies: Bodies, i: int) -> Any:
     end = bodies.gap(i, {b: bodies.c[b] for b in pair})
     if K.sign(start - cv(TOI_TARGET + TOLERANCE)) < 0:
         beta = K.zero
-    elif K.sign(end - cv(TOI_TARGET + TOLERANCE)) > 0:
+    elif K.sign(end - cv(TOI_TARGET - TOLERANCE)) > 0:  # within the tolerance at the end: Box2D goes to 1
         return K.one
     else:
         beta = (start - cv(TOI_TARGET)) / (start - end)
