@@ -138,3 +138,20 @@ def test_box2d_continuous_collision_is_what_explains_the_five_ball_cradle():
     assert _distance(case, row["engine_exit_velocity"], Box2D(settings).run(case, order)) <= Fraction(1, 10**5)
     discrete = Box2D(dict(settings, bullet=0)).run(case, order)
     assert _distance(case, row["engine_exit_velocity"], discrete) > Fraction(1, 10**3)
+
+
+@pytest.mark.parametrize(
+    ("key", "variant"),
+    [("dart", ("pgs", (0, 1))), ("dart", ("pgs first", None)), ("dart", (1, 0)), ("bullet", (0,)),
+     ("bullet", (0, 1, 2)), ("box2d", ("dantzig", None))],
+)  # fmt: skip
+def test_a_variant_that_is_not_one_is_refused(key, variant):
+    with pytest.raises(ValueError, match=r"order|variant"):
+        STEP_MODELS[key]().run(CASES["cradle-3-eps-1"], variant)
+
+
+def test_every_explained_answer_of_the_record_has_no_reason_left():
+    """A row an exact model explains carries no ``why`` (docs/json-outputs.md): a re-explained record drops it."""
+    for engine in RECORD["engines"]:
+        for row in engine["cases"]:
+            assert (row["model"] is None) == ("why" in row), (engine["name"], row["id"])

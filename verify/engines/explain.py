@@ -313,14 +313,24 @@ def _why(
     )
 
 
+def unordered(label: str) -> str:
+    """A model's label without its contact order (the engines do not document theirs).
+
+    >>> unordered("Bullet's steps: sequential impulses, contact order 1, 0")
+    "Bullet's steps: sequential impulses"
+    """
+    return label.partition(", contact order ")[0]
+
+
 def explained_summary(description: dict[str, Any], rows: Sequence[dict[str, Any]]) -> dict[str, Any]:
     """Per engine: the tolerance, how many cases a model explains and which, and what differs on the rest."""
     solver = description.get("solver") or {}
     by_model: dict[str, int] = {}
     why: dict[str, int] = {}
     for row in rows:
-        if row.get("model"):
-            by_model[row["model"]] = by_model.get(row["model"], 0) + 1
+        if row.get("model"):  # a model in all its contact orders counted once
+            key = unordered(row["model"])
+            by_model[key] = by_model.get(key, 0) + 1
         elif row.get("why"):
             key = row["why"].split(" (")[0]
             why[key] = why.get(key, 0) + 1

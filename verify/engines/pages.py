@@ -161,7 +161,7 @@ def per_engine_tables(record: dict[str, Any]) -> list[str]:
     """One table per engine: how many of its default answers each exact model explains (the contact orders a
     model was found in counted, not listed), the answers left and what the record says of them, and the kinetic
     energy its answers gain."""
-    from verify.engines.explain import GAIN, tolerance_of
+    from verify.engines.explain import GAIN, tolerance_of, unordered
     from verify.numbers.format import format_decimal
 
     lines: list[str] = []
@@ -175,12 +175,11 @@ def per_engine_tables(record: dict[str, Any]) -> list[str]:
         left: dict[str, list[str]] = {}
         for row in e["cases"]:
             if row.get("model"):
-                name, _, order = row["model"].partition(", contact order ")
-                models.setdefault(name, []).append(order)
+                models.setdefault(unordered(row["model"]), []).append(row["model"])
             else:
                 left.setdefault((row.get("why") or "no model").split(" (")[0], []).append(f"`{row['id']}`")
         for name, found in sorted(models.items(), key=lambda kv: -len(kv[1])):
-            orders = len({o for o in found if o})
+            orders = len({label for label in found if label != name})
             where = f" (in {orders} contact order{'s' if orders > 1 else ''})" if orders else ""
             lines.append(f"| {len(found)} | {name}{where} |")
         for why, ids in sorted(left.items(), key=lambda kv: -len(kv[1])):

@@ -29,7 +29,7 @@ from fractions import Fraction
 from typing import Any
 
 from verify.engines import ENGINES
-from verify.engines.explain import GAIN, Explainer, explain_case, explained_summary, within
+from verify.engines.explain import GAIN, Explainer, explain_case, explained_summary, unordered, within
 from verify.engines.protocol import NOT_INSTALLED
 from verify.engines.scene import Unsupported, documented, scene_of
 from verify.models.corner import corner_geometry, slope_of, velocity_of
@@ -287,6 +287,7 @@ def explain(entries: list[dict[str, Any]], cases: list[dict[str, Any]], progress
         if "skipped" in entry:
             continue
         for row in entry["cases"]:
+            row.pop("why", None)  # a saved row's reason, from an explanation before
             row.update(explain_case(explainer, entry, by_id[row["id"]], row["engine_exit_velocity"]))
         _name_the_common_variant(explainer, entry, by_id)
         entry["explained"] = explained_summary(entry, entry["cases"])
@@ -306,13 +307,8 @@ def _name_the_common_variant(explainer: Explainer, entry: dict[str, Any], by_id:
             counts[label] = counts.get(label, 0) + 1
     for row in entry["cases"]:
         if row["id"] in found:
-            same = [label for label in found[row["id"]] if _unordered(label) == _unordered(row["model"])]
+            same = [label for label in found[row["id"]] if unordered(label) == unordered(row["model"])]
             row["model"] = row["nearest_model"] = max(same, key=lambda label: counts[label])
-
-
-def _unordered(label: str) -> str:
-    """A model's label without its contact order."""
-    return label.partition(", contact order ")[0]
 
 
 def explain_again(record: dict[str, Any], progress: Callable[[str], None] | None = None) -> None:

@@ -34,7 +34,7 @@ from __future__ import annotations
 from fractions import Fraction
 from typing import Any
 
-from verify.engines.models.steps import Contacts, contacts_of, orders
+from verify.engines.models.steps import Contacts, check_order, contacts_of, orders
 from verify.engines.models.toi import MAX_CORRECTION, SLOP, Bodies
 from verify.engines.scene import Corner, scene_of
 
@@ -44,7 +44,14 @@ Order = tuple[int, ...]
 
 
 class Box2D:
-    """Box2D 2.3's steps (pybox2d; gravity, sleep and friction off)."""
+    """Box2D 2.3's steps (pybox2d; gravity, sleep and friction off).
+
+    ``settings``: an engine's settings as the record holds them (``time_step``, ``velocity_iterations``,
+    ``position_iterations``, ``warm_starting``, ``bullet``, ``max_time``, ``radius``, ``overlap``; the
+    adapter's defaults otherwise). A variant is the island's order of the contacts, a permutation of the
+    case's contacts (:meth:`variants`). :meth:`run` returns the exit velocity as 30-digit decimals of the
+    exact one.
+    """
 
     name = "Box2D's steps"
 
@@ -82,6 +89,7 @@ class Box2D:
         from verify.engines.models.toi import solve_toi, velocity_sweeps
 
         c = contacts_of(case, radius=self.radius, overlap=self.overlap)
+        variant = check_order(variant, c.system.r)
         K, s = c.K, c.system
         cv = K.convert
         bodies = _bodies(case, c)

@@ -36,7 +36,7 @@ from fractions import Fraction
 from typing import Any
 
 from verify.engines.adapters.pybullet import RADIUS
-from verify.engines.models.steps import Contacts, contacts_of, orders
+from verify.engines.models.steps import Contacts, check_order, contacts_of, orders
 
 ERP2 = Fraction(2, 25)  #: pybullet's m_erp2 (0.08)
 WARM = Fraction(1, 10)  #: pybullet's m_warmstartingFactor
@@ -49,7 +49,13 @@ Order = tuple[int, ...]
 
 
 class Bullet:
-    """Bullet's steps as pybullet 3 runs them (maximal coordinates, gravity and damping off)."""
+    """Bullet's steps as pybullet 3 runs them (maximal coordinates, gravity and damping off).
+
+    ``settings``: an engine's settings as the record holds them (``time_step``, ``solver_iterations``,
+    ``restitution_velocity_threshold``, ``contact_slop``, ``max_time``, ``overlap``; pybullet's defaults
+    otherwise). A variant is the solver's order of the contacts, a permutation of the case's contacts
+    (:meth:`variants`). :meth:`run` returns the exit velocity as 30-digit decimals of the exact one.
+    """
 
     name = "Bullet's steps"
 
@@ -82,6 +88,7 @@ class Bullet:
     def run(self, case: dict[str, Any], variant: Order) -> list[str]:
         """The exit velocity (30-digit decimals of the exact one) of the model on a case record."""
         c = contacts_of(case, radius=RADIUS, overlap=self.overlap)
+        variant = check_order(variant, c.system.r)
         K, s = c.K, c.system
         cv = K.convert
         dt = cv(self.dt)

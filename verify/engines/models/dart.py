@@ -39,7 +39,7 @@ from itertools import combinations
 from typing import Any
 
 from verify.engines.adapters.dartpy import RADIUS
-from verify.engines.models.steps import Contacts, contacts_of, orders
+from verify.engines.models.steps import Contacts, check_order, contacts_of, orders
 from verify.numbers.linalg import ldl, solve_spd
 
 CFM = Fraction(1, 10**5)  #: DART_CFM
@@ -56,7 +56,14 @@ Variant = tuple[str, tuple[int, ...] | None]
 
 
 class Dart:
-    """DART's steps (``dartpy``; nimblephysics keeps Dantzig with CFM 0 and no fallback at these sizes)."""
+    """DART's steps (``dartpy``; nimblephysics keeps Dantzig with CFM 0 and no fallback at these sizes).
+
+    ``settings``: an engine's settings as the record holds them (``time_step``, ``pgs_iterations``,
+    ``max_steps``, ``overlap``; DART's defaults otherwise). A variant is ``("dantzig", None)`` or
+    ``(solver, order)`` with ``solver`` "pgs first" or "pgs 3+" and ``order`` a permutation of the case's
+    contacts (:meth:`variants` lists them). :meth:`run` returns the exit velocity as 30-digit decimals of the
+    exact one; the record's ``model`` label of an engine answer names the variant (:meth:`label`).
+    """
 
     name = "DART's steps"
     solvers = ("dantzig", "pgs first", "pgs 3+")
@@ -89,6 +96,13 @@ class Dart:
     def run(self, case: dict[str, Any], variant: Variant) -> list[str]:
         """The exit velocity (30-digit decimals of the exact one) of the model on a case record."""
         c = contacts_of(case, radius=RADIUS, overlap=self.overlap)
+        solver, order = variant
+        if solver not in self.solvers or (solver == "dantzig") != (order is None):
+            raise ValueError(
+                f"a DART variant is ('dantzig', None) or (one of {self.solvers[1:]}, an order), got {variant!r}"
+            )
+        if order is not None:
+            check_order(order, c.system.r)
         K = c.K
         v = c.velocity
         for step in range(self.max_steps):

@@ -98,3 +98,16 @@ def orders(r: int) -> list[tuple[int, ...]]:
     if r <= ALL_ORDERS:
         return list(permutations(range(r)))
     return [tuple(range(r)), tuple(reversed(range(r)))]
+
+
+def check_order(order: Any, r: int) -> tuple[int, ...]:
+    """A contact order given to a model: a permutation of the case's ``r`` contacts (0 .. r - 1, the case's
+    order of constraints, a cradle's wall last); anything else is a :class:`ValueError`.
+
+    >>> check_order((1, 0), 2)
+    (1, 0)
+    """
+    whole = isinstance(order, (tuple, list)) and all(isinstance(i, int) and not isinstance(i, bool) for i in order)
+    if not whole or sorted(order) != list(range(r)):
+        raise ValueError(f"a contact order is a permutation of 0..{r - 1} (the case's contacts), got {order!r}")
+    return tuple(order)
