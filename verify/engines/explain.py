@@ -205,6 +205,11 @@ def _threshold_cors(case: dict[str, Any], model: Model) -> tuple[str, ...]:
     return tuple(out)
 
 
+def _scale(case: dict[str, Any]) -> Fraction:
+    """The speed a distance is relative to: the case's largest entrance speed (1 if it is at rest)."""
+    return max(abs(_approx(x)) for x in case["velocity"]) or Fraction(1)
+
+
 def _distance(a: Sequence[Fraction], b: Sequence[Fraction], scale: Fraction) -> Fraction:
     return max(abs(x - y) for x, y in zip(a, b)) / scale
 
@@ -238,8 +243,7 @@ def explain_case(
     except Unsupported:
         return {"model": None, "nearest_model": None, "model_distance": None, "why": "not a cradle or a corner"}
     v = [Fraction(x) for x in engine_velocity]
-    scale = max(abs(_approx(x)) for x in case["velocity"]) or Fraction(1)
-    tol = tolerance_of(description.get("solver") or {})
+    scale, tol = _scale(case), tolerance_of(description.get("solver") or {})
     scored = []
     for m in candidates:
         exit_velocity, energy, _ = explainer.exit_of(case, m)
@@ -270,8 +274,7 @@ def within(explainer: Explainer, description: dict[str, Any], case: dict[str, An
     explainer's runs (:func:`explain_case` ran them): the engine's summary picks among them the one that
     explains most of its answers (a contact order the engine does not document is then named once)."""
     v = [Fraction(x) for x in row["engine_exit_velocity"]]
-    scale = max(abs(_approx(x)) for x in case["velocity"]) or Fraction(1)
-    tol = tolerance_of(description.get("solver") or {})
+    scale, tol = _scale(case), tolerance_of(description.get("solver") or {})
     return [m.label for m in models(description, case) if _distance(v, explainer.exit_of(case, m)[0], scale) <= tol]
 
 
@@ -354,7 +357,6 @@ def engine_velocities(case: dict[str, Any]) -> dict[Any, list[Fraction] | None]:
     >>> any(s.label().startswith("DART's steps") for s in engine_velocities(case))
     True
     """
-    from verify.engines.models import STEP_MODELS
     from verify.engines.protocol import descriptions
     from verify.oracle.explain import Settings
 
@@ -364,9 +366,6 @@ def engine_velocities(case: dict[str, Any]) -> dict[Any, list[Fraction] | None]:
         return {}
     out: dict[Any, list[Fraction] | None] = {}
     for table in descriptions().values():
-        name = (table.get("solver") or {}).get("step_model")
-        if name in STEP_MODELS:
-            model = STEP_MODELS[name](table.get("settings") or {})
-            for v in model.variants(len(case["normals"])):
-                out[Settings("engine", model=model.label(v))] = [Fraction(x) for x in model.run(case, v)]
+        for m in step_models(table, case):
+            out[Settings("engine", model=m.label)] = [Fraction(x) for x in m.steps.run(case, m.variant)]
     return out
