@@ -277,6 +277,10 @@ MAX_PERIOD = 6
 #: on a parameter backend, the impulses after which no cone of a period is looked for: its rational
 #: functions grow in degree with every impulse, and so does the cost of a search (``verify cradle-map``)
 PARAMETRIC_IMPULSES = 16
+#: the impulses after which a cone search may end with a cone around the run's own points
+#: (:mod:`verify.proofs.cones.hull`): the costliest search, for runs that switch between impact sets in no period,
+#: which the other searches decide early or not at all
+SWITCHED_AFTER = 64
 #: exact rates of more bits than this are not searched for a cone, unless they are rationals (the search
 #: then works on a box of short rationals around them; a run on certified intervals does so too)
 MAX_BITS = 512
@@ -321,7 +325,7 @@ def period_halt(
         for p in tried:
             if (count, p) in searched:
                 continue
-            cert = period_certificate(system, p, b, history[-p][1])
+            cert = period_certificate(system, p, b, history[-p][1], switched=count >= SWITCHED_AFTER)
             if cert:
                 bounds.use("period", p)
                 if system.backend.is_parametric:

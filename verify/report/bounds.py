@@ -63,6 +63,17 @@ BOUNDS: dict[str, Bound] = {
         "rounds of closing a cone around the limit direction",
         "the search gives up",
     ),
+    "hull_rays": Bound(
+        "verify.proofs.cones.hull:MAX_HULL_RAYS",
+        "extreme rays of a cone around a run's own points, pushed out by a slack (runs that switch between impact "
+        "sets in no period)",
+        "that slack is given up (no certificate from it; the run goes on)",
+    ),
+    "hull_rounds": Bound(
+        "verify.proofs.cones.hull:HULL_ROUNDS",
+        "rounds of growing a pushed cone by the points its period carries outside it",
+        "the pushed cone of the run's points alone is closed instead",
+    ),
     "beta_vectors": Bound(
         "verify.proofs.cones.period:MAX_BETA_VECTORS",
         "vectors whose beta is bounded at a multiple impact of a period",

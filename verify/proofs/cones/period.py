@@ -54,6 +54,7 @@ from verify.dynamics.rates import SearchSystem, beta_from_rates
 from verify.dynamics.system import System, on_exact_field
 from verify.errors import Undecided
 from verify.numbers.backends.base import Backend
+from verify.proofs.cones import hull
 from verify.proofs.cones.face import HEIGHTS, face_cone
 from verify.proofs.cones.lp import Scaled, SearchTooLong, feasible, pivot_budget, solve_columns
 from verify.proofs.cones.polar import MAX_VECTORS, extreme, forms, polar_values, pushed
@@ -218,6 +219,12 @@ def _prune(K: Backend, vectors: Carried) -> Carried:
     return kept
 
 
+def _reduced(K: Backend, vectors: Carried, prune: Callable[[Backend, Carried], Carried | None] | None) -> Carried:
+    """The vectors reduced by ``prune`` where it can, else by :func:`_prune`."""
+    reduced = prune(K, vectors) if prune is not None else None
+    return reduced if reduced is not None else _prune(K, vectors)
+
+
 def carry(
     system: SearchSystem,
     gens: Sequence[Vector],
@@ -226,6 +233,7 @@ def carry(
     stages: list[Carried] | None = None,
     *,
     outer: Outer | None = None,
+    prune: Callable[[Backend, Carried], Carried | None] | None = None,
 ) -> Carried | None:
     """The vectors after p impulses (the module docstring): at each impulse the cone of the vectors is cut
     by ``x_f = 0`` for each f in F (:func:`split`), and each part is carried on its own impact set.
@@ -235,7 +243,8 @@ def carry(
     values (:mod:`verify.proofs.cones.polar`) instead of both bounds of beta, and the vectors after each
     impulse but the last are kept, reduced to the corners of their cone (or, with ``outer``, replaced by the
     corners of a larger cone, :func:`verify.proofs.cones.stages.product_cone`, which also turns away the vectors
-    of the last impulse that lie outside the generators' cone): the certificate lists them."""
+    of the last impulse that lie outside the generators' cone): the certificate lists them. ``prune`` reduces the
+    vectors after each impulse where it can (else :func:`_prune`, by exact linear programming)."""
     K = system.backend
     current: Carried = [(list(g), s) for g, s in zip(gens, strict)]
     for n in range(p):
@@ -288,7 +297,7 @@ def carry(
         if enclosed is not None and n < p - 1:
             current = enclosed
         elif outer is None:  # with outer, the last impulse's vectors are kept: each has its combination below
-            current = extreme(K, current) if stages is not None else _prune(K, current)
+            current = extreme(K, current) if stages is not None else _reduced(K, current, prune)
         if outer is not None and n == p - 1:  # each gets its combination from the box, without linear programming
             break
         if len(current) > MAX_CARRIED:
@@ -370,13 +379,15 @@ def close(
     inflate: Vector | None = None,
     outer: Outer | None = None,
     combine: Combine | None = None,
+    prune: Callable[[Backend, Carried], Carried | None] | None = None,
 ) -> Found | None:
     """A cone of the seeds (strict), the ``extra`` strict vectors and the weak unit vectors of the
     constraints no seed is hit on in p impulses, closed under p impulses: (generators, strict flags, the
     vectors carried through p impulses with their combinations, the stages of :func:`carry` when
     ``polar``), or None. With ``inflate`` (a vector inside the cone, rationals), a carried vector y the cone
     lacks is added as ``y + (y - s c) / 64`` (s c: ``inflate`` at y's scale), so that y itself lies inside
-    the cone, not on an edge: the cone then holds for parameters near these ones too."""
+    the cone, not on an edge: the cone then holds for parameters near these ones too. ``prune`` reduces the carried
+    vectors (:func:`carry`)."""
     K, r = system.backend, system.r
     gens = [list(g) for g in (*seeds, *extra)]
     strict = [True] * len(gens)
@@ -392,7 +403,8 @@ def close(
         stages: list[Carried] | None = [] if polar else None
         inner = _inside(K, gens, strict, len(seeds), combine)
         carried = carry(system, [g for i, g in enumerate(gens) if i not in inner],
-                        [s for i, s in enumerate(strict) if i not in inner], p, stages, outer=outer)  # fmt: skip
+                        [s for i, s in enumerate(strict) if i not in inner], p, stages, outer=outer,
+                        prune=prune)  # fmt: skip
         if carried is None:
             return None
         out, missing = [], []
@@ -545,7 +557,12 @@ def _beyond(system: SearchSystem, p: int, guide: tuple[Sequence[Any], Sequence[A
 
 
 def cone_search(
-    system: SearchSystem, p: int, seeds: Sequence[Vector], guide: tuple[Sequence[Any], Sequence[Any] | None]
+    system: SearchSystem,
+    p: int,
+    seeds: Sequence[Vector],
+    guide: tuple[Sequence[Any], Sequence[Any] | None],
+    *,
+    switched: bool = True,
 ) -> Found | None:
     """A closed cone containing the seeds: first with one point beyond the direction the rates tend to
     (``2 P b - lam b``, from ``guide`` = (b, the rates one period before)), then (rational backends)
@@ -554,7 +571,8 @@ def cone_search(
     by their polar values (:func:`_shaped`, a search with pivots of its own; lifted along the rates the run holds
     positive off the period when the hit rates tend to 0 against them, :func:`_lift`), and last, when some hit rates
     tend to 0 against the other hit rates (the direction on a face between impact sets), with a cone of that face and
-    a wedge across it (:func:`_face`)."""
+    a wedge across it (:func:`_face`). Last, with ``switched``, for runs that switch between impact sets, a cone
+    around the run's own points pushed out by a slack (:func:`_hull`)."""
     K = system.backend
     b, _ = guide
     found = close(system, p, seeds, _beyond(system, p, guide))
@@ -569,7 +587,57 @@ def cone_search(
             found = _shaped(system, p, seeds, limit)
         if found is None and limit is not None:
             found = _face(system, p, seeds, limit)
+        if found is None and switched:
+            found = _hull(system, p, seeds, b)
     return found
+
+
+def _hull(system: SearchSystem, p: int, seeds: Sequence[Vector], b: Sequence[Any]) -> Found | None:
+    """A cone of the seeds closed around the run's own points every p impulses from b, pushed out by a slack
+    (:mod:`verify.proofs.cones.hull`): for runs that switch between impact sets with no direction to tend to. Where b
+    holds positive rates off the constraints the run hits (H) and the hit rates tend to 0 against them, the points
+    are those of the rates of H alone (the others kept at 0), and the cone is lifted along b's rates off H as
+    :func:`_lift` lifts a box. A search with :data:`MAX_PIVOTS` of its own, each slack of
+    :data:`~verify.proofs.cones.hull.SLACKS` in turn."""
+    if not hull.available():
+        return None
+    K = system.backend
+    rule = lambda x: _rule_step(system, x)  # noqa: E731
+    trail = hull.orbit(K, rule, b, 1, hull.HIT_PERIODS * p)  # rounded: exact rates would grow at every impulse
+    if trail is None:  # the run exits
+        return None
+    on = sorted({i for x in trail[:-1] for i, v in enumerate(x) if K.sign(v) < 0})
+    if all(b[i] == K.zero for i in on):
+        return None
+    start = [x if i in on else K.zero for i, x in enumerate(b)]
+    lift = _lift(system, p, b, (hull.scaled(K, start), on))
+    step = rule if lift is None else _on_step(system, on)
+    points = hull.orbit(K, step, b if lift is None else start, p)
+    if points is None:  # the run exits
+        return None
+
+    lifted = (lambda gens: gens) if lift is None else (lambda gens: _lifted(K, gens, *lift))
+
+    def carried(gens: list[Vector]) -> list[Vector] | None:
+        moved = carry(system, lifted(gens), [True] * len(gens), p, prune=hull.extreme_rays)
+        if moved is None:
+            return None
+        return [y if lift is None else [x if i in on else K.zero for i, x in enumerate(y)] for y, _ in moved]
+
+    def search() -> Found | None:
+        for slack in hull.SLACKS:
+            gens = hull.grown_cone(K, points, slack, carried) or hull.pushed_cone(K, points, slack)
+            found = None if gens is None else close(system, p, seeds, lifted(gens), MAX_ROUNDS, prune=hull.extreme_rays)
+            if found is not None:
+                return found
+        return None
+
+    return _own_pivots(search)
+
+
+def _lifted(K: Backend, gens: list[Vector], u: Vector, height: Fraction) -> list[Vector]:
+    """Each generator plus ``height`` times u (:func:`_lift`)."""
+    return [[x + K.convert(height) * y for x, y in zip(g, u)] for g in gens]
 
 
 def _shaped(system: SearchSystem, p: int, seeds: Sequence[Vector], limit: tuple[Vector, list[int]]) -> Found | None:
@@ -733,7 +801,7 @@ def _at_sample(system: SearchSystem, p: int, b: Sequence[Any], earlier: Sequence
 
 
 def period_certificate(
-    system: System, p: int, b: Sequence[Any], earlier: Sequence[Any] | None
+    system: System, p: int, b: Sequence[Any], earlier: Sequence[Any] | None, *, switched: bool = True
 ) -> dict[str, Any] | None:
     """A certificate that the rule never exits from rates ``b``, with a cone that p impulses map into
     itself, or None. ``earlier`` are the rates p impulses before (they guide the search only). Every
@@ -742,7 +810,8 @@ def period_certificate(
 
     On certified intervals (rational inputs), the cone is built in exact rationals around the box
     that encloses the rates (:func:`box_seeds`): the certificate is exact, and it holds for every
-    point of the box, the true rates among them.
+    point of the box, the true rates among them. ``switched`` (default True) lets the search end with a cone around
+    the run's own points (:func:`_hull`), the costliest search, for runs with no direction to tend to.
     """
     K = system.backend
     box: tuple[Vector, Vector] | None = None
@@ -772,7 +841,7 @@ def period_certificate(
     left = [MAX_PIVOTS, MAX_PIVOTS]
     try:
         with pivot_budget(MAX_PIVOTS) as left:
-            found = cone_search(exact, p, seeds, guide)
+            found = cone_search(exact, p, seeds, guide, switched=switched)
     except Undecided as exc:  # SearchTooLong among them
         if isinstance(exc, SearchTooLong):
             bounds.reached("pivots")
