@@ -24,9 +24,9 @@ checker. The orbit, the hull and the slack only choose the generators.
 >>> from fractions import Fraction
 >>> from verify.numbers.backends.rational import RationalBackend
 >>> K = RationalBackend("python")
->>> points = [[K.convert(Fraction(x)), K.convert(Fraction(-1))] for x in ("1/4", "1/2", "3/8")]
->>> [[str(x) for x in g] for g in pushed_cone(K, points, Fraction(1, 4))]  # x_0 >= 0 is kept
-[['1', '-3'], ['9', '-16']]
+>>> points = [[K.convert(Fraction(x)), K.convert(Fraction(-1))] for x in ("0", "1/2", "1/8")]
+>>> [[str(x) for x in g] for g in pushed_cone(K, points, Fraction(1, 4))]  # pushed out, but x_0 >= 0 is kept
+[['9', '-16'], ['0', '-1']]
 """
 
 from __future__ import annotations
@@ -74,8 +74,8 @@ def orbit(
     >>> from verify.numbers.backends.rational import RationalBackend
     >>> K = RationalBackend("python")
     >>> half = lambda x: [x[0], x[1] / 2]
-    >>> [[str(v) for v in x] for x in orbit(K, half, [K.convert(Fraction(-3)), K.one], 1, periods=2)]
-    [['-1', '1/3'], ['-1', '1/6'], ['-1', '1/12']]
+    >>> [[str(v) for v in x] for x in orbit(K, half, [K.convert(Fraction(-4)), K.one], 1, periods=2)]
+    [['-1', '1/4'], ['-1', '1/8'], ['-1', '1/16']]
     """
     x: Vector | None = scaled(K, b)
     out = []
