@@ -67,7 +67,7 @@ BOUNDS: dict[str, Bound] = {
         "verify.proofs.cones.hull:MAX_HULL_RAYS",
         "extreme rays of a cone around a run's own points, pushed out by a slack (runs that switch between impact "
         "sets in no period)",
-        "that slack is given up (no certificate from it; the run goes on)",
+        "the cone is not grown: the pushed cone of the run's points alone is closed, or that slack given up",
     ),
     "hull_rounds": Bound(
         "verify.proofs.cones.hull:HULL_ROUNDS",

@@ -77,7 +77,7 @@ def orbit(
     >>> [[str(v) for v in x] for x in orbit(K, half, [K.convert(Fraction(-4)), K.one], 1, periods=2)]
     [['-1', '1/4'], ['-1', '1/8'], ['-1', '1/16']]
     """
-    x: Vector | None = scaled(K, b)
+    x: Vector | None = rounded_point(K, b)
     out = []
     for _ in range(periods):
         assert x is not None
@@ -86,12 +86,12 @@ def orbit(
             x = step(x) if x is not None else None
         if x is None:
             return None
-        x = scaled(K, x)
+        x = rounded_point(K, x)
     assert x is not None
     return [*out, x]
 
 
-def scaled(K: Backend, x: Sequence[Any]) -> Vector:
+def rounded_point(K: Backend, x: Sequence[Any]) -> Vector:
     """x over its largest |rate|, each rate rounded to :data:`ORBIT_BITS` significant bits (exact rationals)."""
     values = [Fraction(K.to_number(v)) for v in x]
     top = max(abs(v) for v in values)
@@ -175,15 +175,16 @@ def grown_cone(
         if not outside:
             bounds.use("hull_rounds", done)
             return gens
-        points += [scaled(K, y) for y in outside]
+        points += [rounded_point(K, y) for y in outside]
     bounds.reached("hull_rounds")
     return None
 
 
 def extreme_rays(K: Backend, vectors: Sequence[tuple[Vector, bool]]) -> list[tuple[Vector, bool]] | None:
-    """The extreme rays of the cone of the vectors, as integers, each strict, when every vector is strict (each
-    point of their cone then has weight on a strict one); None when one is not, or their cone holds a line: the
-    carried vectors of :func:`verify.proofs.cones.period.carry` reduced without linear programming.
+    """The extreme rays of the cone of the vectors, as integers, each strict, when every vector is strict and not 0
+    (each point of their cone then has weight on a strict one); None when one is not, or their cone holds a line:
+    the carried vectors of :func:`verify.proofs.cones.period.carry` reduced without linear programming. (A strict
+    vector 0 is a point the period sends to rates 0, which exit: it must stay, for the linear programming to refuse.)
 
     >>> from verify.numbers.backends.rational import RationalBackend
     >>> K = RationalBackend("python")
@@ -191,10 +192,11 @@ def extreme_rays(K: Backend, vectors: Sequence[tuple[Vector, bool]]) -> list[tup
     >>> sorted([str(x) for x in g] for g, _ in extreme_rays(K, [(x, True) for x in v]))
     [['0', '1'], ['1', '0']]
     """
-    if not vectors or not all(s for _, s in vectors):
+    exact = [_fractions(K, v) for v, _ in vectors]
+    if not vectors or not all(s for _, s in vectors) or not all(any(v) for v in exact):
         return None
-    rays = _rays(_cone([_fractions(K, v) for v, _ in vectors], len(vectors[0][0])))
-    if rays is None:
+    rays = _rays(_cone(exact, len(exact[0])))
+    if not rays:
         return None
     return [([K.convert(q) for q in g], True) for g in rays]
 

@@ -595,9 +595,9 @@ def cone_search(
 def _hull(system: SearchSystem, p: int, seeds: Sequence[Vector], b: Sequence[Any]) -> Found | None:
     """A cone of the seeds closed around the run's own points every p impulses from b, pushed out by a slack
     (:mod:`verify.proofs.cones.hull`): for runs that switch between impact sets with no direction to tend to. Where b
-    holds positive rates off the constraints the run hits (H) and the hit rates tend to 0 against them, the points
-    are those of the rates of H alone (the others kept at 0), and the cone is lifted along b's rates off H as
-    :func:`_lift` lifts a box. A search with :data:`MAX_PIVOTS` of its own, each slack of
+    holds positive rates off the constraints the run hits (H, over its next 16 periods), the points are those of the
+    rates of H alone (the others kept at 0: they evolve by those of H, not the reverse), and the cone is lifted along
+    b's rates off H as :func:`_lift` lifts a box. A search with :data:`MAX_PIVOTS` of its own, each slack of
     :data:`~verify.proofs.cones.hull.SLACKS` in turn."""
     if not hull.available():
         return None
@@ -610,7 +610,7 @@ def _hull(system: SearchSystem, p: int, seeds: Sequence[Vector], b: Sequence[Any
     if all(b[i] == K.zero for i in on):
         return None
     start = [x if i in on else K.zero for i, x in enumerate(b)]
-    lift = _lift(system, p, b, (hull.scaled(K, start), on))
+    lift = _lift(system, p, b, (hull.rounded_point(K, start), on))
     step = rule if lift is None else _on_step(system, on)
     points = hull.orbit(K, step, b if lift is None else start, p)
     if points is None:  # the run exits
