@@ -68,7 +68,7 @@ def test_mypy_is_clean():
 
 
 #: import names whose distribution on the package registry has another name
-DISTRIBUTIONS = {"flint": "python-flint", "Box2D": "box2d", "warp": "warp-lang"}
+DISTRIBUTIONS = {"flint": "python-flint", "Box2D": "box2d", "warp": "warp-lang", "ppl": "pplpy"}
 
 
 def test_every_third_party_import_is_declared():

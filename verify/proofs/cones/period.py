@@ -170,6 +170,8 @@ def _classify(K: Backend, carried: Sequence[tuple[Vector, bool]]) -> tuple[list[
 
 
 Carried = list[tuple[Vector, bool]]
+#: a reduction of carried vectors to fewer with the same cone, or None where it cannot (:func:`carry`)
+Prune = Callable[[Backend, Carried], Carried | None]
 
 
 def _direction(K: Backend, v: Vector) -> tuple[Any, ...]:
@@ -219,7 +221,7 @@ def _prune(K: Backend, vectors: Carried) -> Carried:
     return kept
 
 
-def _reduced(K: Backend, vectors: Carried, prune: Callable[[Backend, Carried], Carried | None] | None) -> Carried:
+def _reduced(K: Backend, vectors: Carried, prune: Prune | None) -> Carried:
     """The vectors reduced by ``prune`` where it can, else by :func:`_prune`."""
     reduced = prune(K, vectors) if prune is not None else None
     return reduced if reduced is not None else _prune(K, vectors)
@@ -233,18 +235,16 @@ def carry(
     stages: list[Carried] | None = None,
     *,
     outer: Outer | None = None,
-    prune: Callable[[Backend, Carried], Carried | None] | None = None,
+    prune: Prune | None = None,
 ) -> Carried | None:
-    """The vectors after p impulses (the module docstring): at each impulse the cone of the vectors is cut
-    by ``x_f = 0`` for each f in F (:func:`split`), and each part is carried on its own impact set.
-    None when an impulse is not decided: S empty, an impact set of a part not linear, too many vectors.
-
-    With ``stages`` (a list, filled here), a multiple impulse whose beta varies is carried by its polar
-    values (:mod:`verify.proofs.cones.polar`) instead of both bounds of beta, and the vectors after each
-    impulse but the last are kept, reduced to the corners of their cone (or, with ``outer``, replaced by the
-    corners of a larger cone, :func:`verify.proofs.cones.stages.product_cone`, which also turns away the vectors
-    of the last impulse that lie outside the generators' cone): the certificate lists them. ``prune`` reduces the
-    vectors after each impulse where it can (else :func:`_prune`, by exact linear programming)."""
+    """The vectors after p impulses (the module docstring): at each impulse the cone of the vectors is cut by ``x_f =
+    0`` for each f in F (:func:`split`), and each part is carried on its own impact set; ``prune`` reduces them after
+    each impulse where it can (else :func:`_prune`, exact linear programming). None when an impulse is not decided: S
+    empty, an impact set of a part not linear, too many vectors. With ``stages`` (a list, filled here), a multiple
+    impulse whose beta varies is carried by its polar values (:mod:`verify.proofs.cones.polar`) instead of both bounds
+    of beta, and the vectors after each impulse but the last are kept, reduced to the corners of their cone (or, with
+    ``outer``, replaced by the corners of a larger cone, :func:`verify.proofs.cones.stages.product_cone`, which also
+    turns away the vectors of the last impulse that lie outside the generators' cone): the certificate lists them."""
     K = system.backend
     current: Carried = [(list(g), s) for g, s in zip(gens, strict)]
     for n in range(p):
@@ -379,7 +379,7 @@ def close(
     inflate: Vector | None = None,
     outer: Outer | None = None,
     combine: Combine | None = None,
-    prune: Callable[[Backend, Carried], Carried | None] | None = None,
+    prune: Prune | None = None,
 ) -> Found | None:
     """A cone of the seeds (strict), the ``extra`` strict vectors and the weak unit vectors of the
     constraints no seed is hit on in p impulses, closed under p impulses: (generators, strict flags, the
