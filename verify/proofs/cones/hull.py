@@ -38,7 +38,7 @@ from typing import Any
 
 from verify import bounds
 from verify.numbers.backends.base import Backend
-from verify.proofs.cones.shape import exponent
+from verify.proofs.cones.shape import floor_bits
 
 #: the periods of the orbit whose points the cone is built from
 HULL_PERIODS = 400
@@ -97,12 +97,7 @@ def rounded_point(K: Backend, x: Sequence[Any]) -> Vector:
     top = max(abs(v) for v in values)
     out = []
     for v in values:
-        q = v / top
-        if q == 0:
-            out.append(K.zero)
-            continue
-        unit = Fraction(2) ** (exponent(abs(q)) - ORBIT_BITS)
-        out.append(K.convert(Fraction(math.floor(q / unit)) * unit))
+        out.append(K.convert(floor_bits(v / top, ORBIT_BITS)[0]) if v else K.zero)
     return out
 
 

@@ -58,7 +58,7 @@ from verify.proofs.cones import hull
 from verify.proofs.cones.face import HEIGHTS, face_cone
 from verify.proofs.cones.lp import Scaled, SearchTooLong, feasible, pivot_budget, solve_columns
 from verify.proofs.cones.polar import MAX_VECTORS, extreme, forms, polar_values, pushed
-from verify.proofs.cones.shape import exponent, rounded_direction, shaped_seeds
+from verify.proofs.cones.shape import exponent, floor_bits, rounded_direction, shaped_seeds
 from verify.proofs.cones.stages import Combine, Lift, Outer, product_cone
 
 #: the most generators a cone may have beyond its seeds, the rounds of closing it, and the most vectors
@@ -870,8 +870,8 @@ def rounded_box(K: Backend, b: Sequence[Any], bits: int = 64) -> tuple[Vector, V
             center.append(K.zero)
             radius.append(K.zero)
             continue
-        unit = Fraction(2) ** (exponent(abs(q)) - bits)  # a unit of the bits-th significant bit of q
-        center.append(K.convert(Fraction(math.floor(q / unit)) * unit))
+        low, unit = floor_bits(q, bits)  # q down to its bits-th significant bit, and a unit of that bit
+        center.append(K.convert(low))
         radius.append(K.convert(unit))
     return center, radius
 

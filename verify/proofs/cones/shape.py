@@ -252,6 +252,17 @@ def exponent(q: Fraction) -> int:
     return e
 
 
+def floor_bits(q: Fraction, bits: int) -> tuple[Fraction, Fraction]:
+    """(q rounded down to ``bits`` significant bits, a unit of that last bit) for q != 0: a short rational at most q,
+    within one unit of it.
+
+    >>> floor_bits(Fraction(1, 3), 4), floor_bits(Fraction(-1, 3), 4)
+    ((Fraction(5, 16), Fraction(1, 32)), (Fraction(-11, 32), Fraction(1, 32)))
+    """
+    unit = Fraction(2) ** (exponent(abs(q)) - bits)
+    return Fraction(math.floor(q / unit)) * unit, unit
+
+
 def round_up(x: Fraction) -> Fraction:
     """x rounded up to 8 significant bits (x > 0): a short size that is at least x.
 
